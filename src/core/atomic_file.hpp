@@ -1,0 +1,39 @@
+#pragma once
+// Outputs are written to a temporary file beside the target and renamed over it on
+// commit(), so an interrupted run never leaves a truncated file behind.
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <string_view>
+
+namespace wisp {
+
+class AtomicFile {
+public:
+    // Opens `<path>.tmp-<pid>` for binary writing; throws wisp::Error if it cannot.
+    explicit AtomicFile(std::filesystem::path path);
+    ~AtomicFile();  // removes the temporary file unless committed
+    AtomicFile(const AtomicFile&) = delete;
+    AtomicFile& operator=(const AtomicFile&) = delete;
+
+    std::ostream& stream() { return out_; }
+    // Flushes, checks for write errors, and renames onto the target.
+    void commit();
+
+private:
+    std::filesystem::path path_, tmp_;
+    std::ofstream out_;
+    bool committed_ = false;
+};
+
+// Writes `bytes` to path atomically.
+void write_file_atomic(const std::filesystem::path& path, std::string_view bytes);
+
+// Calls write(stream) on an AtomicFile for path, then commits.
+void write_file_atomic(const std::filesystem::path& path,
+                       const std::function<void(std::ostream&)>& write);
+
+// Reads a whole file; throws wisp::Error naming the file if it cannot.
+std::string read_file(const std::filesystem::path& path);
+
+}  // namespace wisp

@@ -1,0 +1,52 @@
+#pragma once
+// A hairstyle as flat arrays (structure of arrays), DESIGN.md "Data layout".
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/math.hpp"
+
+namespace wisp {
+
+struct Hair {
+    // points   #P control points of uniform Catmull-Rom splines (pinned ends), centimetres,
+    //          head space (Y up, +Z forward), strand after strand, root first.
+    std::vector<Vec3f> points;
+    // offsets  #S+1, strand i owns points[offsets[i] .. offsets[i+1]); offsets[0] = 0.
+    std::vector<uint32_t> offsets{0};
+    // widths   #P strand diameter at each point in cm, or empty (then default_width).
+    std::vector<float> widths;
+    // colors   #S linear RGB in [0,1] per strand, or empty (then default_color).
+    std::vector<Vec3f> colors;
+    // wisp     #S wisp id per strand (-1 for none), or empty when unknown (imported hair).
+    std::vector<int32_t> wisp;
+    float default_width = 0.008f;  // 80 µm
+    Vec3f default_color = Vec3f(0.30f, 0.20f, 0.12f);
+
+    size_t strand_count() const { return offsets.empty() ? 0 : offsets.size() - 1; }
+    size_t point_count() const { return points.size(); }
+    uint32_t strand_size(size_t i) const { return offsets[i + 1] - offsets[i]; }
+    std::span<const Vec3f> strand(size_t i) const {
+        return {points.data() + offsets[i], strand_size(i)};
+    }
+    std::span<Vec3f> strand(size_t i) { return {points.data() + offsets[i], strand_size(i)}; }
+    float width_at(size_t point) const { return widths.empty() ? default_width : widths[point]; }
+    Vec3f color_of(size_t strand) const { return colors.empty() ? default_color : colors[strand]; }
+
+    // Appends one strand (copies its points); for readers, not for hot loops.
+    void add_strand(std::span<const Vec3f> pts) {
+        points.insert(points.end(), pts.begin(), pts.end());
+        offsets.push_back(static_cast<uint32_t>(points.size()));
+    }
+    Box3 bounds() const {
+        Box3 b;
+        for (const Vec3f& p : points) b.extend(p);
+        return b;
+    }
+    // Throws wisp::Error naming `what` if the arrays disagree in size or hold non-finite
+    // values (called by every reader before it returns).
+    void validate(const std::string& what) const;
+};
+
+}  // namespace wisp

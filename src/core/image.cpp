@@ -1,0 +1,59 @@
+#include "core/image.hpp"
+
+#include <stb_image.h>
+#include <stb_image_write.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+
+namespace wisp {
+
+float GrayImage::sample(float u, float v) const {
+    if (width == 0 || height == 0) return 0.f;
+    const float x = std::clamp(u, 0.f, 1.f) * static_cast<float>(width - 1);
+    const float y = (1.f - std::clamp(v, 0.f, 1.f)) * static_cast<float>(height - 1);
+    const int x0 = std::min(static_cast<int>(x), std::max(width - 2, 0));
+    const int y0 = std::min(static_cast<int>(y), std::max(height - 2, 0));
+    const int x1 = std::min(x0 + 1, width - 1), y1 = std::min(y0 + 1, height - 1);
+    const float fx = x - x0, fy = y - y0;
+    auto at = [&](int i, int j) { return values[static_cast<size_t>(j) * width + i]; };
+    return (at(x0, y0) * (1 - fx) + at(x1, y0) * fx) * (1 - fy) +
+           (at(x0, y1) * (1 - fx) + at(x1, y1) * fx) * fy;
+}
+
+GrayImage read_gray_image(const std::filesystem::path& path) {
+    const std::string bytes = read_file(path);
+    int w = 0, h = 0, channels = 0;
+    const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
+    const int len = static_cast<int>(bytes.size());
+    if (!stbi_info_from_memory(data, len, &w, &h, &channels))
+        fail(path.string(), ": not a readable image (", stbi_failure_reason(), ")");
+    if (w <= 0 || h <= 0 || static_cast<int64_t>(w) * h > (int64_t{1} << 26))
+        fail(path.string(), ": image size ", w, "x", h, " is out of range (at most 64 Mpixel)");
+    stbi_us* pixels = stbi_load_16_from_memory(data, len, &w, &h, &channels, 1);
+    if (!pixels) fail(path.string(), ": cannot decode image (", stbi_failure_reason(), ")");
+    GrayImage img;
+    img.width = w;
+    img.height = h;
+    img.values.resize(static_cast<size_t>(w) * h);
+    for (size_t i = 0; i < img.values.size(); ++i) img.values[i] = pixels[i] / 65535.f;
+    stbi_image_free(pixels);
+    return img;
+}
+
+void write_png(const std::filesystem::path& path, const RgbImage& image) {
+    std::string bytes;
+    auto sink = [](void* ctx, void* data, int size) {
+        static_cast<std::string*>(ctx)->append(static_cast<const char*>(data), size);
+    };
+    if (!stbi_write_png_to_func(sink, &bytes, image.width, image.height, 3, image.rgb.data(),
+                                image.width * 3))
+        fail(path.string(), ": PNG encoding failed");
+    write_file_atomic(path, bytes);
+}
+
+}  // namespace wisp

@@ -1,0 +1,34 @@
+#pragma once
+// Images: grayscale maps read from PNG (scalp maps, masks) and RGB images written to PNG.
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+#include "core/math.hpp"
+
+namespace wisp {
+
+// A single-channel image with values in [0, 1]; row 0 is the top row of the file.
+struct GrayImage {
+    int width = 0, height = 0;
+    std::vector<float> values;  // #width·height, row-major
+
+    // Bilinear lookup at texture coordinates (u, v) in [0,1]², v = 0 at the bottom row
+    // (OBJ/OpenGL convention); clamped at the edges.
+    float sample(float u, float v) const;
+};
+
+// Reads any 8- or 16-bit PNG (or JPEG/BMP/TGA that stb reads) as gray; colour images are
+// converted by luminance. Throws wisp::Error naming the file if it cannot.
+GrayImage read_gray_image(const std::filesystem::path& path);
+
+// An 8-bit RGB image.
+struct RgbImage {
+    int width = 0, height = 0;
+    std::vector<uint8_t> rgb;  // #width·height·3, row-major, top row first
+};
+
+// Writes a PNG atomically; throws wisp::Error if it cannot.
+void write_png(const std::filesystem::path& path, const RgbImage& image);
+
+}  // namespace wisp

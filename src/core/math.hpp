@@ -1,0 +1,77 @@
+#pragma once
+// Small math types on Eigen. Units across wisp: centimetres and seconds, head space is
+// Y up, +Z forward (the face looks along +Z).
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstdint>
+
+namespace wisp {
+
+using Vec2f = Eigen::Vector2f;
+using Vec3f = Eigen::Vector3f;
+using Vec3d = Eigen::Vector3d;
+using Vec3i = Eigen::Vector3i;
+using Mat3f = Eigen::Matrix3f;
+
+inline constexpr float kPi = 3.14159265358979323846f;
+
+// An orthonormal frame: columns are tangent t, normal n and binormal b (b = t × n).
+// Local coordinates (x, y, z) map to world as x·t + y·n + z·b.
+struct Frame {
+    Vec3f t = Vec3f::UnitX();
+    Vec3f n = Vec3f::UnitY();
+    Vec3f b = Vec3f::UnitZ();
+
+    Vec3f to_world(const Vec3f& local) const { return local.x() * t + local.y() * n + local.z() * b; }
+    Vec3f to_local(const Vec3f& world) const { return {world.dot(t), world.dot(n), world.dot(b)}; }
+};
+
+// A unit vector perpendicular to the unit vector v, chosen deterministically.
+inline Vec3f any_perpendicular(const Vec3f& v) {
+    const Vec3f a = std::abs(v.x()) < 0.9f ? Vec3f::UnitX() : Vec3f::UnitY();
+    return v.cross(a).normalized();
+}
+
+// The frame with tangent t (unit) whose normal is the part of `reference` orthogonal to t,
+// or any perpendicular when reference is (nearly) parallel to t.
+inline Frame frame_from(const Vec3f& t, const Vec3f& reference) {
+    Frame f;
+    f.t = t;
+    Vec3f n = reference - reference.dot(t) * t;
+    const float len = n.norm();
+    f.n = len > 1e-6f ? Vec3f(n / len) : any_perpendicular(t);
+    f.b = f.t.cross(f.n);
+    return f;
+}
+
+// Rotation-minimizing transport of frame f onto the new unit tangent t (double reflection
+// reduced to the single rotation taking f.t to t).
+inline Frame transport(const Frame& f, const Vec3f& t) {
+    const Eigen::Quaternionf q = Eigen::Quaternionf::FromTwoVectors(f.t, t);
+    Frame g;
+    g.t = t;
+    g.n = (q * f.n).normalized();
+    g.n = (g.n - g.n.dot(t) * t).normalized();
+    g.b = t.cross(g.n);
+    return g;
+}
+
+// Axis-aligned bounding box.
+struct Box3 {
+    Vec3f lo = Vec3f::Constant(INFINITY);
+    Vec3f hi = Vec3f::Constant(-INFINITY);
+    void extend(const Vec3f& p) {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+    }
+    void extend(const Box3& b) {
+        lo = lo.cwiseMin(b.lo);
+        hi = hi.cwiseMax(b.hi);
+    }
+    bool empty() const { return !(lo.x() <= hi.x()); }
+    Vec3f size() const { return hi - lo; }
+    Vec3f center() const { return 0.5f * (lo + hi); }
+};
+
+}  // namespace wisp

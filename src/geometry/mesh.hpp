@@ -1,0 +1,36 @@
+#pragma once
+// Triangle meshes: heads, necks and shoulders in head space (centimetres, Y up, +Z forward).
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/math.hpp"
+
+namespace wisp {
+
+struct Mesh {
+    std::vector<Vec3f> vertices;  // #V positions, cm
+    std::vector<Vec3i> faces;     // #F triangles, indices into vertices, counter-clockwise
+                                  // seen from outside
+    std::vector<Vec2f> uvs;       // #UV texture coordinates, or empty
+    std::vector<Vec3i> face_uvs;  // #F indices into uvs per corner, or empty
+    std::vector<int32_t> face_group;     // #F index into group_names (-1 none), or empty
+    std::vector<std::string> group_names;
+    std::vector<int32_t> face_material;  // #F index into material_names (-1 none), or empty
+    std::vector<std::string> material_names;
+
+    Box3 bounds() const;
+    Vec3f face_normal(size_t f) const;  // unit, zero for degenerate faces
+    float face_area(size_t f) const;
+};
+
+// Reads an OBJ (tinyobjloader; polygons are triangulated; `g`/`o` groups and `usemtl`
+// materials kept). Positions are multiplied by `scale` to reach centimetres. Throws
+// wisp::Error naming the file on any malformed, empty or non-finite content.
+Mesh read_obj_mesh(const std::filesystem::path& path, float scale = 1.f);
+
+// Writes an OBJ atomically with `g NAME` blocks per face group and `vt` when present.
+void write_obj_mesh(const std::filesystem::path& path, const Mesh& mesh);
+
+}  // namespace wisp

@@ -1,0 +1,94 @@
+#pragma once
+// The style: every parameter of a hairstyle (Choe & Ko §2, §5), with defaults, so that an
+// empty style is valid. Read from TOML by style_toml.hpp; docs/style.md is the reference.
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/math.hpp"
+#include "geometry/scalp.hpp"
+
+namespace wisp {
+
+// A scalar probability distribution.
+struct Distribution {
+    enum class Kind { kConstant, kUniform, kNormal, kTable };
+    Kind kind = Kind::kConstant;
+    float value = 0.f;             // kConstant
+    float min = 0.f, max = 1.f;    // kUniform: [min, max]; kNormal, kTable: truncation range
+    float mean = 0.f, stddev = 0.f;  // kNormal (truncated to [min, max] by resampling)
+    std::vector<float> table;      // kTable: probability density at evenly spaced points
+                                   // over [min, max] (#≥2, ≥ 0, not all 0)
+};
+
+// A map over the scalp (Choe & Ko §2.3, Fig. 8): a constant, a grayscale image in scalp UV
+// space (see geometry/scalp.hpp), or a named procedural map. The map's value in [0,1] is
+// scaled to [low, high].
+struct ScalarMap {
+    enum class Kind { kConstant, kImage, kProcedural };
+    Kind kind = Kind::kConstant;
+    float value = 1.f;                // kConstant, already in the map's units
+    std::filesystem::path image;      // kImage (resolved relative to the style file)
+    std::string procedural;           // kProcedural: a name from procedural_map_names()
+    float low = 0.f, high = 1.f;      // kImage, kProcedural: value v → low + v·(high-low)
+};
+
+struct HeadSpec {
+    std::filesystem::path obj;  // empty: the built-in head
+    float scale = 1.f;          // multiplies the OBJ's coordinates to reach centimetres, > 0
+    ScalpSpec scalp;
+};
+
+// The prototype strand (§2.2): a built-in preset or a user polyline, decomposed into
+// outline and details.
+struct PrototypeSpec {
+    enum class Kind { kStraight, kWavy, kCurly, kKinky, kPolyline };
+    Kind kind = Kind::kStraight;
+    float amplitude = 0.6f;     // cm, wave amplitude or coil radius, ≥ 0
+    float period = 3.f;         // cm along the strand per wave or coil turn, > 0
+    float length = 40.f;        // cm of prototype generated for presets, > 0
+    std::vector<Vec3f> polyline;  // kPolyline: ≥ 4 points, cm
+    int window = 4;             // h of §2.2.2, ≥ 1
+    float temperature = 0.03f;  // T of eq. (4), ≥ 0 (0 = argmin, eq. (3))
+    float roll = 0.5f;          // radians: each master's details turn about its outline by
+                                // a uniform angle in [-roll, roll], ≥ 0
+};
+
+// The wisp parameters of §2.1.
+struct WispSpec {
+    Distribution length{Distribution::Kind::kUniform, 0.f, 0.85f, 1.f};  // l(u), u in (0,1]
+    std::vector<float> deviation_radius{1.f, 1.2f, 1.5f};  // r(s) at evenly spaced s in [0,1],
+                                                            // relative to the root radius, > 0
+    float fuzziness = 0.3f;  // σ, ≥ 0
+};
+
+// Stochastic HSV color (§5, Fig. 12). Hue in degrees, saturation and value in [0,1].
+struct ColorSpec {
+    Distribution hue{Distribution::Kind::kNormal, 0.f, 0.f, 360.f, 30.f, 2.f};
+    Distribution saturation{Distribution::Kind::kNormal, 0.f, 0.f, 1.f, 0.55f, 0.04f};
+    Distribution value{Distribution::Kind::kNormal, 0.f, 0.f, 1.f, 0.30f, 0.04f};
+    // Per-wisp variation (Fig. 12d): each wisp's HSV is offset by a normal draw with these
+    // standard deviations, shared by all its strands.
+    float wisp_hue = 0.f, wisp_saturation = 0.f, wisp_value = 0.f;
+};
+
+struct Style {
+    std::string name;               // from the file name or preset
+    uint64_t seed = 1;
+    HeadSpec head;
+    int wisps = 2000;               // N_w, ≥ 1
+    int strands = 100000;           // N_s, ≥ N_w
+    int points_per_strand = 32;     // control points of a full-length strand, ≥ 4
+    ScalarMap density{};            // relative root density, ≥ 0
+    ScalarMap length{ScalarMap::Kind::kConstant, 25.f};  // master length in cm, > 0
+    ScalarMap protrusion{ScalarMap::Kind::kConstant, 0.25f};  // 0 = along the scalp, 1 = along
+                                                               // the normal
+    float root_width = 0.008f;      // cm, strand diameter at the root, > 0
+    float tip_width = 0.002f;       // cm, at the tip, > 0
+    PrototypeSpec prototype;
+    WispSpec wisp;
+    ColorSpec color;
+};
+
+}  // namespace wisp
