@@ -1,0 +1,40 @@
+#pragma once
+// Scalp maps (Choe & Ko §2.3, Fig. 8): density, length and protrusion over the scalp.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/image.hpp"
+#include "geometry/scalp.hpp"
+#include "groom/style.hpp"
+
+namespace wisp {
+
+// Names accepted by ScalarMap::Kind::kProcedural, each a value in [0,1] over the scalp:
+//   uniform     1 everywhere
+//   bangs       1 except a fringe over the forehead that falls to 0.35 (short bangs when
+//               used as a length map)
+//   nape-short  1 on top falling to 0.3 toward the nape and the sides above the ears
+//   crown       1 at the crown falling to 0 at the hairline
+//   hairline    0 at the crown rising to 1 at the hairline
+//   front       1 at the front hairline falling to 0 at the back
+//   back        0 at the front rising to 1 at the back
+//   side-part   0.15 along a parting line on the left of the crown, 1 elsewhere (density)
+const std::vector<std::string>& procedural_map_names();
+
+// A map ready for lookups; image maps are loaded once.
+class MapSampler {
+public:
+    // Loads the image of an image map (throws wisp::Error naming it if unreadable).
+    MapSampler(const ScalarMap& map, const Scalp& scalp);
+    // The map's value (in its own units) at a scalp point.
+    float operator()(const SurfacePoint& p) const;
+
+private:
+    ScalarMap map_;
+    const Scalp* scalp_;
+    std::shared_ptr<GrayImage> image_;
+    int procedural_ = -1;
+};
+
+}  // namespace wisp
