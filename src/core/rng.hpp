@@ -28,6 +28,8 @@ enum class Stream : uint64_t {
     kWispColor = 5,
     kLength = 6,
     kMisc = 7,
+    kMemberRoot = 8,
+    kRoll = 9,
 };
 
 // xoshiro256** seeded through SplitMix64 from (seed, domain, id).

@@ -18,7 +18,7 @@ struct Distribution {
     float value = 0.f;             // kConstant
     float min = 0.f, max = 1.f;    // kUniform: [min, max]; kNormal, kTable: truncation range
     float mean = 0.f, stddev = 0.f;  // kNormal (truncated to [min, max] by resampling)
-    std::vector<float> table;      // kTable: probability density at evenly spaced points
+    std::vector<float> table;      // kTable: a histogram, the weights of equal-width bins
                                    // over [min, max] (#≥2, ≥ 0, not all 0)
 };
 

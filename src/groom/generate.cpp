@@ -1,0 +1,184 @@
+#include "groom/generate.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.hpp"
+#include "core/parallel.hpp"
+#include "groom/color.hpp"
+#include "groom/distribution.hpp"
+#include "groom/member.hpp"
+#include "groom/prototype.hpp"
+#include "groom/synthesis.hpp"
+
+namespace wisp {
+
+float deviation_radius(const std::vector<float>& table, float s) {
+    if (table.empty()) return 1.f;
+    if (table.size() == 1) return table[0];
+    const float x = std::clamp(s, 0.f, 1.f) * static_cast<float>(table.size() - 1);
+    const size_t i = std::min(static_cast<size_t>(x), table.size() - 2);
+    const float f = x - static_cast<float>(i);
+    return (1.f - f) * table[i] + f * table[i + 1];
+}
+
+Roots grow_roots(const Style& style, const Head& head) {
+    const MapSampler density(style.density, *head.scalp);
+    RootParams params;
+    params.wisps = style.wisps;
+    params.strands = style.strands;
+    params.seed = style.seed;
+    return place_roots(*head.scalp, density, params);
+}
+
+Masters synthesize_masters(const Style& style, const Head& head, const Roots& roots) {
+    const Scalp& scalp = *head.scalp;
+    const MapSampler length_map(style.length, scalp);
+    const MapSampler protrusion_map(style.protrusion, scalp);
+    const size_t w_count = roots.masters.size();
+    const int n = style.points_per_strand;
+    const int h = style.prototype.window;
+
+    Masters m;
+    m.points = n;
+    m.roots = roots.masters;
+    m.segment.resize(w_count);
+    m.direction.resize(w_count);
+    m.root_frame.resize(w_count);
+    m.outline.resize(w_count * n);
+    m.details.resize(w_count * n);
+    m.frames.resize(w_count * n);
+    m.control.resize(w_count * n);
+
+    float longest = 0.f;
+    for (size_t w = 0; w < w_count; ++w) {
+        const float len = length_map(m.roots[w]);
+        if (!(len > 0.f) || !std::isfinite(len))
+            fail("length map gives ", len, " cm at a root: hair length must be > 0");
+        m.segment[w] = len / static_cast<float>(n - 1);
+        longest = std::max(longest, m.segment[w]);
+    }
+
+    // The prototype: presets are generated long enough for any master; a user polyline
+    // must be long enough to hold a window at the coarsest segment length.
+    PrototypeSpec proto_spec = style.prototype;
+    if (proto_spec.kind != PrototypeSpec::Kind::kPolyline)
+        proto_spec.length = std::max(proto_spec.length, static_cast<float>(h + 16) * longest);
+    const std::vector<Vec3f> polyline = prototype_polyline(proto_spec);
+    const float smoothing = proto_spec.kind == PrototypeSpec::Kind::kStraight
+                                ? 0.f
+                                : (proto_spec.kind == PrototypeSpec::Kind::kKinky
+                                       ? 0.5f * proto_spec.period
+                                       : proto_spec.period);
+    const float spacing = smoothing > 0.f ? smoothing / 41.f : std::max(longest / 8.f, 0.01f);
+    const PrototypeCurve curve = prepare_prototype(polyline, spacing, smoothing);
+    if (proto_spec.kind == PrototypeSpec::Kind::kPolyline &&
+        curve.centre_arc.back() < static_cast<float>(h + 2) * longest)
+        fail("prototype.points: the polyline's outline is ", curve.centre_arc.back(),
+             " cm long, but a window of ", h, " needs at least ",
+             static_cast<float>(h + 2) * longest,
+             " cm at the longest master's segment length (length / (points_per_strand-1))");
+
+    parallel_for(w_count, [&](size_t w) {
+        const SurfacePoint& root = m.roots[w];
+        const float protrusion = protrusion_map(root);
+        const Vec3f dir = protrusion_direction(root, scalp.crown(), protrusion);
+        m.direction[w] = dir;
+        // Details turn with the head: the normal starts horizontal, around the head.
+        Vec3f around = Vec3f::UnitY().cross(root.position - scalp.center());
+        Frame f = frame_from(dir, around.norm() > 1e-4f ? around : Vec3f::UnitX());
+        Rng rng(style.seed, Stream::kRoll, w);
+        const float roll = rng.uniform(-style.prototype.roll, style.prototype.roll);
+        const Eigen::AngleAxisf spin(roll, dir);
+        f.n = (spin * f.n).normalized();
+        f.b = f.t.cross(f.n);
+        m.root_frame[w] = f;
+
+        const std::vector<Vec3f> proto = decompose(curve, m.segment[w]);
+        std::vector<double> scratch;
+        std::span<Vec3f> details(m.details.data() + w * n, static_cast<size_t>(n));
+        SynthesisParams sp;
+        sp.window = h;
+        sp.temperature = style.prototype.temperature;
+        sp.scale = synthesis_scale(proto, h);
+        Rng srng(style.seed, Stream::kMaster, w);
+        synthesize_details(proto, sp, srng, details, {}, scratch);
+        // The root stays on the scalp: details are relative to the first one.
+        const Vec3f d0 = details[0];
+        for (Vec3f& d : details) d -= d0;
+        for (int i = 0; i < n; ++i)
+            m.outline[w * n + i] = root.position + (m.segment[w] * static_cast<float>(i)) * dir;
+        update_master(m, w);
+    }, 8);
+    return m;
+}
+
+Hair grow_members(const Style& style, const Masters& masters, const Roots& roots) {
+    const size_t w_count = masters.count();
+    const size_t s_count = roots.members.size();
+    const int n = masters.points;
+    Hair hair;
+    hair.default_width = style.root_width;
+    hair.wisp.resize(s_count);
+    hair.offsets.assign(s_count + 1, 0);
+    std::vector<float> u(s_count);
+    parallel_for(s_count, [&](size_t j) {
+        Rng rng(style.seed, Stream::kLength, j);
+        u[j] = std::clamp(sample(style.wisp.length, rng), 1e-3f, 1.f);
+    }, 4096);
+    for (size_t w = 0; w < w_count; ++w)
+        for (uint32_t j = roots.wisp_offsets[w]; j < roots.wisp_offsets[w + 1]; ++j)
+            hair.wisp[j] = static_cast<int32_t>(w);
+    for (size_t j = 0; j < s_count; ++j)
+        hair.offsets[j + 1] = hair.offsets[j] + member_point_count(n, u[j]);
+    hair.points.resize(hair.offsets.back());
+    hair.widths.resize(hair.offsets.back());
+
+    // r_k relative to the root: the table is scaled so that r_1 is the wisp's root radius.
+    std::vector<float> rel(n);
+    const float r0 = deviation_radius(style.wisp.deviation_radius, 0.f);
+    for (int k = 0; k < n; ++k)
+        rel[k] = deviation_radius(style.wisp.deviation_radius,
+                                  static_cast<float>(k) / static_cast<float>(n - 1)) / r0;
+
+    parallel_for(w_count, [&](size_t w) {
+        std::vector<float> radius(n);
+        for (int k = 0; k < n; ++k) radius[k] = roots.wisp_radius[w] * rel[k];
+        const std::span<const Vec3f> master = masters.strand(w);
+        const std::span<const Frame> frames(masters.frames.data() + w * n, static_cast<size_t>(n));
+        const Frame& f0 = frames[0];
+        for (uint32_t j = roots.wisp_offsets[w]; j < roots.wisp_offsets[w + 1]; ++j) {
+            Rng rng(style.seed, Stream::kMember, j);
+            const Vec3f d1 = f0.to_local(roots.members[j].position - master[0]);
+            std::span<Vec3f> out = hair.strand(j);
+            grow_member(master, frames, radius, d1, u[j], style.wisp.fuzziness, rng, out);
+            const size_t count = out.size();
+            float* widths = hair.widths.data() + hair.offsets[j];
+            for (size_t k = 0; k < count; ++k) {
+                const float t = static_cast<float>(k) / static_cast<float>(count - 1);
+                widths[k] = style.root_width + (style.tip_width - style.root_width) * t;
+            }
+        }
+    });
+    return hair;
+}
+
+GenerateResult generate(const Style& style, const Head& head) {
+    GenerateResult result;
+    Stopwatch watch;
+    const Roots roots = grow_roots(style, head);
+    result.times.emplace_back("roots", watch.ms());
+    watch = Stopwatch();
+    result.masters = synthesize_masters(style, head, roots);
+    result.times.emplace_back("masters", watch.ms());
+    watch = Stopwatch();
+    result.hair = grow_members(style, result.masters, roots);
+    result.times.emplace_back("members", watch.ms());
+    watch = Stopwatch();
+    result.hair.colors.resize(result.hair.strand_count());
+    color_strands(style.color, style.seed, result.hair.wisp, result.hair.colors);
+    result.times.emplace_back("color", watch.ms());
+    return result;
+}
+
+}  // namespace wisp

@@ -1,0 +1,38 @@
+#pragma once
+// The grooming pipeline of DESIGN.md: roots → masters → (solve) → members → color → Hair.
+// Each stage is a plain function of its inputs, timed in the stats.
+#include <cstdint>
+#include <vector>
+
+#include "core/hair.hpp"
+#include "core/timer.hpp"
+#include "groom/head.hpp"
+#include "groom/master.hpp"
+#include "groom/roots.hpp"
+#include "groom/style.hpp"
+
+namespace wisp {
+
+// Stage 1 (§2.3).
+Roots grow_roots(const Style& style, const Head& head);
+
+// Stage 2 (§2.2): master outlines along the protrusion direction with details synthesized
+// from the prototype. Throws wisp::Error if the prototype is too short for the window.
+Masters synthesize_masters(const Style& style, const Head& head, const Roots& roots);
+
+// Stage 4 (§2.1): every member strand of every wisp, with widths and wisp ids (no colors).
+Hair grow_members(const Style& style, const Masters& masters, const Roots& roots);
+
+// Deviation radius r(s) at s in [0,1] from the style's table (linear interpolation).
+float deviation_radius(const std::vector<float>& table, float s);
+
+struct GenerateResult {
+    Hair hair;
+    Masters masters;
+    StageTimes times;  // roots, masters, members, color
+};
+
+// Runs every stage for a style on a head (loaded with load_head(style.head)).
+GenerateResult generate(const Style& style, const Head& head);
+
+}  // namespace wisp

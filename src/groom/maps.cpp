@@ -1,0 +1,84 @@
+#include "groom/maps.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.hpp"
+
+namespace wisp {
+namespace {
+
+float smoothstep(float e0, float e1, float x) {
+    const float t = std::clamp((x - e0) / (e1 - e0), 0.f, 1.f);
+    return t * t * (3.f - 2.f * t);
+}
+
+// A procedural map from the scalp's polar UV: r in [0,1] from crown to hairline, (x, z) the
+// unit direction on the map (x toward the character's left, z toward the front).
+float procedural(int which, const Vec2f& uv) {
+    const float du = uv.x() - 0.5f, dv = uv.y() - 0.5f;
+    const float r = std::min(1.f, 2.f * std::sqrt(du * du + dv * dv));
+    const float len = std::sqrt(du * du + dv * dv);
+    const float x = len > 1e-6f ? du / len : 0.f;
+    const float z = len > 1e-6f ? dv / len : 0.f;
+    switch (which) {
+        case 0:  // uniform
+            return 1.f;
+        case 1: {  // bangs: the forehead sector near the hairline
+            const float front = smoothstep(0.55f, 0.8f, z);
+            return 1.f - 0.65f * front * smoothstep(0.45f, 0.75f, r);
+        }
+        case 2: {  // nape-short
+            const float back = smoothstep(-0.3f, 0.6f, -z);
+            return 1.f - 0.7f * smoothstep(0.45f, 0.95f, r) * (0.35f + 0.65f * back);
+        }
+        case 3:  // crown
+            return 1.f - r;
+        case 4:  // hairline
+            return r;
+        case 5:  // front
+            return 0.5f + 0.5f * z * r;
+        case 6:  // back
+            return 0.5f - 0.5f * z * r;
+        case 7: {  // side-part: a line from the front hairline back over the left of the crown
+            const float line_x = 0.16f;  // in unit-disk coordinates (r·x)
+            const float px = r * x, pz = r * z;
+            const float d = std::abs(px - line_x);
+            return (pz > -0.15f && d < 0.025f) ? 0.15f : 1.f;
+        }
+    }
+    return 1.f;
+}
+
+}  // namespace
+
+const std::vector<std::string>& procedural_map_names() {
+    static const std::vector<std::string> names = {"uniform", "bangs", "nape-short", "crown",
+                                                   "hairline", "front", "back", "side-part"};
+    return names;
+}
+
+MapSampler::MapSampler(const ScalarMap& map, const Scalp& scalp) : map_(map), scalp_(&scalp) {
+    if (map.kind == ScalarMap::Kind::kImage) {
+        image_ = std::make_shared<GrayImage>(read_gray_image(map.image));
+    } else if (map.kind == ScalarMap::Kind::kProcedural) {
+        const auto& names = procedural_map_names();
+        const auto it = std::find(names.begin(), names.end(), map.procedural);
+        if (it == names.end()) fail("unknown procedural map '", map.procedural, "'");
+        procedural_ = static_cast<int>(it - names.begin());
+    }
+}
+
+float MapSampler::operator()(const SurfacePoint& p) const {
+    switch (map_.kind) {
+        case ScalarMap::Kind::kConstant:
+            return map_.value;
+        case ScalarMap::Kind::kImage:
+            return map_.low + (map_.high - map_.low) * image_->sample(p.uv.x(), p.uv.y());
+        case ScalarMap::Kind::kProcedural:
+            return map_.low + (map_.high - map_.low) * procedural(procedural_, p.uv);
+    }
+    return map_.value;
+}
+
+}  // namespace wisp

@@ -1,0 +1,37 @@
+#include "groom/master.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace wisp {
+
+Vec3f protrusion_direction(const SurfacePoint& root, const Vec3f& crown, float protrusion) {
+    const Vec3f& n = root.normal;
+    Vec3f flow = root.position - crown;
+    flow -= flow.dot(n) * n;
+    if (flow.norm() < 1e-3f) {
+        // At the crown itself hair falls toward the back.
+        flow = -Vec3f::UnitZ() - (-Vec3f::UnitZ()).dot(n) * n;
+        if (flow.norm() < 1e-3f) flow = any_perpendicular(n);
+    }
+    flow.normalize();
+    const float angle = std::clamp(protrusion, 0.f, 1.f) * 0.5f * kPi;
+    return (std::cos(angle) * flow + std::sin(angle) * n).normalized();
+}
+
+void update_master(Masters& m, size_t w) {
+    const size_t n = static_cast<size_t>(m.points);
+    const size_t base = w * n;
+    Frame f = m.root_frame[w];
+    for (size_t i = 0; i < n; ++i) {
+        const size_t s = std::min(i, n - 2);
+        Vec3f t = m.outline[base + s + 1] - m.outline[base + s];
+        const float len = t.norm();
+        t = len > 0.f ? Vec3f(t / len) : f.t;
+        if (i > 0 && s == i) f = transport(f, t);
+        m.frames[base + i] = f;
+        m.control[base + i] = m.outline[base + i] + f.to_world(m.details[base + i]);
+    }
+}
+
+}  // namespace wisp

@@ -1,0 +1,39 @@
+#pragma once
+// Prototype strands and their outline/details decomposition (Choe & Ko §2.2.1, Fig. 5).
+#include <span>
+#include <vector>
+
+#include "core/math.hpp"
+#include "groom/style.hpp"
+
+namespace wisp {
+
+// The dense polyline of a prototype (cm, root first): a built-in preset generated along +Y
+// with the spec's amplitude, period and length, or the user's polyline as given.
+//   straight  a line
+//   wavy      a planar sine wave of the given amplitude and period
+//   curly     a helix of radius `amplitude` and pitch `period`
+//   kinky     a tight coil (radius amplitude, pitch period/2) with a second, small
+//             zig-zag riding on it, as in type-4 hair
+std::vector<Vec3f> prototype_polyline(const PrototypeSpec& spec);
+
+// A polyline resampled at even arc length and its low-pass centre line, from which
+// outlines of any segment length are cut (decompose() below).
+struct PrototypeCurve {
+    std::vector<Vec3f> curve;   // #K samples of the prototype, evenly spaced in arc length
+    std::vector<Vec3f> centre;  // #K the same samples smoothed over `smoothing` cm
+    std::vector<float> centre_arc;  // #K arc length along centre, from 0
+};
+
+// Resamples `polyline` (#≥2) every `spacing` cm and smooths it with a centred moving
+// average over `smoothing` cm of arc length (the window shrinks symmetrically at the ends,
+// so the root keeps a zero detail). A smoothing equal to the wave period removes a sine
+// wave exactly, leaving the straight outline of Fig. 5b.
+PrototypeCurve prepare_prototype(std::span<const Vec3f> polyline, float spacing, float smoothing);
+
+// Cuts the centre line into an outline of equal segments of `segment` cm (§2.2.1) and
+// returns the details δ_i = p_i − c_i expressed in each outline segment's local frame
+// (Frame::to_local), #⌊length/segment⌋+1. Empty if the curve is shorter than 2 segments.
+std::vector<Vec3f> decompose(const PrototypeCurve& proto, float segment);
+
+}  // namespace wisp

@@ -1,0 +1,43 @@
+#pragma once
+// Root placement (Choe & Ko §2.3): master roots spread evenly over the scalp, a Voronoi
+// region per master, and exactly N_s member roots placed inside the regions by the
+// density map.
+#include <cstdint>
+#include <vector>
+
+#include "geometry/scalp.hpp"
+#include "groom/maps.hpp"
+
+namespace wisp {
+
+struct Roots {
+    std::vector<SurfacePoint> masters;    // #W master roots
+    std::vector<SurfacePoint> members;    // #S member roots, grouped by wisp
+    std::vector<uint32_t> wisp_offsets;   // #W+1: wisp w owns members[wisp_offsets[w] ..
+                                          // wisp_offsets[w+1])
+    std::vector<float> wisp_radius;       // #W root radius: the largest distance from the
+                                          // master root to a member root of its region, cm
+    int lloyd_iterations = 0;
+};
+
+struct RootParams {
+    int wisps = 2000;        // N_w ≥ 1
+    int strands = 100000;    // N_s ≥ 0
+    int candidates_per_wisp = 12;  // density of the candidate cloud for Lloyd relaxation
+    int lloyd_iterations = 8;
+    uint64_t seed = 1;
+};
+
+// Draws an area-uniform scalp point accepted with probability density/max_density
+// (rejection sampling; at most 256 tries, then the last draw). max_density > 0.
+SurfacePoint sample_by_density(const Scalp& scalp, const MapSampler& density, float max_density,
+                               Rng& rng);
+
+// Places the roots. Master roots: a density-weighted candidate cloud of
+// candidates_per_wisp·N_w scalp points, relaxed by Lloyd's algorithm restricted to the
+// cloud (k-means), each master snapped to its region's candidate nearest the centroid so it
+// stays on the surface. Member roots: N_s density-weighted samples, each assigned to the
+// Voronoi region (nearest master root). Deterministic for a seed, any thread count.
+Roots place_roots(const Scalp& scalp, const MapSampler& density, const RootParams& params);
+
+}  // namespace wisp
