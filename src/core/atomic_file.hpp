@@ -9,7 +9,7 @@
 namespace wisp {
 
 class AtomicFile {
-public:
+  public:
     // Opens `<path>.tmp-<pid>` for binary writing; throws wisp::Error if it cannot.
     explicit AtomicFile(std::filesystem::path path);
     ~AtomicFile();  // removes the temporary file unless committed
@@ -20,7 +20,7 @@ public:
     // Flushes, checks for write errors, and renames onto the target.
     void commit();
 
-private:
+  private:
     std::filesystem::path path_, tmp_;
     std::ofstream out_;
     bool committed_ = false;

@@ -18,8 +18,8 @@ inline Vec3f catmull_rom(const Vec3f& p0, const Vec3f& p1, const Vec3f& p2, cons
 }
 
 // Derivative d/dt of the segment above.
-inline Vec3f catmull_rom_tangent(const Vec3f& p0, const Vec3f& p1, const Vec3f& p2,
-                                 const Vec3f& p3, float t) {
+inline Vec3f catmull_rom_tangent(const Vec3f& p0, const Vec3f& p1, const Vec3f& p2, const Vec3f& p3,
+                                 float t) {
     const float t2 = t * t;
     return 0.5f * ((-p0 + p2) + 2.f * (2.f * p0 - 5.f * p1 + 4.f * p2 - p3) * t +
                    3.f * (-p0 + 3.f * p1 - 3.f * p2 + p3) * t2);

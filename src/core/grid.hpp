@@ -11,10 +11,12 @@ namespace wisp {
 
 template <typename T>
 class Grid3 {
-public:
+  public:
     Grid3() = default;
     Grid3(const Vec3f& origin, float cell, const Vec3i& dims, const T& fill = T{})
-        : origin_(origin), cell_(cell), dims_(dims),
+        : origin_(origin),
+          cell_(cell),
+          dims_(dims),
           data_(static_cast<size_t>(dims.x()) * dims.y() * dims.z(), fill) {}
 
     const Vec3f& origin() const { return origin_; }
@@ -53,7 +55,7 @@ public:
         return c0 * (1 - f[2]) + c1 * f[2];
     }
 
-private:
+  private:
     Vec3f origin_ = Vec3f::Zero();
     float cell_ = 1.f;
     Vec3i dims_ = Vec3i::Zero();

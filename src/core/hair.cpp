@@ -7,8 +7,7 @@
 namespace wisp {
 
 void Hair::validate(const std::string& what) const {
-    if (offsets.empty() || offsets.front() != 0)
-        fail(what, ": offsets must start with 0");
+    if (offsets.empty() || offsets.front() != 0) fail(what, ": offsets must start with 0");
     for (size_t i = 0; i + 1 < offsets.size(); ++i)
         if (offsets[i + 1] < offsets[i]) fail(what, ": strand ", i, " has negative point count");
     if (offsets.back() != points.size())

@@ -41,7 +41,8 @@ struct Hair {
     }
     Box3 bounds() const {
         Box3 b;
-        for (const Vec3f& p : points) b.extend(p);
+        for (const Vec3f& p : points)
+            b.extend(p);
         return b;
     }
     // Throws wisp::Error naming `what` if the arrays disagree in size or hold non-finite

@@ -40,7 +40,8 @@ GrayImage read_gray_image(const std::filesystem::path& path) {
     img.width = w;
     img.height = h;
     img.values.resize(static_cast<size_t>(w) * h);
-    for (size_t i = 0; i < img.values.size(); ++i) img.values[i] = pixels[i] / 65535.f;
+    for (size_t i = 0; i < img.values.size(); ++i)
+        img.values[i] = pixels[i] / 65535.f;
     stbi_image_free(pixels);
     return img;
 }

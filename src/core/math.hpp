@@ -23,7 +23,9 @@ struct Frame {
     Vec3f n = Vec3f::UnitY();
     Vec3f b = Vec3f::UnitZ();
 
-    Vec3f to_world(const Vec3f& local) const { return local.x() * t + local.y() * n + local.z() * b; }
+    Vec3f to_world(const Vec3f& local) const {
+        return local.x() * t + local.y() * n + local.z() * b;
+    }
     Vec3f to_local(const Vec3f& world) const { return {world.dot(t), world.dot(n), world.dot(b)}; }
 };
 

@@ -10,7 +10,7 @@
 namespace wisp {
 
 class PointGrid {
-public:
+  public:
     PointGrid() = default;
     // points  #N positions; cell  the grid spacing (about the typical spacing), > 0.
     PointGrid(std::span<const Vec3f> points, float cell);
@@ -18,7 +18,7 @@ public:
     // Index of the point nearest to q (ties: the lowest index); -1 if the set is empty.
     int nearest(const Vec3f& q) const;
 
-private:
+  private:
     std::vector<Vec3f> points_;
     Vec3f origin_ = Vec3f::Zero();
     float cell_ = 1.f;

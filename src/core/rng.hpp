@@ -34,7 +34,7 @@ enum class Stream : uint64_t {
 
 // xoshiro256** seeded through SplitMix64 from (seed, domain, id).
 class Rng {
-public:
+  public:
     explicit Rng(uint64_t seed, Stream domain = Stream::kMisc, uint64_t id = 0) {
         uint64_t x = mix64(seed ^ mix64(static_cast<uint64_t>(domain) * 0x632BE59BD9B4E019ull ^
                                         mix64(id + 0x1234567ull)));
@@ -81,7 +81,7 @@ public:
         return {r * std::cos(phi), r * std::sin(phi), z};
     }
 
-private:
+  private:
     static constexpr uint64_t rotl(uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
     uint64_t s_[4];
 };

@@ -19,7 +19,8 @@ float sample(const Distribution& d, Rng& rng) {
             return std::clamp(d.mean, d.min, d.max);
         case Distribution::Kind::kTable: {
             float total = 0.f;
-            for (float w : d.table) total += w;
+            for (float w : d.table)
+                total += w;
             if (d.table.empty() || !(total > 0.f)) return d.min;
             float x = rng.uniform() * total;
             size_t bin = 0;

@@ -65,11 +65,11 @@ Masters synthesize_masters(const Style& style, const Head& head, const Roots& ro
     if (proto_spec.kind != PrototypeSpec::Kind::kPolyline)
         proto_spec.length = std::max(proto_spec.length, static_cast<float>(h + 16) * longest);
     const std::vector<Vec3f> polyline = prototype_polyline(proto_spec);
-    const float smoothing = proto_spec.kind == PrototypeSpec::Kind::kStraight
-                                ? 0.f
-                                : (proto_spec.kind == PrototypeSpec::Kind::kKinky
-                                       ? 0.5f * proto_spec.period
-                                       : proto_spec.period);
+    const float smoothing =
+        proto_spec.kind == PrototypeSpec::Kind::kStraight
+            ? 0.f
+            : (proto_spec.kind == PrototypeSpec::Kind::kKinky ? 0.5f * proto_spec.period
+                                                              : proto_spec.period);
     const float spacing = smoothing > 0.f ? smoothing / 41.f : std::max(longest / 8.f, 0.01f);
     const PrototypeCurve curve = prepare_prototype(polyline, spacing, smoothing);
     if (proto_spec.kind == PrototypeSpec::Kind::kPolyline &&
@@ -79,37 +79,41 @@ Masters synthesize_masters(const Style& style, const Head& head, const Roots& ro
              static_cast<float>(h + 2) * longest,
              " cm at the longest master's segment length (length / (points_per_strand-1))");
 
-    parallel_for(w_count, [&](size_t w) {
-        const SurfacePoint& root = m.roots[w];
-        const float protrusion = protrusion_map(root);
-        const Vec3f dir = protrusion_direction(root, scalp.crown(), protrusion);
-        m.direction[w] = dir;
-        // Details turn with the head: the normal starts horizontal, around the head.
-        Vec3f around = Vec3f::UnitY().cross(root.position - scalp.center());
-        Frame f = frame_from(dir, around.norm() > 1e-4f ? around : Vec3f::UnitX());
-        Rng rng(style.seed, Stream::kRoll, w);
-        const float roll = rng.uniform(-style.prototype.roll, style.prototype.roll);
-        const Eigen::AngleAxisf spin(roll, dir);
-        f.n = (spin * f.n).normalized();
-        f.b = f.t.cross(f.n);
-        m.root_frame[w] = f;
+    parallel_for(
+        w_count,
+        [&](size_t w) {
+            const SurfacePoint& root = m.roots[w];
+            const float protrusion = protrusion_map(root);
+            const Vec3f dir = protrusion_direction(root, scalp.crown(), protrusion);
+            m.direction[w] = dir;
+            // Details turn with the head: the normal starts horizontal, around the head.
+            Vec3f around = Vec3f::UnitY().cross(root.position - scalp.center());
+            Frame f = frame_from(dir, around.norm() > 1e-4f ? around : Vec3f::UnitX());
+            Rng rng(style.seed, Stream::kRoll, w);
+            const float roll = rng.uniform(-style.prototype.roll, style.prototype.roll);
+            const Eigen::AngleAxisf spin(roll, dir);
+            f.n = (spin * f.n).normalized();
+            f.b = f.t.cross(f.n);
+            m.root_frame[w] = f;
 
-        const std::vector<Vec3f> proto = decompose(curve, m.segment[w]);
-        std::vector<double> scratch;
-        std::span<Vec3f> details(m.details.data() + w * n, static_cast<size_t>(n));
-        SynthesisParams sp;
-        sp.window = h;
-        sp.temperature = style.prototype.temperature;
-        sp.scale = synthesis_scale(proto, h);
-        Rng srng(style.seed, Stream::kMaster, w);
-        synthesize_details(proto, sp, srng, details, {}, scratch);
-        // The root stays on the scalp: details are relative to the first one.
-        const Vec3f d0 = details[0];
-        for (Vec3f& d : details) d -= d0;
-        for (int i = 0; i < n; ++i)
-            m.outline[w * n + i] = root.position + (m.segment[w] * static_cast<float>(i)) * dir;
-        update_master(m, w);
-    }, 8);
+            const std::vector<Vec3f> proto = decompose(curve, m.segment[w]);
+            std::vector<double> scratch;
+            std::span<Vec3f> details(m.details.data() + w * n, static_cast<size_t>(n));
+            SynthesisParams sp;
+            sp.window = h;
+            sp.temperature = style.prototype.temperature;
+            sp.scale = synthesis_scale(proto, h);
+            Rng srng(style.seed, Stream::kMaster, w);
+            synthesize_details(proto, sp, srng, details, {}, scratch);
+            // The root stays on the scalp: details are relative to the first one.
+            const Vec3f d0 = details[0];
+            for (Vec3f& d : details)
+                d -= d0;
+            for (int i = 0; i < n; ++i)
+                m.outline[w * n + i] = root.position + (m.segment[w] * static_cast<float>(i)) * dir;
+            update_master(m, w);
+        },
+        8);
     return m;
 }
 
@@ -122,10 +126,13 @@ Hair grow_members(const Style& style, const Masters& masters, const Roots& roots
     hair.wisp.resize(s_count);
     hair.offsets.assign(s_count + 1, 0);
     std::vector<float> u(s_count);
-    parallel_for(s_count, [&](size_t j) {
-        Rng rng(style.seed, Stream::kLength, j);
-        u[j] = std::clamp(sample(style.wisp.length, rng), 1e-3f, 1.f);
-    }, 4096);
+    parallel_for(
+        s_count,
+        [&](size_t j) {
+            Rng rng(style.seed, Stream::kLength, j);
+            u[j] = std::clamp(sample(style.wisp.length, rng), 1e-3f, 1.f);
+        },
+        4096);
     for (size_t w = 0; w < w_count; ++w)
         for (uint32_t j = roots.wisp_offsets[w]; j < roots.wisp_offsets[w + 1]; ++j)
             hair.wisp[j] = static_cast<int32_t>(w);
@@ -139,11 +146,13 @@ Hair grow_members(const Style& style, const Masters& masters, const Roots& roots
     const float r0 = deviation_radius(style.wisp.deviation_radius, 0.f);
     for (int k = 0; k < n; ++k)
         rel[k] = deviation_radius(style.wisp.deviation_radius,
-                                  static_cast<float>(k) / static_cast<float>(n - 1)) / r0;
+                                  static_cast<float>(k) / static_cast<float>(n - 1)) /
+                 r0;
 
     parallel_for(w_count, [&](size_t w) {
         std::vector<float> radius(n);
-        for (int k = 0; k < n; ++k) radius[k] = roots.wisp_radius[w] * rel[k];
+        for (int k = 0; k < n; ++k)
+            radius[k] = roots.wisp_radius[w] * rel[k];
         const std::span<const Vec3f> master = masters.strand(w);
         const std::span<const Frame> frames(masters.frames.data() + w * n, static_cast<size_t>(n));
         const Frame& f0 = frames[0];

@@ -10,8 +10,8 @@
 namespace wisp {
 
 struct Head {
-    std::string source;           // "built-in head" or the OBJ path, for messages
-    std::unique_ptr<Mesh> mesh;   // stable address: the scalp refers to it
+    std::string source;          // "built-in head" or the OBJ path, for messages
+    std::unique_ptr<Mesh> mesh;  // stable address: the scalp refers to it
     std::unique_ptr<Scalp> scalp;
 };
 

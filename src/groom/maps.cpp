@@ -53,8 +53,8 @@ float procedural(int which, const Vec2f& uv) {
 }  // namespace
 
 const std::vector<std::string>& procedural_map_names() {
-    static const std::vector<std::string> names = {"uniform", "bangs", "nape-short", "crown",
-                                                   "hairline", "front", "back", "side-part"};
+    static const std::vector<std::string> names = {"uniform",  "bangs", "nape-short", "crown",
+                                                   "hairline", "front", "back",       "side-part"};
     return names;
 }
 

@@ -24,13 +24,13 @@ const std::vector<std::string>& procedural_map_names();
 
 // A map ready for lookups; image maps are loaded once.
 class MapSampler {
-public:
+  public:
     // Loads the image of an image map (throws wisp::Error naming it if unreadable).
     MapSampler(const ScalarMap& map, const Scalp& scalp);
     // The map's value (in its own units) at a scalp point.
     float operator()(const SurfacePoint& p) const;
 
-private:
+  private:
     ScalarMap map_;
     const Scalp* scalp_;
     std::shared_ptr<GrayImage> image_;

@@ -32,8 +32,7 @@ std::vector<Vec3f> prototype_polyline(const PrototypeSpec& spec) {
                 // A zig-zag of a quarter the radius and a third of the pitch rides radially on
                 // the coil.
                 const float zig = 1.f + 0.25f * std::sin(3.f * phase);
-                out[i] = {a * (zig * std::cos(phase) - 1.f), y,
-                          a * zig * std::sin(phase)};
+                out[i] = {a * (zig * std::cos(phase) - 1.f), y, a * zig * std::sin(phase)};
                 break;
             }
             default:
@@ -57,7 +56,8 @@ PrototypeCurve prepare_prototype(std::span<const Vec3f> polyline, float spacing,
     size_t seg = 0;
     for (size_t k = 0; k < count; ++k) {
         const float a = std::min(static_cast<float>(k) * spacing, total);
-        while (seg + 2 < polyline.size() && arc[seg + 1] < a) ++seg;
+        while (seg + 2 < polyline.size() && arc[seg + 1] < a)
+            ++seg;
         const float len = arc[seg + 1] - arc[seg];
         const float f = len > 0.f ? std::clamp((a - arc[seg]) / len, 0.f, 1.f) : 0.f;
         out.curve[k] = (1.f - f) * polyline[seg] + f * polyline[seg + 1];
@@ -65,7 +65,8 @@ PrototypeCurve prepare_prototype(std::span<const Vec3f> polyline, float spacing,
     // Centred moving average with prefix sums (double, so long curves keep precision).
     const int half = std::max(0, static_cast<int>(std::lround(0.5f * smoothing / spacing - 0.5f)));
     std::vector<Vec3d> prefix(count + 1, Vec3d::Zero());
-    for (size_t k = 0; k < count; ++k) prefix[k + 1] = prefix[k] + out.curve[k].cast<double>();
+    for (size_t k = 0; k < count; ++k)
+        prefix[k + 1] = prefix[k] + out.curve[k].cast<double>();
     out.centre.resize(count);
     for (size_t k = 0; k < count; ++k) {
         const int h = std::min<int>({half, static_cast<int>(k), static_cast<int>(count - 1 - k)});
@@ -89,7 +90,8 @@ std::vector<Vec3f> decompose(const PrototypeCurve& proto, float segment) {
     size_t j = 0;
     for (size_t i = 0; i < n; ++i) {
         const float a = static_cast<float>(i) * segment;
-        while (j + 2 < k_count && proto.centre_arc[j + 1] < a) ++j;
+        while (j + 2 < k_count && proto.centre_arc[j + 1] < a)
+            ++j;
         const float len = proto.centre_arc[j + 1] - proto.centre_arc[j];
         const float f = len > 0.f ? std::clamp((a - proto.centre_arc[j]) / len, 0.f, 1.f) : 0.f;
         c[i] = (1.f - f) * proto.centre[j] + f * proto.centre[j + 1];

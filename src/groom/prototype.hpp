@@ -20,8 +20,8 @@ std::vector<Vec3f> prototype_polyline(const PrototypeSpec& spec);
 // A polyline resampled at even arc length and its low-pass centre line, from which
 // outlines of any segment length are cut (decompose() below).
 struct PrototypeCurve {
-    std::vector<Vec3f> curve;   // #K samples of the prototype, evenly spaced in arc length
-    std::vector<Vec3f> centre;  // #K the same samples smoothed over `smoothing` cm
+    std::vector<Vec3f> curve;       // #K samples of the prototype, evenly spaced in arc length
+    std::vector<Vec3f> centre;      // #K the same samples smoothed over `smoothing` cm
     std::vector<float> centre_arc;  // #K arc length along centre, from 0
 };
 

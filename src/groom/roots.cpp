@@ -14,13 +14,15 @@ namespace {
 float probe_max_density(const Scalp& scalp, const MapSampler& density, uint64_t seed) {
     Rng rng(seed, Stream::kRoots, ~uint64_t{0});
     float hi = 0.f;
-    for (int i = 0; i < 4096; ++i) hi = std::max(hi, density(scalp.sample(rng)));
+    for (int i = 0; i < 4096; ++i)
+        hi = std::max(hi, density(scalp.sample(rng)));
     return hi;
 }
 
 std::vector<Vec3f> positions(const std::vector<SurfacePoint>& pts) {
     std::vector<Vec3f> out(pts.size());
-    for (size_t i = 0; i < pts.size(); ++i) out[i] = pts[i].position;
+    for (size_t i = 0; i < pts.size(); ++i)
+        out[i] = pts[i].position;
     return out;
 }
 
@@ -46,25 +48,31 @@ Roots place_roots(const Scalp& scalp, const MapSampler& density, const RootParam
 
     // Candidate cloud, one stream per candidate.
     std::vector<SurfacePoint> cand(c_count);
-    parallel_for(c_count, [&](size_t i) {
-        Rng rng(params.seed, Stream::kRoots, i);
-        cand[i] = sample_by_density(scalp, density, max_density, rng);
-    }, 256);
+    parallel_for(
+        c_count,
+        [&](size_t i) {
+            Rng rng(params.seed, Stream::kRoots, i);
+            cand[i] = sample_by_density(scalp, density, max_density, rng);
+        },
+        256);
     const std::vector<Vec3f> cand_pos = positions(cand);
     const float spacing = std::sqrt(scalp.area() / static_cast<float>(w_count));
 
     // Initial masters: every k-th candidate (the cloud is already random).
     const size_t stride = c_count / w_count;
     std::vector<uint32_t> master_cand(w_count);
-    for (size_t w = 0; w < w_count; ++w) master_cand[w] = static_cast<uint32_t>(w * stride);
+    for (size_t w = 0; w < w_count; ++w)
+        master_cand[w] = static_cast<uint32_t>(w * stride);
 
     std::vector<int> label(c_count);
     Roots roots;
     for (int it = 0; it < params.lloyd_iterations; ++it) {
         std::vector<Vec3f> mpos(w_count);
-        for (size_t w = 0; w < w_count; ++w) mpos[w] = cand_pos[master_cand[w]];
+        for (size_t w = 0; w < w_count; ++w)
+            mpos[w] = cand_pos[master_cand[w]];
         const PointGrid grid(mpos, spacing);
-        parallel_for(c_count, [&](size_t i) { label[i] = grid.nearest(cand_pos[i]); }, 1024);
+        parallel_for(
+            c_count, [&](size_t i) { label[i] = grid.nearest(cand_pos[i]); }, 1024);
         // Centroids, accumulated in candidate order (deterministic).
         std::vector<Vec3d> sum(w_count, Vec3d::Zero());
         std::vector<uint32_t> cnt(w_count, 0);
@@ -88,7 +96,8 @@ Roots place_roots(const Scalp& scalp, const MapSampler& density, const RootParam
         roots.lloyd_iterations = it + 1;
     }
     roots.masters.resize(w_count);
-    for (size_t w = 0; w < w_count; ++w) roots.masters[w] = cand[master_cand[w]];
+    for (size_t w = 0; w < w_count; ++w)
+        roots.masters[w] = cand[master_cand[w]];
 
     // Member roots and their Voronoi regions.
     const size_t s_count = static_cast<size_t>(std::max(0, params.strands));
@@ -96,18 +105,24 @@ Roots place_roots(const Scalp& scalp, const MapSampler& density, const RootParam
     std::vector<int> wisp_of(s_count);
     const std::vector<Vec3f> mpos = positions(roots.masters);
     const PointGrid grid(mpos, spacing);
-    parallel_for(s_count, [&](size_t j) {
-        Rng rng(params.seed, Stream::kMemberRoot, j);
-        members[j] = sample_by_density(scalp, density, max_density, rng);
-        wisp_of[j] = grid.nearest(members[j].position);
-    }, 512);
+    parallel_for(
+        s_count,
+        [&](size_t j) {
+            Rng rng(params.seed, Stream::kMemberRoot, j);
+            members[j] = sample_by_density(scalp, density, max_density, rng);
+            wisp_of[j] = grid.nearest(members[j].position);
+        },
+        512);
     // Counting sort by wisp, stable in j.
     roots.wisp_offsets.assign(w_count + 1, 0);
-    for (size_t j = 0; j < s_count; ++j) ++roots.wisp_offsets[wisp_of[j] + 1];
-    for (size_t w = 0; w < w_count; ++w) roots.wisp_offsets[w + 1] += roots.wisp_offsets[w];
+    for (size_t j = 0; j < s_count; ++j)
+        ++roots.wisp_offsets[wisp_of[j] + 1];
+    for (size_t w = 0; w < w_count; ++w)
+        roots.wisp_offsets[w + 1] += roots.wisp_offsets[w];
     roots.members.resize(s_count);
     std::vector<uint32_t> fill(roots.wisp_offsets.begin(), roots.wisp_offsets.end() - 1);
-    for (size_t j = 0; j < s_count; ++j) roots.members[fill[wisp_of[j]]++] = members[j];
+    for (size_t j = 0; j < s_count; ++j)
+        roots.members[fill[wisp_of[j]]++] = members[j];
     roots.wisp_radius.assign(w_count, 0.f);
     parallel_for(w_count, [&](size_t w) {
         float r = 0.f;

@@ -11,18 +11,18 @@
 namespace wisp {
 
 struct Roots {
-    std::vector<SurfacePoint> masters;    // #W master roots
-    std::vector<SurfacePoint> members;    // #S member roots, grouped by wisp
-    std::vector<uint32_t> wisp_offsets;   // #W+1: wisp w owns members[wisp_offsets[w] ..
-                                          // wisp_offsets[w+1])
-    std::vector<float> wisp_radius;       // #W root radius: the largest distance from the
-                                          // master root to a member root of its region, cm
+    std::vector<SurfacePoint> masters;   // #W master roots
+    std::vector<SurfacePoint> members;   // #S member roots, grouped by wisp
+    std::vector<uint32_t> wisp_offsets;  // #W+1: wisp w owns members[wisp_offsets[w] ..
+                                         // wisp_offsets[w+1])
+    std::vector<float> wisp_radius;      // #W root radius: the largest distance from the
+                                         // master root to a member root of its region, cm
     int lloyd_iterations = 0;
 };
 
 struct RootParams {
-    int wisps = 2000;        // N_w ≥ 1
-    int strands = 100000;    // N_s ≥ 0
+    int wisps = 2000;              // N_w ≥ 1
+    int strands = 100000;          // N_s ≥ 0
     int candidates_per_wisp = 12;  // density of the candidate cloud for Lloyd relaxation
     int lloyd_iterations = 8;
     uint64_t seed = 1;

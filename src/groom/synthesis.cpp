@@ -7,15 +7,17 @@ namespace wisp {
 
 float synthesis_scale(std::span<const Vec3f> prototype, int window) {
     double sum = 0.0;
-    for (const Vec3f& d : prototype) sum += d.squaredNorm();
+    for (const Vec3f& d : prototype)
+        sum += d.squaredNorm();
     const double rms = prototype.empty() ? 0.0 : std::sqrt(sum / prototype.size());
     return rms > 1e-6 ? static_cast<float>(std::sqrt(static_cast<double>(window)) * rms) : 1.f;
 }
 
-float window_distance(std::span<const Vec3f> out, size_t i, std::span<const Vec3f> proto,
-                      size_t k, int window) {
+float window_distance(std::span<const Vec3f> out, size_t i, std::span<const Vec3f> proto, size_t k,
+                      int window) {
     float sum = 0.f;
-    for (int t = 1; t <= window; ++t) sum += (out[i - t] - proto[k - t]).squaredNorm();
+    for (int t = 1; t <= window; ++t)
+        sum += (out[i - t] - proto[k - t]).squaredNorm();
     return std::sqrt(sum);
 }
 

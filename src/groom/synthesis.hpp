@@ -21,8 +21,8 @@ struct SynthesisParams {
 float synthesis_scale(std::span<const Vec3f> prototype, int window);
 
 // Eq. (2): the Euclidean distance between the h details before out[i] and before proto[k].
-float window_distance(std::span<const Vec3f> out, size_t i, std::span<const Vec3f> proto,
-                      size_t k, int window);
+float window_distance(std::span<const Vec3f> out, size_t i, std::span<const Vec3f> proto, size_t k,
+                      int window);
 
 // Synthesizes out.size() details from the prototype details `proto` (#m > h). The first h
 // are copied from a random place of the prototype (the chain's start); every further δ_i

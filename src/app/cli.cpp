@@ -1,0 +1,231 @@
+#include "app/cli.hpp"
+
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <charconv>
+#include <cstdio>
+#include <iostream>
+#include <random>
+#include <thread>
+
+#include "app/stats.hpp"
+#include "core/error.hpp"
+#include "core/parallel.hpp"
+#include "geometry/builtin_head.hpp"
+#include "groom/generate.hpp"
+#include "groom/style_toml.hpp"
+#include "io/hair_io.hpp"
+
+namespace wisp {
+namespace {
+
+constexpr const char* kVersion = "0.1.0";
+
+struct GenerateArgs {
+    std::string style_path;
+    std::string preset;
+    std::vector<std::string> outputs;
+    std::string seed;
+    int threads = 0;
+    std::string stats;
+    bool obj_segments = false;
+    bool quiet = false;
+};
+
+Style resolve_style(const std::string& path, const std::string& preset) {
+    if (!path.empty() && !preset.empty())
+        throw CLI::ValidationError("give a style file or --preset, not both");
+    if (!path.empty()) return load_style(path);
+    return load_preset(preset.empty() ? "default" : preset);
+}
+
+uint64_t parse_seed(const std::string& text) {
+    if (text == "random") {
+        std::random_device device;
+        return (static_cast<uint64_t>(device()) << 32) | device();
+    }
+    uint64_t value = 0;
+    const char* end = text.data() + text.size();
+    const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+    if (ec != std::errc() || ptr != end)
+        throw CLI::ValidationError(
+            "--seed", "expects a non-negative integer or 'random', got '" + text + "'");
+    return value;
+}
+
+void info(bool quiet, const std::string& line) {
+    if (!quiet) std::cerr << line << '\n';
+}
+
+int run_generate(const GenerateArgs& args) {
+    Stopwatch total;
+    Style style = resolve_style(args.style_path, args.preset);
+    if (!args.seed.empty()) style.seed = parse_seed(args.seed);
+    for (const std::string& out : args.outputs)
+        hair_format_from_path(out);  // fail early
+    const ThreadLimit limit(args.threads);
+
+    Stopwatch watch;
+    const Head head = load_head(style.head);
+    StageTimes times{{"head", watch.ms()}};
+    info(args.quiet,
+         cat("wisp: ", style.wisps, " wisps, ", style.strands, " strands on the ", head.source,
+             " (scalp ", static_cast<int>(head.scalp->area()), " cm²), seed ", style.seed));
+    GenerateResult result = generate(style, head);
+    times.insert(times.end(), result.times.begin(), result.times.end());
+
+    HairWriteOptions options;
+    options.obj_segments = args.obj_segments;
+    for (const std::string& out : args.outputs) {
+        watch = Stopwatch();
+        write_hair(out, result.hair, options);
+        times.emplace_back("write " + out, watch.ms());
+        info(args.quiet, cat("wisp: wrote ", out));
+    }
+    if (!args.stats.empty()) {
+        nlohmann::json j = hair_stats(result.hair);
+        j["wisps"] = result.masters.count();
+        j["seed"] = style.seed;
+        j["style"] = style.name;
+        j["head"] = head.source;
+        j["scalp_area_cm2"] = head.scalp->area();
+        j["points_per_strand"] = style.points_per_strand;
+        j["threads"] =
+            args.threads > 0 ? args.threads : static_cast<int>(std::thread::hardware_concurrency());
+        j["time_ms"] = stage_stats(times);
+        j["time_ms"]["wall"] = total.ms();
+        j["version"] = kVersion;
+        write_json(args.stats, j);
+        info(args.quiet, cat("wisp: wrote ", args.stats));
+    }
+    info(args.quiet,
+         cat("wisp: ", result.hair.strand_count(), " strands, ", result.hair.point_count(),
+             " points in ", static_cast<int>(total.ms()), " ms"));
+    return 0;
+}
+
+}  // namespace
+
+int run_cli(int argc, char** argv) {
+    CLI::App app{"wisp: realistic hairstyles from a few intuitive parameters (Choe & Ko 2005)"};
+    app.set_version_flag("--version", kVersion);
+    app.require_subcommand(1);
+
+    GenerateArgs gen;
+    CLI::App* generate_cmd = app.add_subcommand(
+        "generate", "Generate a hairstyle from a style file or a preset and write hair files");
+    generate_cmd->add_option("style", gen.style_path, "Style file (TOML); see docs/style.md")
+        ->check(CLI::ExistingFile);
+    generate_cmd->add_option("--preset", gen.preset, "A shipped preset (see `wisp presets`)");
+    generate_cmd
+        ->add_option("-o,--output", gen.outputs,
+                     "Output file(s); the format follows the extension: .usda .hair .obj .ply")
+        ->required();
+    generate_cmd->add_option("--seed", gen.seed,
+                             "Random seed (overrides the style's), or 'random'");
+    generate_cmd->add_option("--threads", gen.threads, "Worker threads (0 = all cores)")
+        ->check(CLI::Range(0, 1024));
+    generate_cmd->add_option("--stats", gen.stats, "Write the run's figures as JSON");
+    generate_cmd->add_flag("--obj-segments", gen.obj_segments,
+                           "OBJ: one `l` per segment (Blender's OBJ importer keeps only the "
+                           "first two points of longer `l` lines)");
+    generate_cmd->add_flag("-q,--quiet", gen.quiet, "Print nothing but errors");
+
+    std::string head_out = "head.obj";
+    CLI::App* head_cmd =
+        app.add_subcommand("head", "Write the built-in head (scalp faces in group 'scalp')");
+    head_cmd->add_option("-o,--output", head_out, "Output OBJ")->capture_default_str();
+
+    std::string info_path;
+    bool info_json = false;
+    CLI::App* info_cmd = app.add_subcommand("info", "Describe a hair file");
+    info_cmd->add_option("file", info_path, "A .hair, .usda, .obj, .ply or .data file")->required();
+    info_cmd->add_flag("--json", info_json, "Print JSON instead of text");
+
+    std::string convert_in, convert_out;
+    bool convert_segments = false;
+    CLI::App* convert_cmd = app.add_subcommand("convert", "Convert a hair file to another format");
+    convert_cmd->add_option("input", convert_in, "Input: .hair .usda .obj .ply .data")->required();
+    convert_cmd->add_option("output", convert_out, "Output: .hair .usda .obj .ply")->required();
+    convert_cmd->add_flag("--obj-segments", convert_segments, "OBJ: one `l` per segment");
+
+    app.add_subcommand("presets", "List the shipped style presets");
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e) == 0 ? 0 : 2;
+    }
+
+    try {
+        if (*generate_cmd) return run_generate(gen);
+        if (*head_cmd) {
+            write_obj_mesh(head_out, builtin_head_mesh());
+            std::cerr << "wisp: wrote " << head_out << '\n';
+            return 0;
+        }
+        if (*info_cmd) {
+            const HairFileInfo i = hair_file_info(info_path);
+            if (!info_json) {
+                std::cout << describe(i);
+                return 0;
+            }
+            nlohmann::json j;
+            j["path"] = i.path.string();
+            j["format"] = hair_format_name(i.format);
+            j["bytes"] = i.file_bytes;
+            j["strands"] = i.strands;
+            j["points"] = i.points;
+            j["points_per_strand"] = {
+                {"min", i.min_points}, {"max", i.max_points}, {"mean", i.mean_points}};
+            if (!i.bounds.empty())
+                j["bbox"] = {{"min", {i.bounds.lo.x(), i.bounds.lo.y(), i.bounds.lo.z()}},
+                             {"max", {i.bounds.hi.x(), i.bounds.hi.y(), i.bounds.hi.z()}}};
+            j["has_widths"] = i.has_widths;
+            j["has_colors"] = i.has_colors;
+            j["skipped_strands"] = i.skipped_strands;
+            for (const UsdPrimSummary& p : i.usd_prims)
+                j["usd_prims"].push_back({{"path", p.path},
+                                          {"type", p.type},
+                                          {"basis", p.basis},
+                                          {"wrap", p.wrap},
+                                          {"curves", p.curves},
+                                          {"points", p.points},
+                                          {"segments", p.segments},
+                                          {"problem", p.problem}});
+            std::cout << j.dump(2) << '\n';
+            return 0;
+        }
+        if (*convert_cmd) {
+            hair_format_from_path(convert_out);
+            const Hair hair = read_hair(convert_in);
+            HairWriteOptions options;
+            options.obj_segments = convert_segments;
+            write_hair(convert_out, hair, options);
+            std::cerr << "wisp: wrote " << convert_out << " (" << hair.strand_count()
+                      << " strands)\n";
+            return 0;
+        }
+        if (app.got_subcommand("presets")) {
+            for (const std::string& name : preset_names())
+                std::cout << name << '\n';
+            return 0;
+        }
+    } catch (const CLI::ValidationError& e) {
+        std::cerr << "wisp: usage error: " << e.what() << '\n';
+        return 2;
+    } catch (const Error& e) {
+        std::cerr << "wisp: error: " << e.what() << '\n';
+        return 1;
+    } catch (const std::bad_alloc&) {
+        std::cerr << "wisp: error: out of memory\n";
+        return 1;
+    } catch (const std::exception& e) {
+        std::cerr << "wisp: error: " << e.what() << '\n';
+        return 1;
+    }
+    return 2;
+}
+
+}  // namespace wisp
