@@ -1,0 +1,96 @@
+#pragma once
+// USD text layers (`.usda`) with BasisCurves prims.
+//
+// Writer: one layer, `defaultPrim = "hair"`, upAxis "Y", metersPerUnit 0.01 (wisp's
+// centimetres), `def Xform "hair"` holding `def BasisCurves "strands"`: type "cubic",
+// basis "catmullRom", wrap "pinned" (the pinned Catmull-Rom spline passes through the
+// end points, exactly wisp's spline, core/catmull_rom.hpp), curveVertexCounts, points,
+// per-vertex widths, per-strand primvars:displayColor (or one constant color) and
+// per-strand primvars:wisp_id when known; extent. Floats are written in their shortest
+// form that reads back bit-exact.
+//
+// Reader: a tokenizer and parser for the usda text that BasisCurves layers use: nested
+// def/over/class prims with `( ... )` metadata, attributes with custom/uniform
+// qualifiers and any value type, `.timeSamples = { time: value, ... }`, `None`
+// (blocked) values, `.connect`, relationships, list-ops, variantSets (skipped), strings
+// ("...", '...', """..."""), asset and path literals, `#`, `//` and `/* */` comments
+// anywhere (also inside arrays). Value of an attribute: the default value when one is
+// authored and not blocked, else the earliest time sample (else none).
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/hair.hpp"
+
+namespace wisp {
+
+// One BasisCurves prim as authored (no unit or axis conversion). Unauthored tokens take
+// the schema fallbacks: type "cubic", basis "bezier", wrap "nonperiodic".
+struct UsdCurves {
+    std::string path;  // prim path, e.g. "/World/curve"
+    size_t line = 0;   // line of the prim's `def` in the file
+    std::string type = "cubic", basis = "bezier", wrap = "nonperiodic";
+    std::vector<int> counts;                  // curveVertexCounts  #C
+    std::vector<Vec3f> points;                // points             #P (should be sum of counts)
+    std::vector<float> widths;                // widths, as authored (size depends on interpolation)
+    std::string widths_interpolation;         // as authored, "" when not
+    std::vector<Vec3f> display_color;         // primvars:displayColor (indices applied)
+    std::string display_color_interpolation;  // as authored, "" when not
+    std::vector<int32_t> wisp_id;             // primvars:wisp_id
+    std::string wisp_id_interpolation;
+    bool has_normals = false;  // ribbons: normals are read past, not kept
+};
+
+// Layer metadata wisp uses, and the BasisCurves prims in file order.
+struct UsdaLayer {
+    std::string up_axis = "Y";      // "Y" or "Z"; USD's fallback when unauthored is Y
+    double meters_per_unit = 0.01;  // USD's fallback (centimetres)
+    double time_codes_per_second = 24.0;
+    std::vector<UsdCurves> curves;
+};
+
+// Parses usda text; `name` (the file) starts every error message ("name:line:col: ...").
+// Every BasisCurves prim is returned, valid or not (see usd_curves_problem).
+UsdaLayer parse_usda(std::string_view text, const std::string& name);
+UsdaLayer read_usda_layer(const std::filesystem::path& path);
+std::vector<UsdCurves> read_usda_curves(const std::filesystem::path& path);
+
+// Segments of curve `curve` under USD's rules: linear nonperiodic n-1, periodic n;
+// cubic bezier nonperiodic (n-4)/3+1, periodic n/3; bspline and catmullRom nonperiodic
+// n-3, periodic n, pinned n-1; pinned bezier and pinned linear behave as nonperiodic.
+// 0 for a curve below its minimum vertex count.
+size_t usd_segment_count(const UsdCurves& c, size_t curve);
+// Data sizes for the four interpolations: constant 1, uniform #C, varying sum of
+// segments+1 (periodic: segments), vertex sum of counts.
+size_t usd_interpolation_size(const UsdCurves& c, std::string_view interpolation);
+// The interpolation a primvar of n values has ("constant", "uniform", "varying",
+// "vertex", checked in that order), or "" when none fits.
+std::string usd_interpolation_for_size(const UsdCurves& c, size_t n);
+// Why the prim cannot be read as strands ("curve 3 has 1 vertex, ..."), or "" if it can.
+std::string usd_curves_problem(const UsdCurves& c);
+
+// Strands of every BasisCurves prim of the layer, converted to centimetres and Y up.
+// Pinned catmullRom curves keep their control points; linear curves keep their points;
+// bezier, bspline and non-pinned catmullRom curves are sampled `samples_per_segment`
+// times per segment; periodic curves are closed (first point repeated at the end).
+// Widths of any interpolation become per-point widths; displayColor becomes per-strand
+// colors (the first value of a curve for vertex/varying). Throws wisp::Error naming the
+// file and prim if any prim is invalid.
+Hair hair_from_usda(const UsdaLayer& layer, const std::string& name, int samples_per_segment = 8);
+Hair read_usda(const std::filesystem::path& path);
+
+// The usda layer described above. Throws for a strand of fewer than 2 points (a pinned
+// cubic curve needs 2).
+std::string encode_usda(const Hair& hair, const std::string& name = "hair");
+void write_usda(const std::filesystem::path& path, const Hair& hair);
+
+// Animation: frames share their topology (offsets); frame i is time code i, at `fps`
+// time codes per second. points and extent are time-sampled; counts, widths, colors and
+// wisp ids come from frame 0.
+std::string encode_usda_animation(const std::vector<Hair>& frames, double fps,
+                                  const std::string& name = "hair");
+void write_usda_animation(const std::filesystem::path& path, const std::vector<Hair>& frames,
+                          double fps);
+
+}  // namespace wisp

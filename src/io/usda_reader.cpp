@@ -1,0 +1,718 @@
+// The usda reader: a hand-written tokenizer and recursive-descent parser for the text
+// format subset that BasisCurves layers use. Values of attributes wisp does not need are
+// skipped token by token (never converted), so a layer with big meshes reads fast too.
+#include <charconv>
+#include <climits>
+#include <cmath>
+#include <map>
+
+#include "core/error.hpp"
+#include "io/io_util.hpp"
+#include "io/usda.hpp"
+
+namespace wisp {
+namespace {
+
+enum class TokKind { kEnd, kIdent, kNumber, kString, kAsset, kPath, kPunct };
+
+struct Token {
+    TokKind kind = TokKind::kEnd;
+    std::string_view text;  // strings, assets, paths: without their delimiters
+    size_t line = 0, col = 0;
+
+    bool is(char c) const { return kind == TokKind::kPunct && text[0] == c; }
+    bool is_ident(std::string_view s) const { return kind == TokKind::kIdent && text == s; }
+    bool opens() const { return is('(') || is('[') || is('{'); }
+    bool closes() const { return is(')') || is(']') || is('}'); }
+};
+
+std::string describe(const Token& t) {
+    switch (t.kind) {
+        case TokKind::kEnd:
+            return "the end of the file";
+        case TokKind::kString:
+            return cat("the string \"", t.text, "\"");
+        default:
+            return cat("`", t.text, "`");
+    }
+}
+
+bool ident_start(char c) {
+    return std::isalpha(static_cast<unsigned char>(c)) || c == '_';
+}
+bool ident_char(char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == ':' || c == '.';
+}
+bool digit(char c) {
+    return c >= '0' && c <= '9';
+}
+
+class Lexer {
+  public:
+    Lexer(std::string_view s, const std::string& name) : s_(s), name_(name) {}
+
+    const Token& peek() {
+        if (!has_) {
+            tok_ = lex();
+            has_ = true;
+        }
+        return tok_;
+    }
+    Token next() {
+        peek();
+        has_ = false;
+        return tok_;
+    }
+    template <typename... Args>
+    [[noreturn]] void error(const Token& t, const Args&... args) const {
+        fail(name_, ":", t.line, ":", t.col, ": ", args...);
+    }
+    Token expect(char c, std::string_view context) {
+        Token t = next();
+        if (!t.is(c)) error(t, "expected `", c, "` ", context, ", found ", describe(t));
+        return t;
+    }
+
+    // Fast paths for big numeric arrays, on the raw text when no token is peeked.
+    // accept(c) consumes punctuation c if it comes next.
+    bool accept(char c) {
+        if (has_) {
+            if (!tok_.is(c)) return false;
+            has_ = false;
+            return true;
+        }
+        skip_space_and_comments();
+        if (pos_ >= s_.size() || s_[pos_] != c) return false;
+        ++pos_;
+        return true;
+    }
+    // Reads a number if one comes next and ends where the number token would; false
+    // (nothing consumed) otherwise, and the caller takes the token path.
+    template <typename T>
+    bool number_fast(T& v) {
+        if (has_) return false;
+        skip_space_and_comments();
+        const char* b = s_.data() + pos_;
+        const char* e = s_.data() + s_.size();
+        if (b == e || !(digit(*b) || *b == '-' || *b == '.')) return false;
+        const auto r = std::from_chars(b, e, v);
+        if (r.ec != std::errc() || (r.ptr < e && ident_char(*r.ptr))) return false;
+        pos_ += static_cast<size_t>(r.ptr - b);
+        return true;
+    }
+    // Where the next token starts, for messages, without lexing it.
+    Token position() {
+        if (has_) return tok_;
+        skip_space_and_comments();
+        Token t;
+        t.line = line_;
+        t.col = pos_ - line_start_ + 1;
+        return t;
+    }
+
+  private:
+    char at(size_t i) const { return i < s_.size() ? s_[i] : '\0'; }
+    void advance(size_t n) {
+        for (size_t k = 0; k < n; ++k, ++pos_)
+            if (s_[pos_] == '\n') {
+                ++line_;
+                line_start_ = pos_ + 1;
+            }
+    }
+    [[noreturn]] void error_here(size_t line, size_t col, std::string_view what) const {
+        fail(name_, ":", line, ":", col, ": ", what);
+    }
+
+    void skip_space_and_comments() {
+        while (pos_ < s_.size()) {
+            const char c = s_[pos_];
+            if (c == '\n') {
+                advance(1);
+            } else if (c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v') {
+                ++pos_;
+            } else if (c == '#' || (c == '/' && at(pos_ + 1) == '/')) {
+                const size_t e = s_.find('\n', pos_);
+                pos_ = e == std::string_view::npos ? s_.size() : e;
+            } else if (c == '/' && at(pos_ + 1) == '*') {
+                const size_t line = line_, col = pos_ - line_start_ + 1;
+                const size_t e = s_.find("*/", pos_ + 2);
+                if (e == std::string_view::npos) error_here(line, col, "unterminated /* comment");
+                advance(e + 2 - pos_);
+            } else {
+                break;
+            }
+        }
+    }
+
+    Token lex() {
+        skip_space_and_comments();
+        Token t;
+        t.line = line_;
+        t.col = pos_ - line_start_ + 1;
+        if (pos_ >= s_.size()) return t;
+        const size_t start = pos_;
+        const char c = s_[pos_];
+        if (c == '"' || c == '\'') {
+            const bool triple = at(pos_ + 1) == c && at(pos_ + 2) == c;
+            const size_t open = triple ? 3 : 1;
+            size_t i = pos_ + open;
+            for (;; ++i) {
+                if (i >= s_.size()) error_here(t.line, t.col, "unterminated string");
+                if (s_[i] == '\\') {
+                    ++i;
+                    continue;
+                }
+                if (!triple && s_[i] == '\n')
+                    error_here(t.line, t.col, "string runs past the end of its line");
+                if (s_[i] == c && (!triple || (at(i + 1) == c && at(i + 2) == c))) break;
+            }
+            t.kind = TokKind::kString;
+            t.text = s_.substr(pos_ + open, i - pos_ - open);
+            advance(i + open - pos_);
+            return t;
+        }
+        if (c == '@') {
+            const bool triple = at(pos_ + 1) == '@' && at(pos_ + 2) == '@';
+            const std::string_view close = triple ? "@@@" : "@";
+            const size_t e = s_.find(close, pos_ + close.size());
+            if (e == std::string_view::npos) error_here(t.line, t.col, "unterminated asset path");
+            t.kind = TokKind::kAsset;
+            t.text = s_.substr(pos_ + close.size(), e - pos_ - close.size());
+            advance(e + close.size() - pos_);
+            return t;
+        }
+        if (c == '<') {
+            const size_t e = s_.find('>', pos_);
+            if (e == std::string_view::npos) error_here(t.line, t.col, "unterminated path <...>");
+            t.kind = TokKind::kPath;
+            t.text = s_.substr(pos_ + 1, e - pos_ - 1);
+            advance(e + 1 - pos_);
+            return t;
+        }
+        if (ident_start(c) || ((c == '-' || c == '+') && ident_start(at(pos_ + 1)))) {
+            size_t i = pos_ + 1;
+            while (i < s_.size() && ident_char(s_[i]))
+                ++i;
+            t.kind = TokKind::kIdent;
+            t.text = s_.substr(start, i - start);
+            pos_ = i;
+            return t;
+        }
+        if (digit(c) ||
+            ((c == '-' || c == '+' || c == '.') && (digit(at(pos_ + 1)) || at(pos_ + 1) == '.'))) {
+            size_t i = pos_ + 1;
+            while (i < s_.size()) {
+                const char d = s_[i];
+                if (digit(d) || d == '.') {
+                    ++i;
+                } else if ((d == 'e' || d == 'E')) {
+                    ++i;
+                    if (at(i) == '-' || at(i) == '+') ++i;
+                } else {
+                    break;
+                }
+            }
+            t.kind = TokKind::kNumber;
+            t.text = s_.substr(start, i - start);
+            pos_ = i;
+            return t;
+        }
+        if (std::string_view("()[]{}=,:;&").find(c) != std::string_view::npos) {
+            t.kind = TokKind::kPunct;
+            t.text = s_.substr(pos_, 1);
+            ++pos_;
+            return t;
+        }
+        error_here(t.line, t.col, cat("unexpected character `", c, "`"));
+    }
+
+    std::string_view s_;
+    const std::string& name_;
+    size_t pos_ = 0, line_ = 1, line_start_ = 0;
+    Token tok_;
+    bool has_ = false;
+};
+
+enum class NumKind { kFloat, kInt, kString };
+
+// A parsed attribute value: numbers flattened in file order, tuples counted.
+struct Value {
+    bool blocked = false;  // None
+    std::vector<float> f;
+    std::vector<int64_t> i;
+    std::vector<std::string> s;
+    size_t elements = 0;  // array elements (1 for a scalar or a tuple)
+    int arity = 0;        // components per element, 0 for scalars
+    Token where;
+};
+
+struct Attr {
+    bool has_default = false, has_sample = false;
+    Value value, sample;  // default; earliest time sample
+    double sample_time = 0;
+    std::string interpolation;
+    // The value wisp uses: the default when authored and not blocked, else the earliest
+    // time sample, else none.
+    const Value* resolved() const {
+        if (has_default && !value.blocked) return &value;
+        if (has_sample && !sample.blocked) return &sample;
+        return nullptr;
+    }
+};
+
+constexpr int kMaxDepth = 200;
+
+class Parser {
+  public:
+    Parser(std::string_view text, const std::string& name) : lx_(text, name), name_(name) {}
+
+    UsdaLayer parse() {
+        Token t = lx_.peek();
+        if (t.kind == TokKind::kPunct && t.is('(')) {
+            lx_.next();
+            parse_metadata([&](std::string_view key, const Token& v) {
+                if (key == "upAxis" && v.kind == TokKind::kString)
+                    layer_.up_axis = std::string(v.text);
+                if (key == "metersPerUnit") layer_.meters_per_unit = number(v);
+                if (key == "timeCodesPerSecond") layer_.time_codes_per_second = number(v);
+            });
+        }
+        for (;;) {
+            t = lx_.peek();
+            if (t.kind == TokKind::kEnd) break;
+            if (t.is_ident("def") || t.is_ident("over") || t.is_ident("class")) {
+                parse_prim("", 0, false);
+            } else if (t.is(';')) {
+                lx_.next();
+            } else {
+                lx_.error(t, "expected `def`, `over` or `class`, found ", describe(t));
+            }
+        }
+        if (layer_.up_axis != "Y" && layer_.up_axis != "Z")
+            fail(name_, ": upAxis \"", layer_.up_axis, "\" is neither \"Y\" nor \"Z\"");
+        if (!(layer_.meters_per_unit > 0) || !std::isfinite(layer_.meters_per_unit))
+            fail(name_, ": metersPerUnit ", layer_.meters_per_unit, " is not a positive number");
+        return std::move(layer_);
+    }
+
+  private:
+    double number(const Token& t) {
+        double v;
+        if (t.kind != TokKind::kNumber || !io_detail::parse_number(t.text, v))
+            lx_.error(t, "expected a number, found ", describe(t));
+        return v;
+    }
+
+    // Skips one value: a single token, or a balanced (...), [...] or {...} group.
+    void skip_value() {
+        Token t = lx_.next();
+        if (t.kind == TokKind::kEnd) lx_.error(t, "expected a value, found the end of the file");
+        if (t.closes()) lx_.error(t, "expected a value, found ", describe(t));
+        if (!t.opens()) return;
+        const Token open = t;
+        for (int depth = 1; depth > 0;) {
+            t = lx_.next();
+            if (t.kind == TokKind::kEnd) lx_.error(open, "`", open.text, "` is never closed");
+            if (t.opens()) ++depth;
+            if (t.closes()) --depth;
+        }
+    }
+
+    // After `(`: key = value entries up to `)`. on(key, token) gets scalar values; group
+    // values (lists, dictionaries) are skipped.
+    template <typename On>
+    void parse_metadata(On&& on) {
+        for (;;) {
+            Token t = lx_.next();
+            if (t.is(')')) return;
+            if (t.kind == TokKind::kEnd) lx_.error(t, "metadata `(` is never closed");
+            if (t.opens()) {
+                // A stray group: skip it whole.
+                int depth = 1;
+                while (depth > 0) {
+                    Token u = lx_.next();
+                    if (u.kind == TokKind::kEnd) lx_.error(t, "`", t.text, "` is never closed");
+                    if (u.opens()) ++depth;
+                    if (u.closes()) --depth;
+                }
+                continue;
+            }
+            if (t.kind != TokKind::kIdent) continue;  // doc strings, `;`, `,`
+            if (t.text == "prepend" || t.text == "append" || t.text == "delete" ||
+                t.text == "add" || t.text == "reorder") {
+                t = lx_.next();
+                if (t.kind != TokKind::kIdent)
+                    lx_.error(t, "expected a metadata name after a list-op");
+            }
+            std::string_view key = t.text;
+            if (lx_.peek().kind == TokKind::kIdent)
+                key = lx_.next().text;  // `dictionary customData`
+            if (!lx_.peek().is('=')) continue;
+            lx_.next();
+            const Token& v = lx_.peek();
+            if (v.opens()) {
+                skip_value();
+            } else {
+                Token value = lx_.next();
+                if (value.closes() || value.kind == TokKind::kEnd)
+                    lx_.error(value, "expected a value for `", key, "`, found ", describe(value));
+                on(key, value);
+            }
+        }
+    }
+
+    void push_number(Value& v, const Token& t, NumKind kind) {
+        if (kind == NumKind::kFloat) {
+            float x;
+            if (!io_detail::parse_number(t.text, x)) lx_.error(t, "`", t.text, "` is not a number");
+            v.f.push_back(x);
+        } else if (kind == NumKind::kInt) {
+            int64_t x;
+            if (t.text == "true")
+                x = 1;
+            else if (t.text == "false")
+                x = 0;
+            else if (!io_detail::parse_number(t.text, x))
+                lx_.error(t, "`", t.text, "` is not an integer");
+            v.i.push_back(x);
+        } else {
+            v.s.emplace_back(t.text);
+        }
+    }
+
+    // One scalar or tuple; returns its component count (0 for a scalar).
+    int parse_element(Value& v, NumKind kind, int depth) {
+        if (depth > kMaxDepth) lx_.error(lx_.position(), "values nested too deeply");
+        if (kind == NumKind::kFloat) {
+            float x;
+            if (lx_.number_fast(x)) {
+                v.f.push_back(x);
+                return 0;
+            }
+        } else if (kind == NumKind::kInt) {
+            int64_t x;
+            if (lx_.number_fast(x)) {
+                v.i.push_back(x);
+                return 0;
+            }
+        }
+        if (lx_.accept('(')) {
+            int n = 0;
+            if (lx_.accept(')')) return n;
+            for (;;) {
+                parse_element(v, kind, depth + 1);
+                ++n;
+                if (lx_.accept(')')) return n;
+                if (!lx_.accept(',')) {
+                    const Token sep = lx_.next();
+                    lx_.error(sep, "expected `,` or `)` in a tuple, found ", describe(sep));
+                }
+                if (lx_.accept(')')) return n;
+            }
+        }
+        Token t = lx_.next();
+        const bool numeric_ident =
+            t.kind == TokKind::kIdent && (t.text == "inf" || t.text == "-inf" || t.text == "nan" ||
+                                          t.text == "true" || t.text == "false");
+        if (t.kind == TokKind::kNumber || numeric_ident) {
+            if (kind == NumKind::kString)
+                v.s.emplace_back(t.text);
+            else
+                push_number(v, t, kind);
+            return 0;
+        }
+        if (t.kind == TokKind::kString || t.kind == TokKind::kAsset || t.kind == TokKind::kPath ||
+            t.kind == TokKind::kIdent) {
+            if (kind != NumKind::kString) lx_.error(t, "expected a number, found ", describe(t));
+            v.s.emplace_back(t.text);
+            return 0;
+        }
+        lx_.error(t, "expected a value, found ", describe(t));
+    }
+
+    Value parse_value(NumKind kind) {
+        Value v;
+        v.where = lx_.peek();
+        if (v.where.is_ident("None")) {
+            lx_.next();
+            v.blocked = true;
+            return v;
+        }
+        if (!lx_.accept('[')) {
+            v.arity = parse_element(v, kind, 0);
+            v.elements = 1;
+            return v;
+        }
+        if (lx_.accept(']')) return v;
+        for (;;) {
+            const Token at = lx_.position();
+            const int arity = parse_element(v, kind, 0);
+            if (v.elements > 0 && arity != v.arity)
+                lx_.error(at, "array element has ", arity, " components, the first had ", v.arity);
+            v.arity = arity;
+            ++v.elements;
+            if (lx_.accept(']')) return v;
+            if (!lx_.accept(',')) {
+                const Token sep = lx_.next();
+                lx_.error(sep, "expected `,` or `]` in an array, found ", describe(sep));
+            }
+            if (lx_.accept(']')) return v;
+        }
+    }
+
+    void parse_prim(const std::string& parent, int depth, bool in_class) {
+        const Token keyword = lx_.next();
+        if (depth > kMaxDepth) lx_.error(keyword, "prims nested too deeply");
+        Token t = lx_.next();
+        std::string_view type;
+        if (t.kind == TokKind::kIdent) {
+            type = t.text;
+            t = lx_.next();
+        }
+        if (t.kind != TokKind::kString)
+            lx_.error(t, "expected the prim's name in quotes, found ", describe(t));
+        const std::string path = cat(parent, "/", t.text);
+        if (lx_.peek().is('(')) {
+            lx_.next();
+            parse_metadata([](std::string_view, const Token&) {});
+        }
+        lx_.expect('{', cat("to open prim ", path));
+        const bool is_class = in_class || keyword.text == "class";
+        const bool curves = type == "BasisCurves" && !is_class;
+        size_t index = 0;
+        if (curves) {
+            index = layer_.curves.size();
+            layer_.curves.emplace_back();
+            layer_.curves[index].path = path;
+            layer_.curves[index].line = keyword.line;
+        }
+        std::map<std::string, Attr, std::less<>> attrs;
+        for (;;) {
+            const Token& p = lx_.peek();
+            if (p.is('}')) {
+                lx_.next();
+                break;
+            }
+            if (p.kind == TokKind::kEnd) lx_.error(keyword, "prim ", path, " is never closed");
+            if (p.is(';')) {
+                lx_.next();
+                continue;
+            }
+            if (p.is_ident("def") || p.is_ident("over") || p.is_ident("class")) {
+                parse_prim(path, depth + 1, is_class);
+                continue;
+            }
+            parse_property(curves ? &attrs : nullptr);
+        }
+        if (curves) fill_curves(layer_.curves[index], attrs);
+    }
+
+    static NumKind kind_of(std::string_view attr) {
+        if (attr == "type" || attr == "basis" || attr == "wrap") return NumKind::kString;
+        if (attr == "curveVertexCounts" || attr == "primvars:wisp_id" ||
+            attr == "primvars:displayColor:indices")
+            return NumKind::kInt;
+        return NumKind::kFloat;
+    }
+    static bool wanted(std::string_view attr) {
+        return attr == "type" || attr == "basis" || attr == "wrap" || attr == "curveVertexCounts" ||
+               attr == "points" || attr == "widths" || attr == "primvars:widths" ||
+               attr == "primvars:displayColor" || attr == "primvars:displayColor:indices" ||
+               attr == "primvars:wisp_id";
+    }
+
+    // One attribute, relationship or other property statement of a prim body. attrs is
+    // null when the prim is not collected: values are then skipped.
+    void parse_property(std::map<std::string, Attr, std::less<>>* attrs) {
+        Token t = lx_.next();
+        if (t.kind != TokKind::kIdent)
+            lx_.error(t, "expected a property, a prim or `}`, found ", describe(t));
+        if (t.text == "variantSet") {
+            lx_.next();  // its name
+            lx_.expect('=', "after variantSet's name");
+            skip_value();
+            return;
+        }
+        if (t.text == "reorder") {
+            lx_.next();
+            lx_.expect('=', "after reorder");
+            skip_value();
+            return;
+        }
+        while (t.text == "custom" || t.text == "uniform" || t.text == "varying" ||
+               t.text == "config" || t.text == "prepend" || t.text == "append" ||
+               t.text == "delete" || t.text == "add") {
+            t = lx_.next();
+            if (t.kind != TokKind::kIdent) lx_.error(t, "expected a type, found ", describe(t));
+        }
+        if (t.text == "rel") {
+            Token n = lx_.next();
+            if (n.kind != TokKind::kIdent)
+                lx_.error(n, "expected a relationship name, found ", describe(n));
+            if (lx_.peek().is('=')) {
+                lx_.next();
+                skip_value();
+            }
+            if (lx_.peek().is('(')) {
+                lx_.next();
+                parse_metadata([](std::string_view, const Token&) {});
+            }
+            return;
+        }
+        // An attribute: type[] name [= value] [( metadata )].
+        if (lx_.peek().is('[')) {
+            lx_.next();
+            lx_.expect(']', "after `[` in an array type");
+        }
+        const Token name_tok = lx_.next();
+        if (name_tok.kind != TokKind::kIdent)
+            lx_.error(name_tok, "expected an attribute name after type `", t.text, "`, found ",
+                      describe(name_tok));
+        std::string_view name = name_tok.text;
+        std::string_view suffix;
+        if (const size_t dot = name.rfind('.'); dot != std::string_view::npos) {
+            suffix = name.substr(dot + 1);
+            name = name.substr(0, dot);
+        }
+        if (attrs && (name == "normals" || name == "primvars:normals")) (*attrs)["normals"];
+        Attr* attr = nullptr;
+        if (attrs && wanted(name) && (suffix.empty() || suffix == "timeSamples"))
+            attr = &(*attrs)[std::string(name)];
+        const NumKind kind = kind_of(name);
+        if (lx_.peek().is('=')) {
+            lx_.next();
+            if (suffix == "timeSamples") {
+                const Token open = lx_.expect('{', "to open timeSamples");
+                for (;;) {
+                    const Token time_tok = lx_.next();
+                    if (time_tok.is('}')) break;
+                    if (time_tok.kind == TokKind::kEnd)
+                        lx_.error(open, "timeSamples `{` is never closed");
+                    const double time = number(time_tok);
+                    lx_.expect(':', "after a time sample's time");
+                    if (attr) {
+                        Value v = parse_value(kind);
+                        if (!attr->has_sample || time < attr->sample_time) {
+                            attr->has_sample = true;
+                            attr->sample_time = time;
+                            attr->sample = std::move(v);
+                        }
+                    } else {
+                        skip_value();
+                    }
+                    const Token& sep = lx_.peek();
+                    if (sep.is(','))
+                        lx_.next();
+                    else if (!sep.is('}'))
+                        lx_.error(sep, "expected `,` or `}` in timeSamples, found ", describe(sep));
+                }
+            } else if (attr && suffix.empty()) {
+                attr->value = parse_value(kind);
+                attr->has_default = true;
+            } else {
+                skip_value();
+            }
+        }
+        if (lx_.peek().is('(')) {
+            lx_.next();
+            parse_metadata([&](std::string_view key, const Token& v) {
+                if (attr && key == "interpolation") attr->interpolation = std::string(v.text);
+            });
+        }
+    }
+
+    void fill_curves(UsdCurves& c, const std::map<std::string, Attr, std::less<>>& attrs) {
+        c.has_normals = attrs.count("normals") > 0;
+        auto get = [&](std::string_view n) -> const Attr* {
+            auto it = attrs.find(n);
+            return it == attrs.end() ? nullptr : &it->second;
+        };
+        auto token = [&](std::string_view n, std::string& out) {
+            if (const Attr* a = get(n); a && a->resolved()) {
+                const Value& v = *a->resolved();
+                if (v.s.size() != 1 || v.arity != 0)
+                    lx_.error(v.where, c.path, ".", n, ": expected one token");
+                out = v.s[0];
+            }
+        };
+        token("type", c.type);
+        token("basis", c.basis);
+        token("wrap", c.wrap);
+        auto vec3s = [&](const Value& v, std::string_view n, std::vector<Vec3f>& out) {
+            if (v.elements > 0 && v.arity != 3)
+                lx_.error(v.where, c.path, ".", n, ": expected 3-component tuples");
+            out.resize(v.elements);
+            for (size_t k = 0; k < v.elements; ++k)
+                out[k] = Vec3f(v.f[3 * k], v.f[3 * k + 1], v.f[3 * k + 2]);
+        };
+        auto scalars = [&](const Value& v, std::string_view n) {
+            if (v.elements > 0 && v.arity != 0)
+                lx_.error(v.where, c.path, ".", n, ": expected scalars, found tuples");
+        };
+        if (const Attr* a = get("curveVertexCounts"); a && a->resolved()) {
+            const Value& v = *a->resolved();
+            scalars(v, "curveVertexCounts");
+            c.counts.resize(v.i.size());
+            for (size_t k = 0; k < v.i.size(); ++k) {
+                if (v.i[k] < INT_MIN || v.i[k] > INT_MAX)
+                    lx_.error(v.where, c.path, ".curveVertexCounts: count ", v.i[k],
+                              " is out of range");
+                c.counts[k] = static_cast<int>(v.i[k]);
+            }
+        }
+        if (const Attr* a = get("points"); a && a->resolved())
+            vec3s(*a->resolved(), "points", c.points);
+        const Attr* w = get("primvars:widths");
+        if (!w || !w->resolved()) w = get("widths");
+        if (w && w->resolved()) {
+            scalars(*w->resolved(), "widths");
+            c.widths = w->resolved()->f;
+            c.widths_interpolation = w->interpolation;
+        }
+        if (const Attr* a = get("primvars:displayColor"); a && a->resolved()) {
+            vec3s(*a->resolved(), "primvars:displayColor", c.display_color);
+            c.display_color_interpolation = a->interpolation;
+            if (const Attr* ix = get("primvars:displayColor:indices"); ix && ix->resolved()) {
+                const Value& v = *ix->resolved();
+                std::vector<Vec3f> expanded(v.i.size());
+                for (size_t k = 0; k < v.i.size(); ++k) {
+                    if (v.i[k] < 0 || size_t(v.i[k]) >= c.display_color.size())
+                        lx_.error(v.where, c.path, ".primvars:displayColor:indices: index ", v.i[k],
+                                  " is outside the ", c.display_color.size(), " values");
+                    expanded[k] = c.display_color[v.i[k]];
+                }
+                c.display_color = std::move(expanded);
+            }
+        }
+        if (const Attr* a = get("primvars:wisp_id"); a && a->resolved()) {
+            const Value& v = *a->resolved();
+            scalars(v, "primvars:wisp_id");
+            c.wisp_id.assign(v.i.begin(), v.i.end());
+            c.wisp_id_interpolation = a->interpolation;
+        }
+    }
+
+    Lexer lx_;
+    const std::string& name_;
+    UsdaLayer layer_;
+};
+
+}  // namespace
+
+UsdaLayer parse_usda(std::string_view text, const std::string& name) {
+    if (text.starts_with("PXR-USDC"))
+        fail(name, ": a binary usdc (crate) file; wisp reads usda text (convert with usdcat)");
+    if (!text.starts_with("#usda "))
+        fail(name, ":1:1: not a usda text layer (the first line must be `#usda 1.0`)");
+    return Parser(text, name).parse();
+}
+
+UsdaLayer read_usda_layer(const std::filesystem::path& path) {
+    return parse_usda(io_detail::read_whole_file(path), path.string());
+}
+
+std::vector<UsdCurves> read_usda_curves(const std::filesystem::path& path) {
+    return read_usda_layer(path).curves;
+}
+
+}  // namespace wisp

@@ -1,0 +1,263 @@
+// The usda writer: text built into one std::string with std::to_chars, strands formatted
+// in parallel blocks and joined in order, so the bytes never depend on the thread count.
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "core/parallel.hpp"
+#include "io/io_util.hpp"
+#include "io/usda.hpp"
+
+namespace wisp {
+namespace {
+
+using io_detail::append_number;
+
+void append_vec(std::string& out, const Vec3f& v) {
+    out += '(';
+    append_number(out, v.x());
+    out += ", ";
+    append_number(out, v.y());
+    out += ", ";
+    append_number(out, v.z());
+    out += ')';
+}
+
+// Hot loops format straight into a char buffer: a float's shortest form is at most 15
+// characters ("-1.1754944e-38"), so a run of k values needs at most 17·k bytes.
+constexpr size_t kMaxFloatChars = 16;
+
+char* put_float(char* p, float v) {
+    return std::to_chars(p, p + kMaxFloatChars, v).ptr;
+}
+
+char* put_vec(char* p, const Vec3f& v) {
+    *p++ = '(';
+    p = put_float(p, v.x());
+    *p++ = ',';
+    *p++ = ' ';
+    p = put_float(p, v.y());
+    *p++ = ',';
+    *p++ = ' ';
+    p = put_float(p, v.z());
+    *p++ = ')';
+    return p;
+}
+
+// Appends up to `max_bytes` written by write(char*) -> char* end.
+template <typename Write>
+void append_raw(std::string& out, size_t max_bytes, Write&& write) {
+    const size_t at = out.size();
+    out.resize(at + max_bytes);
+    char* end = write(out.data() + at);
+    out.resize(static_cast<size_t>(end - out.data()));
+}
+
+// Formats per-strand pieces in parallel: body(strand, out) appends strand's text; blocks
+// of strands are joined in order.
+template <typename Body>
+std::string format_strands(size_t strands, size_t bytes_per_strand, Body&& body) {
+    constexpr size_t kBlock = 2048;
+    const size_t blocks = (strands + kBlock - 1) / kBlock;
+    std::vector<std::string> parts(blocks);
+    parallel_for(blocks, [&](size_t b) {
+        const size_t lo = b * kBlock, hi = std::min(strands, lo + kBlock);
+        std::string& s = parts[b];
+        s.reserve((hi - lo) * bytes_per_strand);
+        for (size_t i = lo; i < hi; ++i)
+            body(i, s);
+    });
+    size_t total = 0;
+    for (const std::string& p : parts)
+        total += p.size();
+    std::string out;
+    out.reserve(total);
+    for (const std::string& p : parts)
+        out += p;
+    return out;
+}
+
+std::string points_array(const Hair& hair, const std::string& indent) {
+    return format_strands(hair.strand_count(), 40 * 32, [&](size_t s, std::string& out) {
+        out += indent;
+        const uint32_t a = hair.offsets[s], b = hair.offsets[s + 1];
+        append_raw(out, (b - a) * (3 * kMaxFloatChars + 8) + 1, [&](char* p) {
+            for (uint32_t i = a; i < b; ++i) {
+                p = put_vec(p, hair.points[i]);
+                if (i + 1 < hair.point_count()) {
+                    *p++ = ',';
+                    *p++ = ' ';
+                }
+            }
+            *p++ = '\n';
+            return p;
+        });
+    });
+}
+
+Box3 extent_of(const Hair& hair) {
+    Box3 b = hair.bounds();
+    float half = hair.default_width * 0.5f;
+    if (!hair.widths.empty())
+        half = *std::max_element(hair.widths.begin(), hair.widths.end()) * 0.5f;
+    if (!b.empty()) {
+        b.lo -= Vec3f::Constant(half);
+        b.hi += Vec3f::Constant(half);
+    } else {
+        b.lo = b.hi = Vec3f::Zero();
+    }
+    return b;
+}
+
+void append_extent(std::string& out, const Box3& b) {
+    out += '[';
+    append_vec(out, b.lo);
+    out += ", ";
+    append_vec(out, b.hi);
+    out += ']';
+}
+
+void check_strands(const Hair& hair, const std::string& name) {
+    hair.validate(name);
+    for (size_t s = 0; s < hair.strand_count(); ++s)
+        if (hair.strand_size(s) < 2)
+            fail(name, ": strand ", s, " has ", hair.strand_size(s),
+                 " points; a pinned catmullRom curve needs at least 2");
+}
+
+// Header, the Xform and the BasisCurves prim up to (not including) its points.
+void begin_layer(std::string& out, const Hair& hair, const std::string& extra_metadata) {
+    out += "#usda 1.0\n(\n    defaultPrim = \"hair\"\n";
+    out += extra_metadata;
+    out += "    metersPerUnit = 0.01\n    upAxis = \"Y\"\n)\n\n";
+    out += "def Xform \"hair\"\n{\n    def BasisCurves \"strands\"\n    {\n";
+    out += "        uniform token type = \"cubic\"\n";
+    out += "        uniform token basis = \"catmullRom\"\n";
+    out += "        uniform token wrap = \"pinned\"\n";
+    out += "        int[] curveVertexCounts = [";
+    for (size_t s = 0; s < hair.strand_count(); ++s) {
+        if (s) out += ", ";
+        append_number(out, hair.strand_size(s));
+    }
+    out += "]\n";
+}
+
+// widths, displayColor, wisp ids and the closing braces.
+void end_layer(std::string& out, const Hair& hair) {
+    const size_t S = hair.strand_count();
+    out += "        float[] widths = [\n";
+    out += format_strands(S, 10 * 32, [&](size_t s, std::string& o) {
+        o += "            ";
+        const uint32_t a = hair.offsets[s], b = hair.offsets[s + 1];
+        append_raw(o, (b - a) * (kMaxFloatChars + 2) + 1, [&](char* p) {
+            for (uint32_t i = a; i < b; ++i) {
+                p = put_float(p, hair.width_at(i));
+                if (i + 1 < hair.point_count()) {
+                    *p++ = ',';
+                    *p++ = ' ';
+                }
+            }
+            *p++ = '\n';
+            return p;
+        });
+    });
+    out += "        ] (\n            interpolation = \"vertex\"\n        )\n";
+    if (hair.colors.empty()) {
+        out += "        color3f[] primvars:displayColor = [";
+        append_vec(out, hair.default_color);
+        out += "] (\n            interpolation = \"constant\"\n        )\n";
+    } else {
+        out += "        color3f[] primvars:displayColor = [\n";
+        out += format_strands(S, 40, [&](size_t s, std::string& o) {
+            o += "            ";
+            append_vec(o, hair.colors[s]);
+            o += s + 1 < S ? ",\n" : "\n";
+        });
+        out += "        ] (\n            interpolation = \"uniform\"\n        )\n";
+    }
+    if (!hair.wisp.empty()) {
+        out += "        int[] primvars:wisp_id = [";
+        for (size_t s = 0; s < S; ++s) {
+            if (s) out += ", ";
+            append_number(out, hair.wisp[s]);
+        }
+        out += "] (\n            interpolation = \"uniform\"\n        )\n";
+    }
+    out += "    }\n}\n";
+}
+
+}  // namespace
+
+std::string encode_usda(const Hair& hair, const std::string& name) {
+    check_strands(hair, name);
+    std::string out;
+    out.reserve(hair.point_count() * 48 + hair.strand_count() * 64 + 1024);
+    begin_layer(out, hair,
+                cat("    doc = \"wisp hair: ", hair.strand_count(), " strands, ",
+                    hair.point_count(), " control points\"\n"));
+    out += "        float3[] extent = ";
+    append_extent(out, extent_of(hair));
+    out += "\n        point3f[] points = [\n";
+    out += points_array(hair, "            ");
+    out += "        ]\n";
+    end_layer(out, hair);
+    return out;
+}
+
+void write_usda(const std::filesystem::path& path, const Hair& hair) {
+    write_file_atomic(path, encode_usda(hair, path.string()));
+}
+
+std::string encode_usda_animation(const std::vector<Hair>& frames, double fps,
+                                  const std::string& name) {
+    if (frames.empty()) fail(name, ": an animation needs at least one frame");
+    if (!(fps > 0) || !std::isfinite(fps))
+        fail(name, ": frames per second must be positive, not ", fps);
+    const Hair& first = frames.front();
+    check_strands(first, name);
+    for (size_t f = 1; f < frames.size(); ++f) {
+        frames[f].validate(cat(name, " frame ", f));
+        if (frames[f].offsets != first.offsets)
+            fail(name, ": frame ", f,
+                 " has a different topology (strand point counts) than frame 0");
+    }
+    std::string out;
+    out.reserve(frames.size() * (first.point_count() * 40 + 64) + first.point_count() * 12 + 1024);
+    std::string meta;
+    meta += "    endTimeCode = ";
+    append_number(meta, frames.size() - 1);
+    meta += "\n    framesPerSecond = ";
+    append_number(meta, fps);
+    meta += "\n    startTimeCode = 0\n    timeCodesPerSecond = ";
+    append_number(meta, fps);
+    meta += "\n";
+    begin_layer(out, first, meta);
+    out += "        float3[] extent.timeSamples = {\n";
+    for (size_t f = 0; f < frames.size(); ++f) {
+        out += "            ";
+        append_number(out, f);
+        out += ": ";
+        append_extent(out, extent_of(frames[f]));
+        out += ",\n";
+    }
+    out += "        }\n        point3f[] points.timeSamples = {\n";
+    for (size_t f = 0; f < frames.size(); ++f) {
+        out += "            ";
+        append_number(out, f);
+        out += ": [\n";
+        out += points_array(frames[f], "                ");
+        out += "            ],\n";
+    }
+    out += "        }\n";
+    end_layer(out, first);
+    return out;
+}
+
+void write_usda_animation(const std::filesystem::path& path, const std::vector<Hair>& frames,
+                          double fps) {
+    write_file_atomic(path, encode_usda_animation(frames, fps, path.string()));
+}
+
+}  // namespace wisp

@@ -1,0 +1,407 @@
+#include "io/usda.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "core/timer.hpp"
+#include "io/hair_io.hpp"
+#include "io_test_util.hpp"
+
+namespace wisp {
+namespace {
+
+using test::expect_error;
+
+const std::string kUsdDir = WISP_SHARED_DIR "/data/usd/";
+
+const UsdCurves& prim(const std::vector<UsdCurves>& curves, const std::string& path) {
+    for (const UsdCurves& c : curves)
+        if (c.path == path) return c;
+    throw std::runtime_error("no prim " + path);
+}
+
+std::vector<size_t> segments_of(const UsdCurves& c) {
+    std::vector<size_t> s;
+    for (size_t i = 0; i < c.counts.size(); ++i)
+        s.push_back(usd_segment_count(c, i));
+    return s;
+}
+
+TEST(Usda, RoundTripIsBitExact) {
+    const Hair h = test::random_hair(3, 500);
+    test::TempPath p(".usda");
+    write_usda(p, h);
+    const Hair r = read_usda(p);
+    test::expect_same_geometry(h, r);
+    ASSERT_EQ(r.widths.size(), h.widths.size());
+    EXPECT_TRUE(test::same_bits(h.widths.data(), r.widths.data(), 4 * h.widths.size()));
+    ASSERT_EQ(r.colors.size(), h.colors.size());
+    test::expect_same_colors(h, r);
+    EXPECT_EQ(r.wisp, h.wisp);
+}
+
+TEST(Usda, RoundTripWithDefaults) {
+    Hair h = test::random_hair(4, 50, 6, false, false, false);
+    h.default_width = 0.0123f;
+    h.default_color = Vec3f(0.1f, 0.2f, 0.7f);
+    const Hair r = hair_from_usda(parse_usda(encode_usda(h), "mem.usda"), "mem.usda");
+    test::expect_same_geometry(h, r);
+    test::expect_same_widths(h, r);  // per-vertex widths filled with the default
+    EXPECT_TRUE(r.colors.empty());   // one constant color becomes the default color
+    EXPECT_EQ(r.default_color, h.default_color);
+    EXPECT_TRUE(r.wisp.empty());
+}
+
+TEST(Usda, WriterLayout) {
+    Hair h;
+    h.add_strand(std::vector<Vec3f>{{0, 0, 0}, {0, 1, 0}, {0, 2, 0.5f}});
+    const std::string text = encode_usda(h);
+    for (const char* line :
+         {"#usda 1.0", "metersPerUnit = 0.01", "upAxis = \"Y\"", "def Xform \"hair\"",
+          "def BasisCurves \"strands\"", "uniform token type = \"cubic\"",
+          "uniform token basis = \"catmullRom\"", "uniform token wrap = \"pinned\"",
+          "int[] curveVertexCounts = [3]", "point3f[] points", "float[] widths",
+          "interpolation = \"vertex\"", "color3f[] primvars:displayColor", "float3[] extent"})
+        EXPECT_NE(text.find(line), std::string::npos) << line;
+    const UsdaLayer layer = parse_usda(text, "layout.usda");
+    ASSERT_EQ(layer.curves.size(), 1u);
+    EXPECT_EQ(layer.curves[0].path, "/hair/strands");
+    EXPECT_EQ(usd_curves_problem(layer.curves[0]), "");
+    Hair one;
+    one.add_strand(std::vector<Vec3f>{{0, 0, 0}});
+    expect_error([&] { encode_usda(one, "one.usda"); }, "one.usda: strand 0 has 1 points");
+}
+
+TEST(Usda, AnimationTimeSamples) {
+    std::vector<Hair> frames;
+    for (int f = 0; f < 3; ++f) {
+        Hair h = test::random_hair(9, 20, 5);
+        for (Vec3f& p : h.points)
+            p.y() += float(f);
+        frames.push_back(h);
+    }
+    test::TempPath p(".usda");
+    write_usda_animation(p, frames, 24.0);
+    const UsdaLayer layer = read_usda_layer(p);
+    EXPECT_EQ(layer.time_codes_per_second, 24.0);
+    const Hair r = hair_from_usda(layer, "anim");
+    test::expect_same_geometry(frames[0], r);  // the earliest sample
+    const std::string text = test::read_file_text(p);
+    EXPECT_NE(text.find("points.timeSamples"), std::string::npos);
+    EXPECT_NE(text.find("endTimeCode = 2"), std::string::npos);
+    frames[1] = test::random_hair(9, 20, 6);
+    expect_error([&] { encode_usda_animation(frames, 24.0, "a.usda"); },
+                 "frame 1 has a different topology");
+}
+
+TEST(Usda, OpenUsdFilesLoad) {
+    size_t files = 0;
+    for (const auto& e : std::filesystem::directory_iterator(kUsdDir)) {
+        if (e.path().extension() != ".usda") continue;
+        ++files;
+        SCOPED_TRACE(e.path().string());
+        const std::vector<UsdCurves> curves = read_usda_curves(e.path());
+        EXPECT_FALSE(curves.empty());
+        EXPECT_NO_THROW(hair_file_info(e.path()));
+    }
+    EXPECT_GE(files, 3u);
+    const Hair examples = read_hair(kUsdDir + "openusd_examples_basisCurves.usda");
+    EXPECT_EQ(examples.strand_count(), 10u);
+    EXPECT_EQ(examples.widths.size(), examples.point_count());
+    // Bezier "BezierClosedBad" (periodic, 4 vertices) is invalid: read_hair names it.
+    expect_error([&] { read_hair(kUsdDir + "openusd_basicCurves.usda"); },
+                 "prim /World/BezierClosedBad: curve 0 has 4 vertices, but a periodic bezier "
+                 "curve needs a multiple of 3");
+}
+
+TEST(Usda, SegmentCountsMatchOpenUsdTests) {
+    std::ifstream in(WISP_SHARED_DIR "/data/reference_numbers.json");
+    ASSERT_TRUE(in);
+    const nlohmann::json ref = nlohmann::json::parse(in)["usd_basiscurves_expected"];
+    const std::vector<UsdCurves> curves =
+        read_usda_curves(kUsdDir + "openusd_testUsdGeomBasisCurves_basisCurves.usda");
+    size_t checked = 0;
+    for (const auto& [path, expected] : ref["segment_counts"].items()) {
+        SCOPED_TRACE(path);
+        const UsdCurves& c = prim(curves, path);
+        EXPECT_EQ(c.counts, expected["counts"].get<std::vector<int>>());
+        EXPECT_EQ(segments_of(c), expected["segments"].get<std::vector<size_t>>());
+        ++checked;
+    }
+    EXPECT_EQ(checked, 8u);
+    // Counts: the default when authored, else the earliest time sample.
+    for (const auto& [path, earliest] : ref["curve_counts_earliest_time"].items()) {
+        SCOPED_TRACE(path);
+        const size_t expected = path == "/TimeSampledAndDefaultVertexCounts"
+                                    ? ref["curve_counts_default_time"][path].get<size_t>()
+                                    : earliest.get<size_t>();
+        EXPECT_EQ(prim(curves, path).counts.size(), expected);
+    }
+    const UsdCurves& bc = prim(curves, "/BezierCubic");
+    const auto& sizes = ref["/BezierCubic_data_sizes"];
+    EXPECT_EQ(usd_interpolation_size(bc, "uniform"), sizes["uniform"].get<size_t>());
+    EXPECT_EQ(usd_interpolation_size(bc, "varying"), sizes["varying"].get<size_t>());
+    EXPECT_EQ(usd_interpolation_size(bc, "vertex"), sizes["vertex"].get<size_t>());
+    for (const auto& [n, interp] : sizes["interpolation_for_size"].items())
+        EXPECT_EQ(usd_interpolation_for_size(bc, std::stoul(n)),
+                  interp.is_null() ? "" : interp.get<std::string>())
+            << n;
+    EXPECT_EQ(bc.widths_interpolation, "constant");
+    EXPECT_EQ(bc.points.size(), 10u);
+}
+
+// Written for these tests after OpenUSD's pinnedCurves.usda: comments inside arrays and a
+// deliberately invalid 1-vertex pinned curve.
+const char* kPinned = R"(#usda 1.0
+(
+    upAxis = "Y"
+)
+
+def Xform "World"
+{
+    def BasisCurves "curve"
+    {
+        uniform token basis = "bspline"
+        uniform token type = "cubic"
+        uniform token wrap = "pinned"
+        # uniform token wrap = "nonperiodic"
+        int[] curveVertexCounts = [5, 3, 2, 1]
+        point3f[] points =[
+            # curve 0
+            (1, 0, 0), (0.7, 0.7, 0), (-4.371139e-8, 1, 0), (-0.7, 0.7, 0), (-1, -8.742278e-8, 0),
+            # curve 1
+            (1, -3, 0), (2, -2, 0), (3, -3, 0),
+            # curve 2
+            (1, -6, 0), (2, -6, 0),
+            # curve 3: a single vertex
+            (1, -9, 0)] (
+            interpolation = "vertex"
+        )
+        float[] widths = [
+            0.05, 0.05, 0.05, 0.05, 0.05, # curve 0
+            0.05, 0.07, 0.05,
+            0.05, 0.07,
+            0.09] (
+            interpolation = "vertex"
+        )
+        color3f[] primvars:displayColor = [
+            (0.7, 0, 0), // curve 0
+            (0.7, 0.7, 0), /* curve 1 */
+            (0.7, 0, 0.7),
+            (0, 0.7, 0.7)](
+            interpolation = "uniform"
+        )
+    }
+}
+)";
+
+TEST(Usda, CommentsInsideArraysAndInvalidPinnedCurve) {
+    const UsdaLayer layer = parse_usda(kPinned, "pinned.usda");
+    ASSERT_EQ(layer.curves.size(), 1u);
+    const UsdCurves& c = layer.curves[0];
+    EXPECT_EQ(c.path, "/World/curve");
+    EXPECT_EQ(c.counts, (std::vector<int>{5, 3, 2, 1}));
+    EXPECT_EQ(c.points.size(), 11u);
+    EXPECT_EQ(c.widths.size(), 11u);
+    EXPECT_EQ(c.display_color.size(), 4u);
+    EXPECT_EQ(c.points[2].x(), -4.371139e-8f);
+    EXPECT_EQ(segments_of(c), (std::vector<size_t>{4, 2, 1, 0}));
+    EXPECT_EQ(usd_curves_problem(c),
+              "curve 3 has 1 vertex, but a pinned bspline curve needs at least 2");
+    expect_error([&] { hair_from_usda(layer, "pinned.usda"); },
+                 "pinned.usda:8: prim /World/curve: curve 3 has 1 vertex");
+}
+
+TEST(Usda, TimeSamplesBlockedValuesAndMetadata) {
+    const char* text = R"(#usda 1.0
+(
+    doc = """A "layer" with
+    several lines"""
+    metersPerUnit = 1
+    upAxis = "Z"
+    subLayers = [@./other.usda@ (offset = 1)]
+)
+over "Ignored" { def Mesh "m" { point3f[] points = [(1, 2, 3)] } }
+class BasisCurves "NotAPrim" { int[] curveVertexCounts = [2] }
+def BasisCurves "Anim" (
+    active = true
+    prepend apiSchemas = ["SomeAPI"]
+    customData = { string note = "x" }
+)
+{
+    int[] curveVertexCounts.timeSamples = {
+        2: [3],
+        1: [2],
+    }
+    point3f[] points = None
+    point3f[] points.timeSamples = {
+        1: [(1, 2, 3), (4, 5, 6)],
+        2: [(0, 0, 0), (0, 0, 1), (0, 0, 2)],
+    }
+    uniform token type = "linear"
+    token wrap = 'nonperiodic'
+    float[] widths = [0.5]
+    custom rel material:binding = </Looks/Hair>
+    float3 xformOp:translate.connect = </Other.attr>
+    normal3f[] normals = [(0, 0, 1), (0, 0, 1)] (interpolation = "vertex")
+    color3f[] primvars:displayColor (interpolation = "constant")
+    color3f[] primvars:displayColor.timeSamples = { 0: [(0.5, 0.25, 1)] }
+    double3 xformOp:rotateXYZ = (0, -inf, nan)
+    variantSet "look" = { "a" { float x = 1 } "b" (doc = "b") { } }
+    reorder properties = ["points"]
+}
+)";
+    const UsdaLayer layer = parse_usda(text, "ts.usda");
+    EXPECT_EQ(layer.up_axis, "Z");
+    EXPECT_EQ(layer.meters_per_unit, 1.0);
+    ASSERT_EQ(layer.curves.size(), 1u);
+    const UsdCurves& c = layer.curves[0];
+    EXPECT_EQ(c.path, "/Anim");
+    EXPECT_EQ(c.counts, std::vector<int>{2});  // earliest sample: time 1
+    ASSERT_EQ(c.points.size(), 2u);            // blocked default, earliest sample
+    EXPECT_EQ(c.type, "linear");
+    EXPECT_EQ(c.wrap, "nonperiodic");
+    EXPECT_EQ(c.basis, "bezier");  // schema fallback
+    EXPECT_TRUE(c.has_normals);
+    EXPECT_EQ(c.display_color_interpolation, "constant");
+    const Hair h = hair_from_usda(layer, "ts.usda");
+    // metres and Z up to centimetres and Y up: (x, y, z) -> 100 (x, z, -y)
+    EXPECT_EQ(h.points[0], Vec3f(100, 300, -200));
+    EXPECT_EQ(h.widths, (std::vector<float>{50.f, 50.f}));  // constant width, scaled
+    EXPECT_EQ(h.default_color, Vec3f(0.5f, 0.25f, 1.f));
+}
+
+TEST(Usda, CurveConversion) {
+    const char* text = R"(#usda 1.0
+def BasisCurves "Bez" {
+    int[] curveVertexCounts = [7]
+    point3f[] points = [(0,0,0), (1,1,0), (2,1,0), (3,0,0), (4,-1,0), (5,-1,0), (6,0,0)]
+    float[] widths = [1, 2, 3] (interpolation = "varying")
+}
+def BasisCurves "Loop" {
+    uniform token type = "linear"
+    uniform token wrap = "periodic"
+    int[] curveVertexCounts = [3]
+    point3f[] points = [(0,0,0), (1,0,0), (0,1,0)]
+    color3f[] primvars:displayColor = [(1, 0, 0)]
+    int[] primvars:wisp_id = [7] (interpolation = "uniform")
+}
+def BasisCurves "Pinned" {
+    uniform token basis = "bspline"
+    uniform token wrap = "pinned"
+    int[] curveVertexCounts = [4]
+    point3f[] points = [(0,0,0), (1,2,0), (2,-1,0), (3,0,5)]
+}
+def BasisCurves "CR" {
+    uniform token basis = "catmullRom"
+    uniform token wrap = "pinned"
+    int[] curveVertexCounts = [2, 3]
+    point3f[] points = [(0,0,0), (0,1,0), (1,0,0), (1,1,0), (1,2,1)]
+    float[] widths = [0.25, 0.5] (interpolation = "uniform")
+}
+)";
+    const UsdaLayer layer = parse_usda(text, "conv.usda");
+    const Hair h = hair_from_usda(layer, "conv.usda", 8);
+    ASSERT_EQ(h.strand_count(), 5u);
+    // Bezier: 2 segments × 8 samples + the end point; passes through p0, p3, p6.
+    ASSERT_EQ(h.strand_size(0), 17u);
+    EXPECT_TRUE(h.strand(0)[0].isApprox(Vec3f(0, 0, 0)));
+    EXPECT_TRUE(h.strand(0)[8].isApprox(Vec3f(3, 0, 0)));
+    EXPECT_TRUE(h.strand(0)[16].isApprox(Vec3f(6, 0, 0)));
+    EXPECT_FLOAT_EQ(h.widths[4], 1.5f);  // varying: linear within the first segment
+    EXPECT_FLOAT_EQ(h.widths[16], 3.f);
+    // Periodic linear: closed.
+    ASSERT_EQ(h.strand_size(1), 4u);
+    EXPECT_EQ(h.strand(1)[3], h.strand(1)[0]);
+    // Pinned bspline passes through its end points.
+    const auto pin = h.strand(2);
+    ASSERT_EQ(pin.size(), 3u * 8u + 1u);
+    EXPECT_TRUE(pin.front().isApprox(Vec3f(0, 0, 0)));
+    EXPECT_TRUE(pin.back().isApprox(Vec3f(3, 0, 5)));
+    // Pinned catmullRom: control points as they are, uniform widths per point.
+    ASSERT_EQ(h.strand_size(3), 2u);
+    ASSERT_EQ(h.strand_size(4), 3u);
+    EXPECT_EQ(h.strand(4)[2], Vec3f(1, 2, 1));
+    EXPECT_EQ(h.widths[h.offsets[4]], 0.5f);
+    // Colors and wisp ids of the one prim that has them; defaults elsewhere.
+    ASSERT_EQ(h.colors.size(), 5u);
+    EXPECT_EQ(h.colors[1], Vec3f(1, 0, 0));
+    EXPECT_EQ(h.colors[0], Hair().default_color);
+    ASSERT_EQ(h.wisp.size(), 5u);
+    EXPECT_EQ(h.wisp[1], 7);
+    EXPECT_EQ(h.wisp[0], -1);
+}
+
+TEST(Usda, MalformedInputNamesTheLocation) {
+    const std::string head = "#usda 1.0\ndef BasisCurves \"C\" {\n";
+    expect_error(
+        [&] { parse_usda(head + "    point3f[] points = [(1, 2), (1, 2, 3)]\n}\n", "m.usda"); },
+        "m.usda:3:33: array element has 3 components, the first had 2");
+    expect_error([&] { parse_usda(head + "    token type = \"cubic\n}\n", "s.usda"); },
+                 "s.usda:3:18: string runs past the end of its line");
+    expect_error([&] { parse_usda(head + "    int[] curveVertexCounts = [2, x]\n}\n", "i.usda"); },
+                 "i.usda:3:35: expected a number");
+    expect_error([&] { parse_usda(head + "    float[] widths = [1 2]\n}\n", "c.usda"); },
+                 "c.usda:3:25: expected `,` or `]`");
+    expect_error([&] { parse_usda(head, "open.usda"); }, "open.usda:2:1: prim /C is never closed");
+    expect_error([&] { parse_usda("#sdf 1.0\n", "h.usda"); }, "h.usda:1:1: not a usda text layer");
+    expect_error([&] { parse_usda("PXR-USDC....", "b.usda"); }, "binary usdc");
+    expect_error([&] { parse_usda(head + "    int[] curveVertexCounts = [2] $\n}\n", "d.usda"); },
+                 "d.usda:3:35: unexpected character `$`");
+    expect_error(
+        [&] {
+            parse_usda(head + "    point3f[] points = [" + std::string(500, '(') + "\n}\n",
+                       "deep.usda");
+        },
+        "nested too deeply");
+    // Counts that do not match the points: read_usda_curves keeps it, conversion rejects it.
+    const UsdaLayer l = parse_usda(
+        head + "    int[] curveVertexCounts = [3]\n    point3f[] points = [(0,0,0)]\n}\n",
+        "n.usda");
+    expect_error(
+        [&] { hair_from_usda(l, "n.usda"); },
+        "prim /C: curve 0 has 3 vertices, but a nonperiodic bezier curve needs at least 4");
+}
+
+TEST(Usda, TruncatedFilesFail) {
+    Hair h = test::random_hair(21, 6, 4);
+    const std::string text = encode_usda(h);
+    // A cut before the first prim can leave a valid empty layer; any cut inside the prims
+    // leaves a prim unclosed.
+    const size_t first_prim = text.find("def Xform");
+    for (size_t cut = 0; cut + 1 < text.size(); cut += cut <= first_prim ? 1 : 3) {
+        if (cut <= first_prim) {
+            try {
+                EXPECT_TRUE(
+                    parse_usda(std::string_view(text).substr(0, cut), "cut.usda").curves.empty());
+            } catch (const Error&) {
+            }
+            continue;
+        }
+        EXPECT_THROW(parse_usda(std::string_view(text).substr(0, cut), "cut.usda"), Error)
+            << "cut at " << cut;
+    }
+}
+
+// Prints wall-clock times; the bounds only catch pathological slowness, because the test
+// machines are shared (the timings that matter are in docs/formats.md).
+TEST(Usda, FastFor100kStrandsOf32Points) {
+    const Hair h = test::random_hair(42, 100000, 32);
+    test::TempPath p(".usda");
+    Stopwatch w;
+    write_usda(p, h);
+    const double write_ms = w.ms();
+    Stopwatch r;
+    const Hair back = read_usda(p);
+    const double read_ms = r.ms();
+    std::printf("[ perf ] .usda 100k x 32: write %.1f ms, read %.1f ms, %.1f MB\n", write_ms,
+                read_ms, std::filesystem::file_size(p) / 1e6);
+    test::expect_same_geometry(h, back);
+    EXPECT_LT(write_ms, 20000.0);
+    EXPECT_LT(read_ms, 20000.0);
+}
+
+}  // namespace
+}  // namespace wisp
