@@ -66,8 +66,8 @@ float head_field(const Vec3f& p) {
         return capsule(p, {0.f, -4.f, -1.6f}, {0.f, -21.f, -0.8f}, 5.6f);
     });
     // Cranium: longer than wide, fuller at the back (occiput) than at the forehead.
-    add(p, {0.f, 2.6f, -1.0f}, 9.6f, 2.f, [&] {
-        return ellipsoid(p, {0.f, 2.6f, -1.0f}, {7.5f, 9.4f, 9.6f});
+    add(p, {0.f, 2.6f, -1.0f}, 9.4f, 2.f, [&] {
+        return ellipsoid(p, {0.f, 2.6f, -1.0f}, {7.5f, 9.4f, 9.3f});
     });
     add(p, {0.f, 1.6f, -3.6f}, 8.f, 2.f, [&] {
         return ellipsoid(p, {0.f, 1.6f, -3.6f}, {7.3f, 8.0f, 7.3f});
@@ -137,9 +137,9 @@ Vec3f project_to_surface(Vec3f p) {
 // linear zero set is a closed 2-manifold whenever no node value is exactly zero (no table
 // ambiguities, unlike marching cubes).
 
-constexpr float kCell = 0.75f;  // cm
-const Vec3f kLo(-22.f, -40.f, -13.5f);
-const Vec3f kHi(22.f, 13.5f, 13.5f);
+constexpr float kCell = 0.75f;                     // cm
+const Vec3f kLo(-30 * kCell, -40.f, -18 * kCell);  // x symmetric about the midline
+const Vec3f kHi(30 * kCell, 13.5f, 18 * kCell);
 
 // Corner c of a cube: bit 0 = +x, bit 1 = +y, bit 2 = +z. Tetrahedra 0-a-b-7.
 constexpr int kTets[6][4] = {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7},
@@ -328,6 +328,18 @@ Mesh builtin_head_mesh() {
                                 : Vec2f(0.5f, d.y() > 0 ? 0.5f : 1.f);
     }
     mesh.face_uvs = mesh.faces;
+    // The few faces around the map's pole (straight down, under the chest) span every azimuth,
+    // so their UV centroid would land near the crown; they get one UV on the rim instead.
+    const int pole = static_cast<int>(mesh.uvs.size());
+    mesh.uvs.emplace_back(0.5f, 0.f);
+    const Vec2f mid(0.5f, 0.5f);
+    for (Vec3i& t : mesh.face_uvs) {
+        const Vec2f c = (mesh.uvs[t[0]] + mesh.uvs[t[1]] + mesh.uvs[t[2]]) / 3.f;
+        float r = INFINITY;
+        for (int k = 0; k < 3; ++k)
+            r = std::min(r, (mesh.uvs[t[k]] - mid).norm());
+        if ((c - mid).norm() < 0.5f * r) t = Vec3i::Constant(pole);
+    }
     return mesh;
 }
 

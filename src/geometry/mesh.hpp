@@ -10,12 +10,12 @@
 namespace wisp {
 
 struct Mesh {
-    std::vector<Vec3f> vertices;  // #V positions, cm
-    std::vector<Vec3i> faces;     // #F triangles, indices into vertices, counter-clockwise
-                                  // seen from outside
-    std::vector<Vec2f> uvs;       // #UV texture coordinates, or empty
-    std::vector<Vec3i> face_uvs;  // #F indices into uvs per corner, or empty
-    std::vector<int32_t> face_group;     // #F index into group_names (-1 none), or empty
+    std::vector<Vec3f> vertices;      // #V positions, cm
+    std::vector<Vec3i> faces;         // #F triangles, indices into vertices, counter-clockwise
+                                      // seen from outside
+    std::vector<Vec2f> uvs;           // #UV texture coordinates, or empty
+    std::vector<Vec3i> face_uvs;      // #F indices into uvs per corner, or empty
+    std::vector<int32_t> face_group;  // #F index into group_names (-1 none), or empty
     std::vector<std::string> group_names;
     std::vector<int32_t> face_material;  // #F index into material_names (-1 none), or empty
     std::vector<std::string> material_names;

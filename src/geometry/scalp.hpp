@@ -2,11 +2,16 @@
 // The scalp: the hair-bearing faces of a head mesh, with area-uniform sampling and the
 // scalp UV map in which density, length and protrusion maps are given.
 //
-// Scalp UV is a polar map of the cap seen from above: the crown (the scalp point furthest
-// along +Y... see scalp.cpp for the exact definition) maps to (0.5, 0.5); the distance from
-// the centre grows with the angle from the crown direction, reaching 0.5 at the lowest
-// hairline point; the front of the head (+Z) is toward v = 1 (the top of an image), the
-// character's left (+X) toward u = 1. A user's map PNG is therefore a top view of the head.
+// Scalp UV is the azimuthal equidistant ("polar") map of the cap about the vertical through
+// center(): for a point p, with d = p - center(),
+//     θ = angle between d and +Y = atan2(√(dx² + dz²), dy)        (polar angle, radians)
+//     r = 0.5 · min(θ / θmax, 1)       θmax = the largest θ over the scalp's vertices
+//     u = 0.5 + r · dx / √(dx² + dz²),  v = 0.5 + r · dz / √(dx² + dz²)
+// so the crown maps to (0.5, 0.5), the lowest hairline point to the unit disk's rim (radius
+// 0.5 about the centre), the front of the head (+Z) toward v = 1 (the top row of an image) and
+// the character's left (+X) toward u = 1 (the right of an image). A user's map PNG is thus a
+// top view of the head with the face up, mirrored left-right (the character's left is on the
+// image's right, as when seen from below). Points beyond θmax clamp to the rim.
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -20,9 +25,9 @@ namespace wisp {
 struct ScalpSpec {
     enum class Kind { kGroup, kMask, kHairline };
     Kind kind = Kind::kGroup;
-    std::string group = "scalp";        // kGroup: a face group or material with this name
-    std::filesystem::path mask;         // kMask: grayscale image in the mesh's UV space;
-                                        // faces whose UV centroid samples > 0.5 are scalp
+    std::string group = "scalp";  // kGroup: a face group or material with this name
+    std::filesystem::path mask;   // kMask: grayscale image in the mesh's UV space;
+                                  // faces whose UV centroid samples > 0.5 are scalp
     // kHairline: the cap above a hairline given as depths below the top of the head in cm,
     // interpolated around the head by azimuth.
     float hairline_front = 6.5f;
@@ -31,34 +36,45 @@ struct ScalpSpec {
 };
 
 struct SurfacePoint {
-    uint32_t face = 0;   // index into the head mesh's faces
-    Vec2f bary{0, 0};    // barycentric coordinates (of vertices 1 and 2; vertex 0 gets 1-x-y)
+    uint32_t face = 0;  // index into the head mesh's faces
+    Vec2f bary{0, 0};   // barycentric coordinates (of vertices 1 and 2; vertex 0 gets 1-x-y)
     Vec3f position = Vec3f::Zero();
     Vec3f normal = Vec3f::UnitY();  // interpolated smooth surface normal, unit
     Vec2f uv{0.5f, 0.5f};           // scalp UV
 };
 
 class Scalp {
-public:
+  public:
     // Selects the scalp of `mesh` (kept by reference: it must outlive the Scalp). `source`
-    // names the mesh in error messages. Throws wisp::Error if the scalp is empty.
+    // names the mesh in error messages. Throws wisp::Error naming the source and the
+    // selection if the scalp is empty, a group is unknown, or a mask needs UVs the mesh lacks.
+    //  kGroup     faces whose group or material is spec.group;
+    //  kMask      faces whose UV centroid samples spec.mask (v = 0 at the image's bottom) > 0.5;
+    //  kHairline  on the connected piece of largest area (so helper shells, eyes and teeth of
+    //             full-body meshes are skipped), the faces above top - depth(azimuth) whose
+    //             centroid lies within the cranium's horizontal extent (measured 0.5-8 cm below
+    //             the top, grown 8%) and whose normal faces away from the head and not down,
+    //             connected to the topmost one. Depth blends front → side → back smoothly.
     Scalp(const Mesh& mesh, const ScalpSpec& spec, const std::string& source);
 
     const Mesh& mesh() const { return *mesh_; }
-    const std::vector<uint32_t>& faces() const { return faces_; }
-    float area() const { return area_; }  // cm²
-    // Crown point and the up direction of the cap (unit), used by procedural maps.
+    const std::vector<uint32_t>& faces() const { return faces_; }  // sorted, face indices
+    float area() const { return area_; }                           // cm²
+    // The crown: where the vertical through center() leaves the scalp (UV (0.5, 0.5)).
     const Vec3f& crown() const { return crown_; }
-    const Vec3f& center() const { return center_; }  // centre of the head's cap sphere fit
+    // Centre of the least-squares sphere through the scalp's vertices (the cranium's centre);
+    // a flat patch falls back to below its bounding box centre.
+    const Vec3f& center() const { return center_; }
 
-    // An area-uniform random point on the scalp.
+    // An area-uniform random point on the scalp: a face by the area CDF, then uniform
+    // barycentrics (3 draws from rng; deterministic for a given stream).
     SurfacePoint sample(Rng& rng) const;
     // The surface point on scalp face f at barycentric (b1, b2).
     SurfacePoint point_on(uint32_t face, const Vec2f& bary) const;
     // Scalp UV of a point on (or near) the scalp.
     Vec2f uv_of(const Vec3f& p) const;
 
-private:
+  private:
     const Mesh* mesh_;
     std::vector<uint32_t> faces_;
     std::vector<float> cdf_;             // #faces cumulative area, for sampling

@@ -1,0 +1,161 @@
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+
+#include "core/error.hpp"
+#include "geometry/builtin_head.hpp"
+#include "geometry/mesh.hpp"
+
+namespace wisp {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kHeadNeckShoulders =
+    WISP_SHARED_DIR "/data/heads/makehuman/makehuman_hm08_head_neck_shoulders.obj";
+const std::string kBase = WISP_SHARED_DIR "/data/heads/makehuman/makehuman_hm08_base.obj";
+
+fs::path temp_dir() {
+    const fs::path dir =
+        fs::temp_directory_path() / ("wisp_obj_test_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    return dir;
+}
+
+fs::path write_text(const std::string& name, const std::string& text) {
+    const fs::path p = temp_dir() / name;
+    std::ofstream(p) << text;
+    return p;
+}
+
+// Expects read_obj_mesh(path) to throw a wisp::Error whose message names the file and
+// contains `what`.
+void expect_error(const fs::path& path, const std::string& what) {
+    try {
+        read_obj_mesh(path);
+        ADD_FAILURE() << "no error for " << path;
+    } catch (const Error& e) {
+        const std::string msg = e.what();
+        EXPECT_NE(msg.find(path.string()), std::string::npos) << msg;
+        EXPECT_NE(msg.find(what), std::string::npos) << msg;
+    }
+}
+
+int group_index(const Mesh& m, const std::string& name) {
+    for (size_t i = 0; i < m.group_names.size(); ++i)
+        if (m.group_names[i] == name) return static_cast<int>(i);
+    return -1;
+}
+
+TEST(ObjMesh, TriangulatesAndKeepsGroupsAndMaterialsWithoutMtl) {
+    const fs::path p = write_text("quad.obj",
+                                  "mtllib missing.mtl\n"
+                                  "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\n"
+                                  "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                                  "g skin\nusemtl Skin_Mat\nf 1/1 2/2 3/3 4/4\n"
+                                  "o cap\nusemtl scalp\nf -5/-4 -4/-3 -1/-1\n");
+    const Mesh m = read_obj_mesh(p, 2.f);
+    ASSERT_EQ(m.faces.size(), 3u);
+    EXPECT_EQ(m.faces[0], Vec3i(0, 1, 2));
+    EXPECT_EQ(m.faces[1], Vec3i(0, 2, 3));
+    EXPECT_EQ(m.faces[2], Vec3i(0, 1, 4));
+    EXPECT_EQ(m.vertices[2], Vec3f(2, 2, 0));  // scaled
+    ASSERT_EQ(m.group_names, (std::vector<std::string>{"skin", "cap"}));
+    EXPECT_EQ(m.face_group, (std::vector<int32_t>{0, 0, 1}));
+    ASSERT_EQ(m.material_names, (std::vector<std::string>{"Skin_Mat", "scalp"}));
+    EXPECT_EQ(m.face_material, (std::vector<int32_t>{0, 0, 1}));
+    ASSERT_EQ(m.face_uvs.size(), 3u);
+    EXPECT_EQ(m.face_uvs[1], Vec3i(0, 2, 3));
+    EXPECT_EQ(m.face_uvs[2], Vec3i(0, 1, 3));
+    EXPECT_NEAR(m.face_area(0), 2.f, 1e-6f);
+    EXPECT_NEAR(m.face_normal(0).z(), 1.f, 1e-6f);
+}
+
+TEST(ObjMesh, BadFilesNameTheFile) {
+    expect_error(temp_dir() / "does_not_exist.obj", "does_not_exist.obj");
+    expect_error(write_text("empty.obj", ""), "no faces");
+    expect_error(write_text("points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n"), "no faces");
+    expect_error(write_text("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n"), ":4:");
+    expect_error(write_text("zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n"), "out of range");
+    expect_error(write_text("uvrange.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/2 3/1\n"),
+                 "texture index");
+    expect_error(write_text("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n"), ":2:");
+    expect_error(write_text("inf.obj", "v 0 0 0\nv 1e39 0 0\nv 0 1 0\nf 1 2 3\n"), "finite");
+    expect_error(write_text("line.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n"), "face has 2 vertices");
+}
+
+TEST(ObjMesh, RoundTripKeepsScalpGroupAndUvs) {
+    const Mesh head = builtin_head_mesh();
+    const fs::path p = temp_dir() / "head.obj";
+    write_obj_mesh(p, head);
+    const Mesh back = read_obj_mesh(p);
+    ASSERT_EQ(back.vertices.size(), head.vertices.size());
+    ASSERT_EQ(back.faces.size(), head.faces.size());
+    EXPECT_TRUE(back.vertices == head.vertices);  // 9 significant digits round-trip a float
+    EXPECT_TRUE(back.faces == head.faces);
+    EXPECT_TRUE(back.uvs == head.uvs);
+    EXPECT_TRUE(back.face_uvs == head.face_uvs);
+    const int scalp = group_index(back, "scalp");
+    ASSERT_GE(scalp, 0);
+    const int scalp0 = group_index(head, "scalp");
+    for (size_t f = 0; f < head.faces.size(); ++f)
+        ASSERT_EQ(back.face_group[f] == scalp, head.face_group[f] == scalp0) << "face " << f;
+    // No temporary file is left behind.
+    for (const auto& e : fs::directory_iterator(temp_dir()))
+        EXPECT_EQ(e.path().string().find(".tmp-"), std::string::npos) << e.path();
+}
+
+TEST(ObjMesh, MakeHumanHeadNeckShouldersHasOneOpenLoop) {
+    if (!fs::exists(kHeadNeckShoulders)) GTEST_SKIP() << kHeadNeckShoulders << " not present";
+    const Mesh m = read_obj_mesh(kHeadNeckShoulders, 10.f);  // decimetres -> cm
+    EXPECT_EQ(m.faces.size(), 2u * 4630u);
+    const Box3 b = m.bounds();
+    EXPECT_NEAR(b.hi.y(), 84.9f, 0.1f);
+    EXPECT_NEAR(b.lo.y(), 50.0f, 0.1f);
+    EXPECT_FALSE(m.uvs.empty());
+    ASSERT_EQ(m.group_names, std::vector<std::string>{"head_neck_shoulders"});
+    // Boundary edges (one face) form a single loop.
+    std::map<std::pair<int, int>, int> edges;
+    for (const Vec3i& t : m.faces)
+        for (int e = 0; e < 3; ++e) {
+            const int a = t[e], c = t[(e + 1) % 3];
+            ++edges[{std::min(a, c), std::max(a, c)}];
+        }
+    std::map<int, std::vector<int>> next;
+    for (const auto& [e, n] : edges) {
+        ASSERT_LE(n, 2);
+        if (n == 1) {
+            next[e.first].push_back(e.second);
+            next[e.second].push_back(e.first);
+        }
+    }
+    ASSERT_FALSE(next.empty());
+    for (const auto& [v, ns] : next)
+        ASSERT_EQ(ns.size(), 2u);
+    std::set<int> seen;
+    int prev = -1, cur = next.begin()->first;
+    while (!seen.count(cur)) {
+        seen.insert(cur);
+        const int nxt = next[cur][0] != prev ? next[cur][0] : next[cur][1];
+        prev = cur;
+        cur = nxt;
+    }
+    EXPECT_EQ(seen.size(), next.size());  // one loop visits every boundary vertex
+}
+
+TEST(ObjMesh, MakeHumanBaseKeepsHelperGroups) {
+    if (!fs::exists(kBase)) GTEST_SKIP() << kBase << " not present";
+    const Mesh m = read_obj_mesh(kBase, 10.f);
+    EXPECT_EQ(m.faces.size(), 2u * 18486u);
+    EXPECT_GE(group_index(m, "body"), 0);
+    const int hair = group_index(m, "helper-hair");
+    ASSERT_GE(hair, 0);
+    EXPECT_EQ(std::count(m.face_group.begin(), m.face_group.end(), hair), 2 * 198);
+}
+
+}  // namespace
+}  // namespace wisp
