@@ -232,8 +232,8 @@ struct MeshDistance::Impl {
         return area;
     }
 
-    uint32_t closest(const Vec3f& p, Vec3f& best_point) const {
-        float best = INFINITY;
+    // Closest point within sqrt(best) of p; best_point is left alone if there is none.
+    uint32_t closest(const Vec3f& p, Vec3f& best_point, float best = INFINITY) const {
         uint32_t best_tri = 0;
         uint32_t stack[kStackSize];
         int top = 0;
@@ -314,6 +314,12 @@ float MeshDistance::unsigned_distance(const Vec3f& p) const {
     Vec3f q = p;
     impl_->closest(p, q);
     return (q - p).norm();
+}
+
+float MeshDistance::unsigned_distance(const Vec3f& p, float max_distance) const {
+    Vec3f q = Vec3f::Constant(NAN);  // stays NaN when nothing is within max_distance
+    impl_->closest(p, q, max_distance * max_distance);
+    return q.allFinite() ? std::min((q - p).norm(), max_distance) : max_distance;
 }
 
 float MeshDistance::winding_number(const Vec3f& p) const {

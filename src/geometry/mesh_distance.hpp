@@ -26,6 +26,8 @@ class MeshDistance {
     // Closest point on the surface to p, with the face it lies on.
     Vec3f closest_point(const Vec3f& p, uint32_t* face = nullptr) const;
     float unsigned_distance(const Vec3f& p) const;
+    // min(unsigned_distance(p), max_distance), faster far from the surface (narrow bands).
+    float unsigned_distance(const Vec3f& p, float max_distance) const;
     // Generalized winding number at p: ≈1 inside, ≈0 outside a closed, outward-oriented
     // (counter-clockwise seen from outside) mesh; fractional near holes.
     float winding_number(const Vec3f& p) const;
