@@ -1,12 +1,15 @@
 // The usda reader: a hand-written tokenizer and recursive-descent parser for the text
 // format subset that BasisCurves layers use. Values of attributes wisp does not need are
 // skipped token by token (never converted), so a layer with big meshes reads fast too.
+#include <array>
 #include <charconv>
 #include <climits>
 #include <cmath>
+#include <cstring>
 #include <map>
 
 #include "core/error.hpp"
+#include "core/parallel.hpp"
 #include "io/io_util.hpp"
 #include "io/usda.hpp"
 
@@ -100,6 +103,13 @@ class Lexer {
         pos_ += static_cast<size_t>(r.ptr - b);
         return true;
     }
+    // Right after the `[` of a float array, with no token peeked: when the text up to
+    // the closing `]` holds only numbers, parentheses, commas and white space (what
+    // writers produce), parses it in parallel blocks straight from the text. Returns
+    // false with nothing consumed otherwise, or if any block is malformed: the token path
+    // then parses it again and reports the exact place.
+    bool float_array_fast(std::vector<float>& out, size_t& elements, int& arity);
+
     // Where the next token starts, for messages, without lexing it.
     Token position() {
         if (has_) return tok_;
@@ -232,6 +242,66 @@ class Lexer {
     Token tok_;
     bool has_ = false;
 };
+
+// Characters a plain numeric array may hold.
+constexpr auto kPlainArrayChars = [] {
+    std::array<bool, 256> ok{};
+    for (char ch : std::string_view("0123456789.eE+-(), \t\r\n"))
+        ok[static_cast<unsigned char>(ch)] = true;
+    return ok;
+}();
+
+// Parses `number` or `(number, ...)` elements separated by commas from [p, e) into out;
+// false on anything else.
+bool parse_plain_block(const char* p, const char* e, std::vector<float>& out, size_t& elements,
+                       int& arity) {
+    auto skip_ws = [&] {
+        while (p < e && (*p == ' ' || *p == '\t' || *p == '\r' || *p == '\n'))
+            ++p;
+    };
+    auto number = [&] {
+        skip_ws();
+        float v;
+        const auto r = std::from_chars(p, e, v);
+        if (r.ec != std::errc()) return false;
+        out.push_back(v);
+        p = r.ptr;
+        return true;
+    };
+    elements = 0;
+    arity = -1;
+    for (;;) {
+        skip_ws();
+        if (p == e) return true;  // blocks end after a comma; the last may have a trailing one
+        int n = 0;
+        if (*p == '(') {
+            ++p;
+            for (;;) {
+                if (!number()) return false;
+                ++n;
+                skip_ws();
+                if (p < e && *p == ',') {
+                    ++p;
+                    continue;
+                }
+                if (p < e && *p == ')') {
+                    ++p;
+                    break;
+                }
+                return false;
+            }
+        } else if (!number()) {
+            return false;
+        }
+        if (arity >= 0 && n != arity) return false;
+        arity = n;
+        ++elements;
+        skip_ws();
+        if (p == e) return true;
+        if (*p != ',') return false;
+        ++p;
+    }
+}
 
 enum class NumKind { kFloat, kInt, kString };
 
@@ -444,6 +514,7 @@ class Parser {
             return v;
         }
         if (lx_.accept(']')) return v;
+        if (kind == NumKind::kFloat && lx_.float_array_fast(v.f, v.elements, v.arity)) return v;
         for (;;) {
             const Token at = lx_.position();
             const int arity = parse_element(v, kind, 0);
@@ -696,6 +767,64 @@ class Parser {
     const std::string& name_;
     UsdaLayer layer_;
 };
+
+bool Lexer::float_array_fast(std::vector<float>& out, size_t& elements, int& arity) {
+    if (has_) return false;
+    const size_t close = s_.find(']', pos_);
+    if (close == std::string_view::npos) return false;
+    const char* b = s_.data() + pos_;
+    const char* e = s_.data() + close;
+    for (const char* q = b; q < e; ++q)
+        if (!kPlainArrayChars[static_cast<unsigned char>(*q)]) return false;
+    const bool tuples = std::memchr(b, '(', size_t(e - b)) != nullptr;
+
+    // Block boundaries just after a top-level comma (after a `)` for tuples).
+    constexpr size_t kBlockBytes = 1 << 18;
+    std::vector<const char*> cuts{b};
+    for (const char* t = b + kBlockBytes; t < e; t = std::max(t + kBlockBytes, cuts.back())) {
+        const char* q = t;
+        if (tuples) {
+            q = static_cast<const char*>(std::memchr(q, ')', size_t(e - q)));
+            if (!q) break;
+        }
+        q = static_cast<const char*>(std::memchr(q, ',', size_t(e - q)));
+        if (!q) break;
+        cuts.push_back(q + 1);
+    }
+    cuts.push_back(e);
+    const size_t blocks = cuts.size() - 1;
+    std::vector<std::vector<float>> values(blocks);
+    std::vector<size_t> counts(blocks);
+    std::vector<int> arities(blocks);
+    std::vector<char> ok(blocks);
+    parallel_for(blocks, [&](size_t k) {
+        values[k].reserve(size_t(cuts[k + 1] - cuts[k]) / 8);
+        ok[k] = parse_plain_block(cuts[k], cuts[k + 1], values[k], counts[k], arities[k]);
+    });
+    arity = -1;
+    elements = 0;
+    size_t total = 0;
+    for (size_t k = 0; k < blocks; ++k) {
+        if (!ok[k]) return false;
+        if (counts[k] == 0) continue;
+        if (arity >= 0 && arities[k] != arity) return false;
+        arity = arities[k];
+        elements += counts[k];
+        total += values[k].size();
+    }
+    if (arity < 0) return false;  // only white space: let the token path handle it
+    out.reserve(out.size() + total);
+    for (const std::vector<float>& v : values)
+        out.insert(out.end(), v.begin(), v.end());
+    // Move past the `]`, keeping line numbers right.
+    for (const char* q = b; (q = static_cast<const char*>(std::memchr(q, '\n', size_t(e - q))));
+         ++q) {
+        ++line_;
+        line_start_ = size_t(q - s_.data()) + 1;
+    }
+    pos_ = close + 1;
+    return true;
+}
 
 }  // namespace
 

@@ -55,35 +55,48 @@ void append_raw(std::string& out, size_t max_bytes, Write&& write) {
     out.resize(static_cast<size_t>(end - out.data()));
 }
 
-// Formats per-strand pieces in parallel: body(strand, out) appends strand's text; blocks
-// of strands are joined in order.
+// Text goes to `buf`; with a stream, buf is written out whenever it grows past a few MB,
+// so writing a file never holds the whole text in memory.
+struct Out {
+    std::string buf;
+    std::ostream* stream = nullptr;
+
+    void flush(bool force = false) {
+        if (!stream || (!force && buf.size() < (8u << 20))) return;
+        stream->write(buf.data(), static_cast<std::streamsize>(buf.size()));
+        buf.clear();
+    }
+};
+
+// Formats strands in parallel: body(strand, text) appends one strand's text. Batches of
+// blocks of strands are formatted in parallel and appended in order, so the bytes never
+// depend on the thread count.
 template <typename Body>
-std::string format_strands(size_t strands, size_t bytes_per_strand, Body&& body) {
-    constexpr size_t kBlock = 2048;
-    const size_t blocks = (strands + kBlock - 1) / kBlock;
-    std::vector<std::string> parts(blocks);
-    parallel_for(blocks, [&](size_t b) {
-        const size_t lo = b * kBlock, hi = std::min(strands, lo + kBlock);
-        std::string& s = parts[b];
-        s.reserve((hi - lo) * bytes_per_strand);
-        for (size_t i = lo; i < hi; ++i)
-            body(i, s);
-    });
-    size_t total = 0;
-    for (const std::string& p : parts)
-        total += p.size();
-    std::string out;
-    out.reserve(total);
-    for (const std::string& p : parts)
-        out += p;
-    return out;
+void format_strands(Out& out, const Hair& hair, size_t bytes_per_point, Body&& body) {
+    constexpr size_t kBlock = 1024, kBlocksPerBatch = 64;
+    const size_t strands = hair.strand_count();
+    std::vector<std::string> parts(kBlocksPerBatch);
+    for (size_t first = 0; first < strands; first += kBlock * kBlocksPerBatch) {
+        const size_t blocks = std::min(kBlocksPerBatch, (strands - first + kBlock - 1) / kBlock);
+        parallel_for(blocks, [&](size_t b) {
+            const size_t lo = first + b * kBlock, hi = std::min(strands, lo + kBlock);
+            std::string& s = parts[b];
+            s.clear();
+            s.reserve((hair.offsets[hi] - hair.offsets[lo]) * bytes_per_point + 32 * (hi - lo));
+            for (size_t i = lo; i < hi; ++i)
+                body(i, s);
+        });
+        for (size_t b = 0; b < blocks; ++b)
+            out.buf += parts[b];
+        out.flush();
+    }
 }
 
-std::string points_array(const Hair& hair, const std::string& indent) {
-    return format_strands(hair.strand_count(), 40 * 32, [&](size_t s, std::string& out) {
-        out += indent;
+void points_array(Out& out, const Hair& hair, const char* indent) {
+    format_strands(out, hair, 3 * kMaxFloatChars + 8, [&](size_t s, std::string& o) {
+        o += indent;
         const uint32_t a = hair.offsets[s], b = hair.offsets[s + 1];
-        append_raw(out, (b - a) * (3 * kMaxFloatChars + 8) + 1, [&](char* p) {
+        append_raw(o, (b - a) * (3 * kMaxFloatChars + 8) + 1, [&](char* p) {
             for (uint32_t i = a; i < b; ++i) {
                 p = put_vec(p, hair.points[i]);
                 if (i + 1 < hair.point_count()) {
@@ -128,7 +141,8 @@ void check_strands(const Hair& hair, const std::string& name) {
 }
 
 // Header, the Xform and the BasisCurves prim up to (not including) its points.
-void begin_layer(std::string& out, const Hair& hair, const std::string& extra_metadata) {
+void begin_layer(Out& o, const Hair& hair, const std::string& extra_metadata) {
+    std::string& out = o.buf;
     out += "#usda 1.0\n(\n    defaultPrim = \"hair\"\n";
     out += extra_metadata;
     out += "    metersPerUnit = 0.01\n    upAxis = \"Y\"\n)\n\n";
@@ -142,16 +156,17 @@ void begin_layer(std::string& out, const Hair& hair, const std::string& extra_me
         append_number(out, hair.strand_size(s));
     }
     out += "]\n";
+    o.flush();
 }
 
 // widths, displayColor, wisp ids and the closing braces.
-void end_layer(std::string& out, const Hair& hair) {
+void end_layer(Out& o, const Hair& hair) {
     const size_t S = hair.strand_count();
-    out += "        float[] widths = [\n";
-    out += format_strands(S, 10 * 32, [&](size_t s, std::string& o) {
-        o += "            ";
+    o.buf += "        float[] widths = [\n";
+    format_strands(o, hair, kMaxFloatChars + 2, [&](size_t s, std::string& t) {
+        t += "            ";
         const uint32_t a = hair.offsets[s], b = hair.offsets[s + 1];
-        append_raw(o, (b - a) * (kMaxFloatChars + 2) + 1, [&](char* p) {
+        append_raw(t, (b - a) * (kMaxFloatChars + 2) + 1, [&](char* p) {
             for (uint32_t i = a; i < b; ++i) {
                 p = put_float(p, hair.width_at(i));
                 if (i + 1 < hair.point_count()) {
@@ -163,6 +178,7 @@ void end_layer(std::string& out, const Hair& hair) {
             return p;
         });
     });
+    std::string& out = o.buf;
     out += "        ] (\n            interpolation = \"vertex\"\n        )\n";
     if (hair.colors.empty()) {
         out += "        color3f[] primvars:displayColor = [";
@@ -170,11 +186,13 @@ void end_layer(std::string& out, const Hair& hair) {
         out += "] (\n            interpolation = \"constant\"\n        )\n";
     } else {
         out += "        color3f[] primvars:displayColor = [\n";
-        out += format_strands(S, 40, [&](size_t s, std::string& o) {
-            o += "            ";
-            append_vec(o, hair.colors[s]);
-            o += s + 1 < S ? ",\n" : "\n";
-        });
+        for (size_t s = 0; s < S; ++s) {
+            out += "            ";
+            append_raw(out, 3 * kMaxFloatChars + 8,
+                       [&](char* p) { return put_vec(p, hair.colors[s]); });
+            out += s + 1 < S ? ",\n" : "\n";
+            if ((s & 4095) == 0) o.flush();
+        }
         out += "        ] (\n            interpolation = \"uniform\"\n        )\n";
     }
     if (!hair.wisp.empty()) {
@@ -186,45 +204,36 @@ void end_layer(std::string& out, const Hair& hair) {
         out += "] (\n            interpolation = \"uniform\"\n        )\n";
     }
     out += "    }\n}\n";
+    o.flush(true);
 }
 
-}  // namespace
-
-std::string encode_usda(const Hair& hair, const std::string& name) {
-    check_strands(hair, name);
-    std::string out;
-    out.reserve(hair.point_count() * 48 + hair.strand_count() * 64 + 1024);
+void write_single(Out& out, const Hair& hair) {
     begin_layer(out, hair,
                 cat("    doc = \"wisp hair: ", hair.strand_count(), " strands, ",
                     hair.point_count(), " control points\"\n"));
-    out += "        float3[] extent = ";
-    append_extent(out, extent_of(hair));
-    out += "\n        point3f[] points = [\n";
-    out += points_array(hair, "            ");
-    out += "        ]\n";
+    out.buf += "        float3[] extent = ";
+    append_extent(out.buf, extent_of(hair));
+    out.buf += "\n        point3f[] points = [\n";
+    points_array(out, hair, "            ");
+    out.buf += "        ]\n";
     end_layer(out, hair);
-    return out;
 }
 
-void write_usda(const std::filesystem::path& path, const Hair& hair) {
-    write_file_atomic(path, encode_usda(hair, path.string()));
-}
-
-std::string encode_usda_animation(const std::vector<Hair>& frames, double fps,
-                                  const std::string& name) {
+void check_frames(const std::vector<Hair>& frames, double fps, const std::string& name) {
     if (frames.empty()) fail(name, ": an animation needs at least one frame");
     if (!(fps > 0) || !std::isfinite(fps))
         fail(name, ": frames per second must be positive, not ", fps);
-    const Hair& first = frames.front();
-    check_strands(first, name);
+    check_strands(frames.front(), name);
     for (size_t f = 1; f < frames.size(); ++f) {
         frames[f].validate(cat(name, " frame ", f));
-        if (frames[f].offsets != first.offsets)
+        if (frames[f].offsets != frames.front().offsets)
             fail(name, ": frame ", f,
                  " has a different topology (strand point counts) than frame 0");
     }
-    std::string out;
-    out.reserve(frames.size() * (first.point_count() * 40 + 64) + first.point_count() * 12 + 1024);
+}
+
+void write_animation(Out& out, const std::vector<Hair>& frames, double fps) {
+    const Hair& first = frames.front();
     std::string meta;
     meta += "    endTimeCode = ";
     append_number(meta, frames.size() - 1);
@@ -234,30 +243,61 @@ std::string encode_usda_animation(const std::vector<Hair>& frames, double fps,
     append_number(meta, fps);
     meta += "\n";
     begin_layer(out, first, meta);
-    out += "        float3[] extent.timeSamples = {\n";
+    out.buf += "        float3[] extent.timeSamples = {\n";
     for (size_t f = 0; f < frames.size(); ++f) {
-        out += "            ";
-        append_number(out, f);
-        out += ": ";
-        append_extent(out, extent_of(frames[f]));
-        out += ",\n";
+        out.buf += "            ";
+        append_number(out.buf, f);
+        out.buf += ": ";
+        append_extent(out.buf, extent_of(frames[f]));
+        out.buf += ",\n";
     }
-    out += "        }\n        point3f[] points.timeSamples = {\n";
+    out.buf += "        }\n        point3f[] points.timeSamples = {\n";
     for (size_t f = 0; f < frames.size(); ++f) {
-        out += "            ";
-        append_number(out, f);
-        out += ": [\n";
-        out += points_array(frames[f], "                ");
-        out += "            ],\n";
+        out.buf += "            ";
+        append_number(out.buf, f);
+        out.buf += ": [\n";
+        points_array(out, frames[f], "                ");
+        out.buf += "            ],\n";
     }
-    out += "        }\n";
+    out.buf += "        }\n";
     end_layer(out, first);
-    return out;
+}
+
+}  // namespace
+
+std::string encode_usda(const Hair& hair, const std::string& name) {
+    check_strands(hair, name);
+    Out out;
+    out.buf.reserve(hair.point_count() * 48 + hair.strand_count() * 64 + 1024);
+    write_single(out, hair);
+    return std::move(out.buf);
+}
+
+void write_usda(const std::filesystem::path& path, const Hair& hair) {
+    check_strands(hair, path.string());
+    write_file_atomic(path, [&](std::ostream& os) {
+        Out out;
+        out.stream = &os;
+        write_single(out, hair);
+    });
+}
+
+std::string encode_usda_animation(const std::vector<Hair>& frames, double fps,
+                                  const std::string& name) {
+    check_frames(frames, fps, name);
+    Out out;
+    write_animation(out, frames, fps);
+    return std::move(out.buf);
 }
 
 void write_usda_animation(const std::filesystem::path& path, const std::vector<Hair>& frames,
                           double fps) {
-    write_file_atomic(path, encode_usda_animation(frames, fps, path.string()));
+    check_frames(frames, fps, path.string());
+    write_file_atomic(path, [&](std::ostream& os) {
+        Out out;
+        out.stream = &os;
+        write_animation(out, frames, fps);
+    });
 }
 
 }  // namespace wisp

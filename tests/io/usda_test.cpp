@@ -365,6 +365,31 @@ TEST(Usda, MalformedInputNamesTheLocation) {
         "prim /C: curve 0 has 3 vertices, but a nonperiodic bezier curve needs at least 4");
 }
 
+// Big plain arrays are parsed in parallel blocks; errors inside them and after them must
+// still name the right line.
+TEST(Usda, BigArraysKeepLineNumbers) {
+    std::string text = "#usda 1.0\ndef BasisCurves \"C\" {\n    point3f[] points = [\n";
+    for (int i = 0; i < 200000; ++i)
+        text += "        (1.5, -2, 3e-3),\n";  // lines 4..200003
+    std::string good = text + "    ]\n    int[] curveVertexCounts = [200000] $\n}\n";
+    expect_error([&] { parse_usda(good, "big.usda"); }, "big.usda:200005:");
+    std::string bad = text;
+    bad.replace(bad.find("(1.5", bad.size() / 2), 4, "(1.5.");
+    const size_t line = 4 + 100000;
+    try {
+        parse_usda(bad + "    ]\n}\n", "bad.usda");
+        ADD_FAILURE() << "expected an error";
+    } catch (const Error& e) {
+        const std::string m = e.what();
+        EXPECT_EQ(m.rfind("bad.usda:", 0), 0u) << m;
+        const size_t l = std::stoul(m.substr(9));
+        EXPECT_NEAR(double(l), double(line), 1.0) << m;
+    }
+    const UsdaLayer ok = parse_usda(text + "    ]\n}\n", "ok.usda");
+    ASSERT_EQ(ok.curves[0].points.size(), 200000u);
+    EXPECT_EQ(ok.curves[0].points[123456], Vec3f(1.5f, -2.f, 3e-3f));
+}
+
 TEST(Usda, TruncatedFilesFail) {
     Hair h = test::random_hair(21, 6, 4);
     const std::string text = encode_usda(h);
