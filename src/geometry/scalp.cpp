@@ -344,7 +344,7 @@ Vec2f Scalp::uv_of(const Vec3f& p) const {
     const float h = std::hypot(d.x(), d.z());
     if (h < 1e-9f) return {0.5f, d.y() >= 0.f ? 0.5f : 1.f};
     const float r = 0.5f * std::min(std::atan2(h, d.y()) / max_polar_angle_, 1.f);
-    return {0.5f + r * d.x() / h, 0.5f + r * d.z() / h};
+    return {0.5f - r * d.x() / h, 0.5f + r * d.z() / h};
 }
 
 }  // namespace wisp

@@ -6,12 +6,12 @@
 // center(): for a point p, with d = p - center(),
 //     θ = angle between d and +Y = atan2(√(dx² + dz²), dy)        (polar angle, radians)
 //     r = 0.5 · min(θ / θmax, 1)       θmax = the largest θ over the scalp's vertices
-//     u = 0.5 + r · dx / √(dx² + dz²),  v = 0.5 + r · dz / √(dx² + dz²)
+//     u = 0.5 − r · dx / √(dx² + dz²),  v = 0.5 + r · dz / √(dx² + dz²)
 // so the crown maps to (0.5, 0.5), the lowest hairline point to the unit disk's rim (radius
 // 0.5 about the centre), the front of the head (+Z) toward v = 1 (the top row of an image) and
-// the character's left (+X) toward u = 1 (the right of an image). A user's map PNG is thus a
-// top view of the head with the face up, mirrored left-right (the character's left is on the
-// image's right, as when seen from below). Points beyond θmax clamp to the rim.
+// the character's left (+X) toward u = 0 (the left of an image). A user's map PNG is thus the
+// top view of the head seen from above with the face up: what a hairdresser standing behind
+// the chair sees. Points beyond θmax clamp to the rim.
 #include <filesystem>
 #include <string>
 #include <vector>
