@@ -64,14 +64,7 @@ Masters synthesize_masters(const Style& style, const Head& head, const Roots& ro
     PrototypeSpec proto_spec = style.prototype;
     if (proto_spec.kind != PrototypeSpec::Kind::kPolyline)
         proto_spec.length = std::max(proto_spec.length, static_cast<float>(h + 16) * longest);
-    const std::vector<Vec3f> polyline = prototype_polyline(proto_spec);
-    const float smoothing =
-        proto_spec.kind == PrototypeSpec::Kind::kStraight
-            ? 0.f
-            : (proto_spec.kind == PrototypeSpec::Kind::kKinky ? 0.5f * proto_spec.period
-                                                              : proto_spec.period);
-    const float spacing = smoothing > 0.f ? smoothing / 41.f : std::max(longest / 8.f, 0.01f);
-    const PrototypeCurve curve = prepare_prototype(polyline, spacing, smoothing);
+    const PrototypeCurve curve = make_prototype_curve(proto_spec);
     if (proto_spec.kind == PrototypeSpec::Kind::kPolyline &&
         curve.centre_arc.back() < static_cast<float>(h + 2) * longest)
         fail("prototype.points: the polyline's outline is ", curve.centre_arc.back(),

@@ -19,7 +19,7 @@ float procedural(int which, const Vec2f& uv) {
     const float du = uv.x() - 0.5f, dv = uv.y() - 0.5f;
     const float r = std::min(1.f, 2.f * std::sqrt(du * du + dv * dv));
     const float len = std::sqrt(du * du + dv * dv);
-    const float x = len > 1e-6f ? du / len : 0.f;
+    const float x = len > 1e-6f ? -du / len : 0.f;  // u grows toward the character's right
     const float z = len > 1e-6f ? dv / len : 0.f;
     switch (which) {
         case 0:  // uniform

@@ -42,6 +42,35 @@ std::vector<Vec3f> prototype_polyline(const PrototypeSpec& spec) {
     return out;
 }
 
+PrototypeCurve make_prototype_curve(const PrototypeSpec& spec) {
+    using Kind = PrototypeSpec::Kind;
+    if (spec.kind == Kind::kPolyline)
+        return prepare_prototype(spec.polyline, spec.period / 41.f, spec.period);
+    PrototypeCurve out;
+    out.curve = prototype_polyline(spec);
+    out.centre.resize(out.curve.size());
+    // The axis of every preset: the wave oscillates about x = 0, the coils about x = -a.
+    const float axis_x =
+        (spec.kind == Kind::kCurly || spec.kind == Kind::kKinky) && spec.amplitude > 0.f
+            ? -spec.amplitude
+            : 0.f;
+    for (size_t k = 0; k < out.curve.size(); ++k)
+        out.centre[k] = Vec3f(axis_x, out.curve[k].y(), 0.f);
+    if (spec.kind == Kind::kStraight || spec.amplitude <= 0.f) {
+        // Two points are enough for a line, but decompose() walks samples: densify.
+        const size_t count = 257;
+        out.curve.resize(count);
+        out.centre.resize(count);
+        for (size_t k = 0; k < count; ++k)
+            out.curve[k] = out.centre[k] = Vec3f(0.f, spec.length * k / (count - 1), 0.f);
+    }
+    out.centre_arc.resize(out.centre.size());
+    out.centre_arc[0] = 0.f;
+    for (size_t k = 1; k < out.centre.size(); ++k)
+        out.centre_arc[k] = out.centre_arc[k - 1] + (out.centre[k] - out.centre[k - 1]).norm();
+    return out;
+}
+
 PrototypeCurve prepare_prototype(std::span<const Vec3f> polyline, float spacing, float smoothing) {
     if (polyline.size() < 2) fail("prototype: needs at least 2 points, got ", polyline.size());
     if (!(spacing > 0.f)) fail("prototype: sample spacing must be > 0");

@@ -25,6 +25,12 @@ struct PrototypeCurve {
     std::vector<float> centre_arc;  // #K arc length along centre, from 0
 };
 
+// The prototype of a style, ready to decompose: presets sampled along their parameter with
+// their exact centre line (the axis of the wave or coil); a user polyline through
+// prepare_prototype() with spacing period/41 and smoothing `period` (the scale of its largest
+// regular structure, §2.2.2).
+PrototypeCurve make_prototype_curve(const PrototypeSpec& spec);
+
 // Resamples `polyline` (#≥2) every `spacing` cm and smooths it with a centred moving
 // average over `smoothing` cm of arc length (the window shrinks symmetrically at the ends,
 // so the root keeps a zero detail). A smoothing equal to the wave period removes a sine

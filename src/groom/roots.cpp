@@ -6,6 +6,7 @@
 #include "core/error.hpp"
 #include "core/parallel.hpp"
 #include "core/point_grid.hpp"
+#include "geometry/mesh_distance.hpp"
 
 namespace wisp {
 namespace {
@@ -24,6 +25,31 @@ std::vector<Vec3f> positions(const std::vector<SurfacePoint>& pts) {
     for (size_t i = 0; i < pts.size(); ++i)
         out[i] = pts[i].position;
     return out;
+}
+
+// The scalp faces alone, so that closest points land on the scalp.
+Mesh scalp_submesh(const Scalp& scalp) {
+    Mesh cap;
+    cap.vertices = scalp.mesh().vertices;
+    cap.faces.reserve(scalp.faces().size());
+    for (uint32_t f : scalp.faces())
+        cap.faces.push_back(scalp.mesh().faces[f]);
+    return cap;
+}
+
+// Barycentric coordinates (of vertices 1 and 2) of q on face f, clamped into the triangle.
+Vec2f barycentric(const Mesh& mesh, uint32_t f, const Vec3f& q) {
+    const Vec3i& t = mesh.faces[f];
+    const Vec3f a = mesh.vertices[t[0]], e1 = mesh.vertices[t[1]] - a, e2 = mesh.vertices[t[2]] - a,
+                d = q - a;
+    const float d11 = e1.dot(e1), d12 = e1.dot(e2), d22 = e2.dot(e2);
+    const float det = d11 * d22 - d12 * d12;
+    if (!(std::abs(det) > 0.f)) return Vec2f(1.f / 3, 1.f / 3);
+    float b1 = (d22 * d.dot(e1) - d12 * d.dot(e2)) / det;
+    float b2 = (d11 * d.dot(e2) - d12 * d.dot(e1)) / det;
+    b1 = std::clamp(b1, 0.f, 1.f);
+    b2 = std::clamp(b2, 0.f, 1.f - b1);
+    return Vec2f(b1, b2);
 }
 
 }  // namespace
@@ -58,18 +84,16 @@ Roots place_roots(const Scalp& scalp, const MapSampler& density, const RootParam
     const std::vector<Vec3f> cand_pos = positions(cand);
     const float spacing = std::sqrt(scalp.area() / static_cast<float>(w_count));
 
-    // Initial masters: every k-th candidate (the cloud is already random).
+    // Lloyd relaxation restricted to the cloud: masters move to the centroids of their
+    // candidates (off the surface by the cap's curvature, harmless for assignment) and are
+    // projected back onto the scalp at the end.
     const size_t stride = c_count / w_count;
-    std::vector<uint32_t> master_cand(w_count);
+    std::vector<Vec3f> mpos(w_count);
     for (size_t w = 0; w < w_count; ++w)
-        master_cand[w] = static_cast<uint32_t>(w * stride);
-
+        mpos[w] = cand_pos[w * stride];
     std::vector<int> label(c_count);
     Roots roots;
     for (int it = 0; it < params.lloyd_iterations; ++it) {
-        std::vector<Vec3f> mpos(w_count);
-        for (size_t w = 0; w < w_count; ++w)
-            mpos[w] = cand_pos[master_cand[w]];
         const PointGrid grid(mpos, spacing);
         parallel_for(
             c_count, [&](size_t i) { label[i] = grid.nearest(cand_pos[i]); }, 1024);
@@ -80,31 +104,29 @@ Roots place_roots(const Scalp& scalp, const MapSampler& density, const RootParam
             sum[label[i]] += cand_pos[i].cast<double>();
             ++cnt[label[i]];
         }
-        // Snap each centroid to its nearest member candidate.
-        std::vector<float> best(w_count, INFINITY);
-        std::vector<uint32_t> next = master_cand;
-        for (size_t i = 0; i < c_count; ++i) {
-            const int w = label[i];
-            const Vec3f centroid = (sum[w] / std::max<uint32_t>(cnt[w], 1)).cast<float>();
-            const float d = (cand_pos[i] - centroid).squaredNorm();
-            if (d < best[w]) {
-                best[w] = d;
-                next[w] = static_cast<uint32_t>(i);
-            }
-        }
-        master_cand = next;
+        for (size_t w = 0; w < w_count; ++w)
+            if (cnt[w] > 0) mpos[w] = (sum[w] / cnt[w]).cast<float>();
         roots.lloyd_iterations = it + 1;
     }
     roots.masters.resize(w_count);
-    for (size_t w = 0; w < w_count; ++w)
-        roots.masters[w] = cand[master_cand[w]];
+    const Mesh cap = scalp_submesh(scalp);
+    const MeshDistance surface(cap);
+    parallel_for(
+        w_count,
+        [&](size_t w) {
+            uint32_t sub = 0;
+            const Vec3f q = surface.closest_point(mpos[w], &sub);
+            const uint32_t face = scalp.faces()[sub];
+            roots.masters[w] = scalp.point_on(face, barycentric(scalp.mesh(), face, q));
+        },
+        64);
 
     // Member roots and their Voronoi regions.
     const size_t s_count = static_cast<size_t>(std::max(0, params.strands));
     std::vector<SurfacePoint> members(s_count);
     std::vector<int> wisp_of(s_count);
-    const std::vector<Vec3f> mpos = positions(roots.masters);
-    const PointGrid grid(mpos, spacing);
+    const std::vector<Vec3f> root_pos = positions(roots.masters);
+    const PointGrid grid(root_pos, spacing);
     parallel_for(
         s_count,
         [&](size_t j) {

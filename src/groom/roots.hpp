@@ -24,7 +24,7 @@ struct RootParams {
     int wisps = 2000;              // N_w ≥ 1
     int strands = 100000;          // N_s ≥ 0
     int candidates_per_wisp = 12;  // density of the candidate cloud for Lloyd relaxation
-    int lloyd_iterations = 8;
+    int lloyd_iterations = 12;
     uint64_t seed = 1;
 };
 

@@ -10,7 +10,8 @@ float synthesis_scale(std::span<const Vec3f> prototype, int window) {
     for (const Vec3f& d : prototype)
         sum += d.squaredNorm();
     const double rms = prototype.empty() ? 0.0 : std::sqrt(sum / prototype.size());
-    return rms > 1e-6 ? static_cast<float>(std::sqrt(static_cast<double>(window)) * rms) : 1.f;
+    return rms > 1e-6 ? static_cast<float>(4.0 * std::sqrt(static_cast<double>(window)) * rms)
+                      : 1.f;
 }
 
 float window_distance(std::span<const Vec3f> out, size_t i, std::span<const Vec3f> proto, size_t k,
