@@ -39,50 +39,57 @@ PointGrid::PointGrid(std::span<const Vec3f> points, float cell)
         items_[fill[cell_of[i]]++] = static_cast<uint32_t>(i);
 }
 
-int PointGrid::nearest(const Vec3f& q) const {
+int PointGrid::nearest(const Vec3f& q, int hint) const {
     if (points_.empty()) return -1;
-    const Vec3f g = (q - origin_) / cell_;
-    int c[3];
-    for (int a = 0; a < 3; ++a)
-        c[a] = std::clamp(static_cast<int>(std::floor(g[a])), 0, dims_[a] - 1);
-    // Distance from q to the outside of the clamped cell's block, so that rings grow until
-    // no unvisited cell can hold a closer point.
     float best = std::numeric_limits<float>::infinity();
     int best_i = -1;
-    const int max_ring = std::max({dims_.x(), dims_.y(), dims_.z()});
-    for (int ring = 0; ring <= max_ring; ++ring) {
-        for (int z = c[2] - ring; z <= c[2] + ring; ++z) {
-            if (z < 0 || z >= dims_.z()) continue;
-            for (int y = c[1] - ring; y <= c[1] + ring; ++y) {
-                if (y < 0 || y >= dims_.y()) continue;
-                for (int x = c[0] - ring; x <= c[0] + ring; ++x) {
-                    if (x < 0 || x >= dims_.x()) continue;
-                    if (std::max({std::abs(x - c[0]), std::abs(y - c[1]), std::abs(z - c[2])}) !=
-                        ring)
-                        continue;
-                    const size_t cell = (static_cast<size_t>(z) * dims_.y() + y) * dims_.x() + x;
-                    for (uint32_t k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k) {
-                        const uint32_t i = items_[k];
-                        const float d = (points_[i] - q).squaredNorm();
-                        if (d < best || (d == best && static_cast<int>(i) < best_i)) {
-                            best = d;
-                            best_i = static_cast<int>(i);
-                        }
-                    }
-                }
+    auto visit = [&](size_t cell) {
+        for (uint32_t k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k) {
+            const uint32_t i = items_[k];
+            const float d = (points_[i] - q).squaredNorm();
+            if (d < best || (d == best && static_cast<int>(i) < best_i)) {
+                best = d;
+                best_i = static_cast<int>(i);
             }
         }
-        // Every point in rings > ring is at least `ring * cell` away from q's cell block
-        // (q may lie outside the grid box; measure from the clamped cell conservatively).
-        if (best_i >= 0) {
-            Vec3f lo = origin_ + cell_ * Vec3f(c[0] - ring, c[1] - ring, c[2] - ring);
-            Vec3f hi = origin_ + cell_ * Vec3f(c[0] + ring + 1, c[1] + ring + 1, c[2] + ring + 1);
-            float margin = std::numeric_limits<float>::infinity();
-            for (int a = 0; a < 3; ++a)
-                margin = std::min({margin, q[a] - lo[a], hi[a] - q[a]});
-            if (margin > 0 && margin * margin >= best) break;
+    };
+    auto cell_index = [&](int x, int y, int z) {
+        return (static_cast<size_t>(z) * dims_.y() + y) * dims_.x() + x;
+    };
+    int c[3];
+    for (int a = 0; a < 3; ++a)
+        c[a] =
+            std::clamp(static_cast<int>(std::floor((q[a] - origin_[a]) / cell_)), 0, dims_[a] - 1);
+    if (hint >= 0 && static_cast<size_t>(hint) < points_.size()) {
+        best = (points_[hint] - q).squaredNorm();
+        best_i = hint;
+    } else {
+        // Grow rings of cells around q's (clamped) cell until some point is found.
+        const int max_ring = std::max({dims_.x(), dims_.y(), dims_.z()});
+        for (int ring = 0; ring <= max_ring && best_i < 0; ++ring) {
+            for (int z = std::max(c[2] - ring, 0); z <= std::min(c[2] + ring, dims_.z() - 1); ++z)
+                for (int y = std::max(c[1] - ring, 0); y <= std::min(c[1] + ring, dims_.y() - 1);
+                     ++y)
+                    for (int x = std::max(c[0] - ring, 0);
+                         x <= std::min(c[0] + ring, dims_.x() - 1); ++x)
+                        if (std::max({std::abs(x - c[0]), std::abs(y - c[1]),
+                                      std::abs(z - c[2])}) == ring)
+                            visit(cell_index(x, y, z));
         }
     }
+    // Every point closer than the best so far lies in the box of that radius around q.
+    const float r = std::sqrt(best);
+    int lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = std::clamp(static_cast<int>(std::floor((q[a] - r - origin_[a]) / cell_)), 0,
+                           dims_[a] - 1);
+        hi[a] = std::clamp(static_cast<int>(std::floor((q[a] + r - origin_[a]) / cell_)), 0,
+                           dims_[a] - 1);
+    }
+    for (int z = lo[2]; z <= hi[2]; ++z)
+        for (int y = lo[1]; y <= hi[1]; ++y)
+            for (int x = lo[0]; x <= hi[0]; ++x)
+                visit(cell_index(x, y, z));
     return best_i;
 }
 

@@ -16,7 +16,8 @@ class PointGrid {
     PointGrid(std::span<const Vec3f> points, float cell);
 
     // Index of the point nearest to q (ties: the lowest index); -1 if the set is empty.
-    int nearest(const Vec3f& q) const;
+    // `hint`, a point likely to be near (e.g. last iteration's answer), only speeds it up.
+    int nearest(const Vec3f& q, int hint = -1) const;
 
   private:
     std::vector<Vec3f> points_;

@@ -91,7 +91,7 @@ Roots place_roots(const Scalp& scalp, const MapSampler& density, const RootParam
     std::vector<Vec3f> mpos(w_count);
     for (size_t w = 0; w < w_count; ++w)
         mpos[w] = cand_pos[w * stride];
-    std::vector<int> label(c_count);
+    std::vector<int> label(c_count, -1);
     Roots roots;
     for (int it = 0; it < params.lloyd_iterations; ++it) {
         const PointGrid grid(mpos, spacing);

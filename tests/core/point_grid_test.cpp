@@ -21,6 +21,7 @@ TEST(PointGrid, NearestMatchesBruteForce) {
         for (size_t i = 1; i < pts.size(); ++i)
             if ((pts[i] - x).squaredNorm() < (pts[best] - x).squaredNorm()) best = i;
         EXPECT_EQ(grid.nearest(x), best);
+        EXPECT_EQ(grid.nearest(x, q % 500), best);  // any hint gives the same answer
     }
 }
 
