@@ -15,11 +15,11 @@ namespace wisp {
 struct Distribution {
     enum class Kind { kConstant, kUniform, kNormal, kTable };
     Kind kind = Kind::kConstant;
-    float value = 0.f;             // kConstant
-    float min = 0.f, max = 1.f;    // kUniform: [min, max]; kNormal, kTable: truncation range
+    float value = 0.f;               // kConstant
+    float min = 0.f, max = 1.f;      // kUniform: [min, max]; kNormal, kTable: truncation range
     float mean = 0.f, stddev = 0.f;  // kNormal (truncated to [min, max] by resampling)
-    std::vector<float> table;      // kTable: a histogram, the weights of equal-width bins
-                                   // over [min, max] (#≥2, ≥ 0, not all 0)
+    std::vector<float> table;        // kTable: a histogram, the weights of equal-width bins
+                                     // over [min, max] (#≥2, ≥ 0, not all 0)
 };
 
 // A map over the scalp (Choe & Ko §2.3, Fig. 8): a constant, a grayscale image in scalp UV
@@ -28,10 +28,10 @@ struct Distribution {
 struct ScalarMap {
     enum class Kind { kConstant, kImage, kProcedural };
     Kind kind = Kind::kConstant;
-    float value = 1.f;                // kConstant, already in the map's units
-    std::filesystem::path image;      // kImage (resolved relative to the style file)
-    std::string procedural;           // kProcedural: a name from procedural_map_names()
-    float low = 0.f, high = 1.f;      // kImage, kProcedural: value v → low + v·(high-low)
+    float value = 1.f;            // kConstant, already in the map's units
+    std::filesystem::path image;  // kImage (resolved relative to the style file)
+    std::string procedural;       // kProcedural: a name from procedural_map_names()
+    float low = 0.f, high = 1.f;  // kImage, kProcedural: value v → low + v·(high-low)
 };
 
 struct HeadSpec {
@@ -45,22 +45,22 @@ struct HeadSpec {
 struct PrototypeSpec {
     enum class Kind { kStraight, kWavy, kCurly, kKinky, kPolyline };
     Kind kind = Kind::kStraight;
-    float amplitude = 0.6f;     // cm, wave amplitude or coil radius, ≥ 0
-    float period = 3.f;         // cm along the strand per wave or coil turn, > 0
-    float length = 40.f;        // cm of prototype generated for presets, > 0
+    float amplitude = 0.6f;       // cm, wave amplitude or coil radius, ≥ 0
+    float period = 3.f;           // cm along the strand per wave or coil turn, > 0
+    float length = 40.f;          // cm of prototype generated for presets, > 0
     std::vector<Vec3f> polyline;  // kPolyline: ≥ 4 points, cm
-    int window = 4;             // h of §2.2.2, ≥ 1
-    float temperature = 0.03f;  // T of eq. (4), ≥ 0 (0 = argmin, eq. (3))
-    float roll = 0.5f;          // radians: each master's details turn about its outline by
-                                // a uniform angle in [-roll, roll], ≥ 0
+    int window = 4;               // h of §2.2.2, ≥ 1
+    float temperature = 0.03f;    // T of eq. (4), ≥ 0 (0 = argmin, eq. (3))
+    float roll = 0.5f;            // radians: each master's details turn about its outline by
+                                  // a uniform angle in [-roll, roll], ≥ 0
 };
 
 // The wisp parameters of §2.1.
 struct WispSpec {
     Distribution length{Distribution::Kind::kUniform, 0.f, 0.85f, 1.f};  // l(u), u in (0,1]
     std::vector<float> deviation_radius{1.f, 1.2f, 1.5f};  // r(s) at evenly spaced s in [0,1],
-                                                            // relative to the root radius, > 0
-    float fuzziness = 0.3f;  // σ, ≥ 0
+                                                           // relative to the root radius, > 0
+    float fuzziness = 0.3f;                                // σ, ≥ 0
 };
 
 // Stochastic HSV color (§5, Fig. 12). Hue in degrees, saturation and value in [0,1].
@@ -73,22 +73,99 @@ struct ColorSpec {
     float wisp_hue = 0.f, wisp_saturation = 0.f, wisp_value = 0.f;
 };
 
+// One term of the styling force field Φ (Choe & Ko §3.1, §6.1); terms add, each scaled by
+// its weight. Φ is dimensionless: gravity alone has |Φ| = weight.
+struct FieldTerm {
+    enum class Kind { kGravity, kPulledBack, kSidePart, kWind, kFile };
+    Kind kind = Kind::kGravity;
+    float weight = 1.f;          // any finite value
+    Vec3f direction{0, 0, -1};   // kWind: the wind's direction (normalized on use), non-zero
+    float side = 1.f;            // kSidePart: +1 parts on the character's left (hair swept to the
+                                 // right), −1 on the right
+    std::filesystem::path file;  // kFile: a field file (docs/style.md "Field files")
+};
+
+// Which wisps a group holds (§4 step 1): by their master root.
+struct Selection {
+    enum class Kind { kAll, kRegion, kMask, kBox, kHalfSpace, kWisps };
+    Kind kind = Kind::kAll;
+    std::string region;          // kRegion: a procedural map name; roots where it is > 0.5
+    std::filesystem::path mask;  // kMask: image in scalp UV space; roots where it is > 0.5
+    Vec3f lo = Vec3f::Zero(), hi = Vec3f::Zero();  // kBox: head-space box, cm
+    Vec3f normal = Vec3f::UnitX();                 // kHalfSpace: roots with normal·p > offset
+    float offset = 0.f;
+    std::vector<int> wisps;     // kWisps: wisp ids (0-based, < wisps)
+    bool head_relative = true;  // lo, hi, offset in head units (see ConstraintSpec)
+    // The selected wisps, ordered by their root's x (the character's left, +X, last), are cut
+    // into `parts` equal runs and the group keeps run `part` (braids split one region in 3).
+    int part = 0, parts = 1;  // 0 ≤ part < parts
+};
+
+// A styling constraint (§4, Fig. 10).
+struct ConstraintSpec {
+    enum class Kind { kPoint, kTrajectory, kDirection };
+    Kind kind = Kind::kPoint;
+    Vec3f point = Vec3f::Zero();    // kPoint: the attraction point, cm, head space
+    std::vector<Vec3f> trajectory;  // kTrajectory, kDirection: ≥ 2 points, cm
+    bool smooth = false;            // the trajectory is a Catmull-Rom curve through them
+    float radius = 1.f;             // tolerance (point, trajectory) or influence (direction)
+                                    // radius, cm, > 0
+    float weight = 1.f;             // w of eq. (7), in [0, 1]
+    // Positions in head units (the default, so that styles fit any head): p ↦ c + R·p, with c
+    // the centre and R the radius of the sphere fitted to the scalp (Scalp::center(), crown);
+    // radius is then in head units too. false: centimetres in head space.
+    bool head_relative = true;
+};
+
+// A group of wisps with its constraint queue.
+struct GroupSpec {
+    std::string name;
+    Selection selection;
+    std::vector<ConstraintSpec> queue;
+};
+
+// The deformation solver's parameters (§3).
+struct SolveSpec {
+    bool enabled = true;         // false: masters keep their protrusion direction
+    float stiffness = 1.f;       // κ of eq. (5), ≥ 0
+    float threshold = 0.5f;      // τ of eq. (6), in (0, 1]
+    float cell = 1.f;            // density/field grid cell, cm, in [0.2, 10]
+    float full_density = 200.f;  // strand·cm per cm³ that counts as density 1, > 0
+    float bend_step = 4.f;       // Δθ of Algorithm 1, degrees, in (0, 45]
+    int max_tries = 30;          // bound on the bends per joint, ≥ 0
+    bool depth_first = false;    // Algorithm 1 is breadth-first; true compares depth-first
+    float head_margin = 0.25f;   // cm: head density ramps from 1 at the surface to 0 here
+    std::vector<FieldTerm> field{FieldTerm{}};  // Φ: gravity by default
+};
+
+// Cutting (§6.2) beyond the length map: hair past the plane n·p > offset is cut off.
+struct CutSpec {
+    bool enabled = false;
+    Vec3f normal{0, -1, 0};  // unit on use, non-zero
+    float offset = 0.f;      // cm, or head units (along normal, from the scalp centre)
+    bool head_relative = true;
+};
+
 struct Style {
-    std::string name;               // from the file name or preset
+    std::string name;  // from the file name or preset
     uint64_t seed = 1;
     HeadSpec head;
-    int wisps = 2000;               // N_w, ≥ 1
-    int strands = 100000;           // N_s, ≥ N_w
-    int points_per_strand = 32;     // control points of a full-length strand, ≥ 4
-    ScalarMap density{};            // relative root density, ≥ 0
-    ScalarMap length{ScalarMap::Kind::kConstant, 25.f};  // master length in cm, > 0
+    int wisps = 2000;            // N_w, ≥ 1
+    int strands = 100000;        // N_s, ≥ N_w
+    int points_per_strand = 32;  // control points of a full-length strand, ≥ 4
+    ScalarMap density{};         // relative root density, ≥ 0
+    ScalarMap length{ScalarMap::Kind::kConstant, 25.f};       // master length in cm, > 0
     ScalarMap protrusion{ScalarMap::Kind::kConstant, 0.25f};  // 0 = along the scalp, 1 = along
-                                                               // the normal
-    float root_width = 0.008f;      // cm, strand diameter at the root, > 0
-    float tip_width = 0.002f;       // cm, at the tip, > 0
+                                                              // the normal
+    float root_width = 0.008f;  // cm, strand diameter at the root, > 0
+    float tip_width = 0.002f;   // cm, at the tip, > 0
     PrototypeSpec prototype;
     WispSpec wisp;
     ColorSpec color;
+    SolveSpec solve;
+    std::vector<GroupSpec> groups;  // constraint groups, including those the hairdressing
+                                    // sections (tie, braid, updo, comb) expand into
+    CutSpec cut;
 };
 
 }  // namespace wisp
