@@ -1,0 +1,214 @@
+#include "render/opacity_shadow_map.hpp"
+
+#include <tbb/enumerable_thread_specific.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/parallel.hpp"
+#include "render/strand_samples.hpp"
+
+namespace wisp {
+
+LightFrame LightFrame::towards(const Vec3f& to_light) {
+    LightFrame f;
+    f.w = -to_light.normalized();
+    f.u = any_perpendicular(f.w);
+    f.v = f.w.cross(f.u);
+    return f;
+}
+
+namespace {
+
+// Interleaves the low 16 bits of x with zeros.
+uint32_t spread_bits(uint32_t x) {
+    x &= 0xffffu;
+    x = (x | (x << 8)) & 0x00ff00ffu;
+    x = (x | (x << 4)) & 0x0f0f0f0fu;
+    x = (x | (x << 2)) & 0x33333333u;
+    x = (x | (x << 1)) & 0x55555555u;
+    return x;
+}
+
+}  // namespace
+
+std::vector<uint32_t> light_space_order(const Hair& hair, const LightFrame& light) {
+    const size_t n = hair.strand_count();
+    std::vector<Vec2f> mid(n);
+    Box3 box;
+    for (size_t s = 0; s < n; ++s) {
+        const std::span<const Vec3f> p = hair.strand(s);
+        const Vec3f q = p.empty() ? Vec3f::Zero() : light.to_light_space(p[p.size() / 2]);
+        mid[s] = Vec2f(q.x(), q.y());
+        box.extend(Vec3f(q.x(), q.y(), 0.f));
+    }
+    std::vector<uint64_t> keyed(n);
+    const Vec3f size =
+        box.empty() ? Vec3f(Vec3f::Ones()) : Vec3f(box.size().cwiseMax(Vec3f::Constant(1e-6f)));
+    for (size_t s = 0; s < n; ++s) {
+        const auto quantize = [](float t) {
+            return static_cast<uint32_t>(std::clamp(t, 0.f, 1.f) * 65535.f);
+        };
+        const uint32_t code = spread_bits(quantize((mid[s].x() - box.lo.x()) / size.x())) |
+                              (spread_bits(quantize((mid[s].y() - box.lo.y()) / size.y())) << 1);
+        keyed[s] = (static_cast<uint64_t>(code) << 32) | s;
+    }
+    std::sort(keyed.begin(), keyed.end());
+    std::vector<uint32_t> order(n);
+    for (size_t s = 0; s < n; ++s)
+        order[s] = static_cast<uint32_t>(keyed[s]);
+    return order;
+}
+
+namespace {
+
+constexpr float kFixedPoint = 65536.f;  // deposits are integers in units of 1/65536 of τ
+
+}  // namespace
+
+OpacityShadowMap::OpacityShadowMap(const Hair& hair, const LightFrame& light, const Box3& bounds,
+                                   const OpacityShadowMapOptions& options,
+                                   std::span<const uint32_t> order)
+    : light_(light) {
+    std::vector<uint32_t> own_order;
+    if (order.size() != hair.strand_count()) {
+        own_order = light_space_order(hair, light);
+        order = own_order;
+    }
+    nx_ = ny_ = std::max(1, options.resolution);
+    nz_ = std::max(1, options.slices);
+    Box3 box;  // the light-space box holding the world box
+    for (int k = 0; k < 8; ++k)
+        box.extend(light.to_light_space(Vec3f((k & 1) ? bounds.hi.x() : bounds.lo.x(),
+                                              (k & 2) ? bounds.hi.y() : bounds.lo.y(),
+                                              (k & 4) ? bounds.hi.z() : bounds.lo.z())));
+    if (box.empty()) box.extend(Vec3f::Zero());
+    const Vec3f size = box.size().cwiseMax(Vec3f::Constant(1e-3f));
+    lo_ = box.lo;
+    du_ = size.x() / nx_;
+    dv_ = size.y() / ny_;
+    dw_ = size.z() / nz_;
+    const size_t cells = static_cast<size_t>(nx_) * ny_ * nz_;
+
+    // Deposit pass. Each strand is walked in pieces no longer than a texel, and each
+    // piece adds its opacity to the cell holding its midpoint.
+    tbb::enumerable_thread_specific<std::vector<uint32_t>> partial(
+        [&] { return std::vector<uint32_t>(cells, 0u); });
+    const float inv_du = 1.f / du_, inv_dv = 1.f / dv_, inv_dw = 1.f / dw_;
+    const float step = 2.f * std::min(du_, dv_);
+    const float area_scale = options.strand_opacity * kFixedPoint / (du_ * dv_);
+    const size_t strands = hair.strand_count();
+    parallel_for(
+        (strands + 63) / 64,
+        [&](size_t chunk) {
+            std::vector<uint32_t>& grid = partial.local();
+            auto deposit = [&](const Vec3f& q, float amount) {
+                const int x = std::clamp(static_cast<int>((q.x() - lo_.x()) * inv_du), 0, nx_ - 1);
+                const int y = std::clamp(static_cast<int>((q.y() - lo_.y()) * inv_dv), 0, ny_ - 1);
+                const int z = std::clamp(static_cast<int>((q.z() - lo_.z()) * inv_dw), 0, nz_ - 1);
+                grid[(static_cast<size_t>(z) * ny_ + y) * nx_ + x] +=
+                    static_cast<uint32_t>(amount + 0.5f);
+            };
+            for (size_t k = chunk * 64; k < std::min(strands, chunk * 64 + 64); ++k) {
+                const size_t s = order[k];
+                bool first = true;
+                Vec3f prev_q;
+                float prev_w = 0;
+                auto sub = [&](size_t, const Vec3f& b, const Vec3f& c) {
+                    return std::min(8, static_cast<int>((c - b).norm() / (4.f * step)) + 1);
+                };
+                for_each_strand_sample<false>(
+                    hair, s, options.width_scale, options.tip_width, sub,
+                    [&](const StrandSample& sample) {
+                        const Vec3f q = light.to_light_space(sample.p);
+                        if (!first) {
+                            const Vec3f d = q - prev_q;
+                            // Only the extent across the light blocks it: a piece seen end-on
+                            // by the light casts (almost) nothing.
+                            const float across = std::sqrt(d.x() * d.x() + d.y() * d.y());
+                            const int n = std::max(1, static_cast<int>(across / step) + 1);
+                            const float amount = 0.5f * (prev_w + sample.width) * across *
+                                                 area_scale / static_cast<float>(n);
+                            for (int k = 0; k < n; ++k)
+                                deposit(prev_q + d * ((static_cast<float>(k) + 0.5f) / n), amount);
+                        }
+                        first = false;
+                        prev_q = q;
+                        prev_w = sample.width;
+                    });
+            }
+        },
+        1);
+
+    // Sum the per-thread grids (integers: any order gives the same sum), blur each slab with
+    // a 1-2-1 tent in u and v to hide the texel grid, and accumulate along the light.
+    std::vector<uint32_t> total(cells, 0u);
+    for (const std::vector<uint32_t>& g : partial)
+        for (size_t i = 0; i < cells; ++i)
+            total[i] += g[i];
+    std::vector<float> blur_x(cells), blur(cells);
+    const size_t plane = static_cast<size_t>(nx_) * ny_;
+    parallel_for(static_cast<size_t>(nz_), [&](size_t z) {
+        const uint32_t* in = &total[z * plane];
+        float* out = &blur_x[z * plane];
+        for (int y = 0; y < ny_; ++y)
+            for (int x = 0; x < nx_; ++x) {
+                const size_t row = static_cast<size_t>(y) * nx_;
+                out[row + x] = 0.25f * static_cast<float>(in[row + std::max(x - 1, 0)]) +
+                               0.5f * static_cast<float>(in[row + x]) +
+                               0.25f * static_cast<float>(in[row + std::min(x + 1, nx_ - 1)]);
+            }
+        float* out2 = &blur[z * plane];
+        for (int y = 0; y < ny_; ++y) {
+            const float* up = &out[static_cast<size_t>(std::max(y - 1, 0)) * nx_];
+            const float* mid = &out[static_cast<size_t>(y) * nx_];
+            const float* down = &out[static_cast<size_t>(std::min(y + 1, ny_ - 1)) * nx_];
+            for (int x = 0; x < nx_; ++x)
+                out2[static_cast<size_t>(y) * nx_ + x] =
+                    0.25f * up[x] + 0.5f * mid[x] + 0.25f * down[x];
+        }
+    });
+    // Running sum along the light into the lookup layout, texel-major (a lookup reads two
+    // neighbouring boundaries of four texels).
+    tau_.assign(plane * (nz_ + 1), 0.f);
+    parallel_for(
+        plane,
+        [&](size_t texel) {
+            float sum = 0;
+            float* out = &tau_[texel * (nz_ + 1)];
+            out[0] = 0;
+            for (int z = 0; z < nz_; ++z) {
+                sum += blur[z * plane + texel] * (1.f / kFixedPoint);
+                out[z + 1] = sum;
+            }
+        },
+        256);
+}
+
+float OpacityShadowMap::optical_depth(const Vec3f& p) const {
+    if (tau_.empty()) return 0.f;
+    const Vec3f q = light_.to_light_space(p);
+    // Texel centres for u, v; boundaries for w, evaluated half a slab towards the light so
+    // that a strand does not shadow itself.
+    const float fx = std::clamp((q.x() - lo_.x()) / du_ - 0.5f, 0.f, nx_ - 1.f);
+    const float fy = std::clamp((q.y() - lo_.y()) / dv_ - 0.5f, 0.f, ny_ - 1.f);
+    const float fz = std::clamp((q.z() - lo_.z()) / dw_ - 0.5f, 0.f, static_cast<float>(nz_));
+    const int x0 = std::min(static_cast<int>(fx), nx_ - 1),
+              y0 = std::min(static_cast<int>(fy), ny_ - 1);
+    const int z0 = std::min(static_cast<int>(fz), nz_ - 1);
+    const int x1 = std::min(x0 + 1, nx_ - 1), y1 = std::min(y0 + 1, ny_ - 1);
+    const float ax = fx - x0, ay = fy - y0, az = std::min(fz - z0, 1.f);
+    auto column = [&](int x, int y) {
+        const float* c = &tau_[(static_cast<size_t>(y) * nx_ + x) * (nz_ + 1) + z0];
+        return c[0] + (c[1] - c[0]) * az;
+    };
+    const float top = column(x0, y0) + (column(x1, y0) - column(x0, y0)) * ax;
+    const float bottom = column(x0, y1) + (column(x1, y1) - column(x0, y1)) * ax;
+    return top + (bottom - top) * ay;
+}
+
+float OpacityShadowMap::transmittance(const Vec3f& p) const {
+    return std::exp(-optical_depth(p));
+}
+
+}  // namespace wisp

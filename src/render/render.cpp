@@ -1,0 +1,712 @@
+#include "render/render.hpp"
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <span>
+
+#include "core/error.hpp"
+#include "core/parallel.hpp"
+#include "render/kajiya_kay.hpp"
+#include "render/opacity_shadow_map.hpp"
+#include "render/shadow_depth_map.hpp"
+#include "render/strand_raster.hpp"
+#include "render/strand_samples.hpp"
+
+namespace wisp {
+namespace {
+
+constexpr int kTile = 32;                // tile side, pixels
+constexpr float kFlatness = 0.2f;        // pixels: pieces follow the curve this closely
+constexpr float kMaxPiecePixels = 24.f;  // and are no longer (shading is interpolated along)
+constexpr int kMaxPieces = 8;            // per Catmull-Rom segment
+constexpr float kNear = 1e-2f;           // cm; geometry closer to the eye is dropped
+constexpr float kOpaque = 1.f / 1024;    // transmittance below which a pixel is done
+constexpr float kHeadBias = 0.02f;       // cm; hair roots sit on the scalp
+constexpr int kSamples = 4;              // head samples per pixel (2×2)
+constexpr float kSampleOffsets[kSamples][2] = {
+    {0.25f, 0.25f}, {0.75f, 0.25f}, {0.25f, 0.75f}, {0.75f, 0.75f}};
+
+// A projected, shaded strand vertex. x, y pixels; z depth (cm, ≤ 0 when behind the eye);
+// w width in pixels; rgb the shaded linear colour, packed.
+struct HairVertex {
+    float x, y, z, w;
+    uint32_t rgb;
+};
+
+constexpr uint32_t kLastOfStrand = 1u << 31;  // flag in HairVertex::rgb
+
+// Linear colour in [0, 4] as three 10-bit square roots (shaded colours exceed 1 in
+// highlights; the square root spends the bits where the eye needs them).
+uint32_t pack_color(const Vec3f& c) {
+    auto q = [](float v) {
+        return static_cast<uint32_t>(std::sqrt(std::clamp(v, 0.f, 4.f) * 0.25f) * 1023.f + 0.5f);
+    };
+    return q(c.x()) | (q(c.y()) << 10) | (q(c.z()) << 20);
+}
+Vec3f unpack_color(uint32_t v) {
+    auto d = [](uint32_t q) {
+        const float s = static_cast<float>(q & 1023u) * (1.f / 1023.f);
+        return 4.f * s * s;
+    };
+    return {d(v), d(v >> 10), d(v >> 20)};
+}
+
+uint8_t to_srgb8(float linear) {
+    const float c = std::clamp(linear, 0.f, 1.f);
+    const float s = c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.f / 2.4f) - 0.055f;
+    return static_cast<uint8_t>(s * 255.f + 0.5f);
+}
+
+struct Lights {
+    Vec3f key_dir, key_color, fill_dir, fill_color, ambient;
+};
+
+Vec3f camera_to_world(const Camera& cam, const Vec3f& d) {
+    return (d.x() * cam.right + d.y() * cam.up - d.z() * cam.forward).normalized();
+}
+
+// Tiles of the image and, for each, its items (copied, so that a tile reads only its own
+// memory) in increasing source order, with a 16-bit sort key each.
+template <typename Item>
+struct Bins {
+    int tiles_x = 0, tiles_y = 0;
+    std::vector<uint64_t> offsets;  // #tiles+1 into items and keys
+    std::vector<Item> items;
+    std::vector<uint16_t> keys;
+};
+
+// Deterministic two-pass binning: the sources are cut into a fixed number of chunks (not
+// one per thread), each chunk counts then writes its own slots of every tile, so tile lists
+// come out in source order for any thread count. tiles_of(i, emit) calls
+// emit(tile, key, item) for each tile that source i touches.
+template <typename Item, typename TilesOf>
+void bin_items(size_t sources, int tiles, TilesOf&& tiles_of, Bins<Item>& bins) {
+    const size_t chunks = std::clamp<size_t>(sources / 4096, 1, 256);
+    const size_t per_chunk = (sources + chunks - 1) / chunks;
+    std::vector<uint32_t> counts(chunks * tiles, 0u);
+    parallel_for(chunks, [&](size_t c) {
+        uint32_t* count = &counts[c * tiles];
+        for (size_t i = c * per_chunk; i < std::min(sources, (c + 1) * per_chunk); ++i)
+            tiles_of(i, [&](int tile, uint16_t, const auto&) { ++count[tile]; });
+    });
+    bins.offsets.assign(tiles + 1, 0);
+    std::vector<uint64_t> cursor(chunks * tiles);
+    uint64_t total = 0;
+    for (int t = 0; t < tiles; ++t) {
+        bins.offsets[t] = total;
+        for (size_t c = 0; c < chunks; ++c) {
+            cursor[c * tiles + t] = total;
+            total += counts[c * tiles + t];
+        }
+    }
+    bins.offsets[tiles] = total;
+    bins.items.resize(total);
+    bins.keys.resize(total);
+    parallel_for(chunks, [&](size_t c) {
+        uint64_t* cur = &cursor[c * tiles];
+        for (size_t i = c * per_chunk; i < std::min(sources, (c + 1) * per_chunk); ++i)
+            tiles_of(i, [&](int tile, uint16_t key, const Item& item) {
+                const uint64_t k = cur[tile]++;
+                bins.items[k] = item;
+                bins.keys[k] = key;
+            });
+    });
+}
+
+// items (#n) stably sorted by keys (#n) into sorted: two 8-bit counting-sort passes.
+void sort_by_key(const uint16_t* keys, const uint32_t* items, size_t n,
+                 std::vector<uint32_t>& sorted, std::vector<uint32_t>& tmp) {
+    sorted.resize(n);
+    tmp.resize(n);
+    std::array<uint32_t, 257> count{};
+    for (size_t i = 0; i < n; ++i)
+        ++count[(keys[i] & 255u) + 1];
+    for (int k = 0; k < 256; ++k)
+        count[k + 1] += count[k];
+    for (size_t i = 0; i < n; ++i)
+        tmp[count[keys[i] & 255u]++] = static_cast<uint32_t>(i);
+    count.fill(0);
+    for (size_t i = 0; i < n; ++i)
+        ++count[(keys[i] >> 8) + 1];
+    for (int k = 0; k < 256; ++k)
+        count[k + 1] += count[k];
+    for (uint32_t i : tmp)
+        sorted[count[keys[i] >> 8]++] = items[i];
+}
+
+// A straight strand piece in the image: ends (x, y) in pixels, depth z (cm), width w
+// (pixels) and shaded colour (pack_color).
+struct Piece {
+    float x0, y0, x1, y1, z0, z1, w0, w1;
+    uint32_t c0, c1;
+};
+
+struct Scene {
+    const Hair* hair = nullptr;
+    const Mesh* head = nullptr;
+    const RenderOptions* options = nullptr;
+    Camera camera;
+    Lights lights;
+    std::unique_ptr<OpacityShadowMap> osm;
+    std::unique_ptr<ShadowDepthMap> head_shadow;
+    std::vector<uint32_t> strand_order;  // light_space_order() with shadows, else empty
+    float specular_floor = 0.f;          // cone cosine below which the specular term is < 1/4096
+    Box3 hair_box;
+
+    // Key-light visibility in [0, 1] at p (cm, head space).
+    float key_visibility(const Vec3f& p, float bias = 0.05f) const {
+        float v = 1.f;
+        if (head_shadow) v *= head_shadow->visibility(p, bias);
+        if (osm && v > 0.f) v *= osm->transmittance(p);
+        return v;
+    }
+};
+
+// Kajiya-Kay under the key light (visible fraction `shadow`), the fill light and ambient.
+Vec3f shade_hair(const Scene& scene, const Vec3f& p, const Vec3f& t, const Vec3f& color,
+                 float shadow) {
+    const RenderOptions& o = *scene.options;
+    const Lights& l = scene.lights;
+    const Vec3f e = (scene.camera.eye - p).normalized();
+    const Vec3f spec_color = Vec3f::Ones() + o.specular_tint * (color - Vec3f::Ones());
+    auto light = [&](const Vec3f& dir) {
+        // kajiya_kay_specular, with pow skipped where its value would be invisible.
+        const float cone = kajiya_kay_cone_cosine(t, dir, e);
+        const float spec = cone > scene.specular_floor ? std::pow(cone, o.specular_exponent) : 0.f;
+        return (o.diffuse_strength * kajiya_kay_diffuse(t, dir)) * color +
+               (o.specular_strength * spec) * spec_color;
+    };
+    return l.ambient.cwiseProduct(color) + shadow * l.key_color.cwiseProduct(light(l.key_dir)) +
+           l.fill_color.cwiseProduct(light(l.fill_dir));
+}
+
+// Pass 3: strand pieces. Returns the vertices and, per strand, the index of its first one.
+void tessellate_strands(const Scene& scene, std::vector<HairVertex>& vertices,
+                        std::vector<uint32_t>& first_vertex) {
+    const Hair& hair = *scene.hair;
+    const RenderOptions& o = *scene.options;
+    const Camera& cam = scene.camera;
+    const size_t strands = hair.strand_count();
+    // Pieces per segment: enough for the pieces to follow the curve within kFlatness pixels
+    // and be at most kMaxPiecePixels long, so that straight or distant hair costs little.
+    // The curve's distance from its chord is bounded by that of its Bézier control points
+    // b1 = p1 + (p2 - p0) / 6 and b2 = p2 - (p3 - p1) / 6 (convex hull); m pieces divide it
+    // by about m².
+    std::vector<uint8_t> pieces(hair.point_count(), 1);
+    std::vector<uint32_t> counts(strands + 1, 0);
+    parallel_for(
+        strands,
+        [&](size_t s) {
+            const std::span<const Vec3f> p = hair.strand(s);
+            thread_local std::vector<Vec3f> q;
+            q.resize(p.size());
+            bool visible = true;
+            for (size_t i = 0; i < p.size(); ++i) {
+                q[i] = cam.project(p[i]);
+                visible = visible && q[i].z() > kNear;
+            }
+            uint32_t n = p.empty() ? 0 : 1;
+            for (size_t i = 0; i + 1 < p.size(); ++i) {
+                int m = 1;
+                if (visible) {
+                    const Vec2f b(q[i].x(), q[i].y()), c(q[i + 1].x(), q[i + 1].y());
+                    const Vec2f a = i > 0 ? Vec2f(q[i - 1].x(), q[i - 1].y()) : Vec2f(2 * b - c);
+                    const Vec2f d =
+                        i + 2 < p.size() ? Vec2f(q[i + 2].x(), q[i + 2].y()) : Vec2f(2 * c - b);
+                    const Vec2f chord = c - b;
+                    const float len = chord.norm();
+                    const Vec2f b1 = (c - a) / 6.f, b2 = (b - d) / 6.f;  // offsets from b, c
+                    float dev;
+                    if (len > 1e-6f) {
+                        const Vec2f nrm(-chord.y() / len, chord.x() / len);
+                        dev = std::max(std::abs(b1.dot(nrm)), std::abs(b2.dot(nrm)));
+                    } else {
+                        dev = std::max(b1.norm(), b2.norm());
+                    }
+                    const float by_bend = std::sqrt(dev / kFlatness);
+                    const float by_length = len / kMaxPiecePixels;
+                    m = std::clamp(static_cast<int>(std::ceil(std::max(by_bend, by_length))), 1,
+                                   kMaxPieces);
+                }
+                pieces[hair.offsets[s] + i] = static_cast<uint8_t>(m);
+                n += static_cast<uint32_t>(m);
+            }
+            counts[s + 1] = n;
+        },
+        256);
+    first_vertex.assign(strands + 1, 0);
+    for (size_t s = 0; s < strands; ++s)
+        first_vertex[s + 1] = first_vertex[s] + counts[s + 1];
+    vertices.resize(first_vertex[strands]);
+    const float tip = hair.widths.empty() ? o.tip_width : 1.f;
+    // With shadows, strands are visited in the shadow map's spatial order so that the lookups
+    // of neighbouring strands hit the same cache lines; the output is the same in any order.
+    parallel_for(
+        strands,
+        [&](size_t k_order) {
+            const size_t s = scene.strand_order.empty() ? k_order : scene.strand_order[k_order];
+            const Vec3f color = hair.color_of(s);
+            const std::span<const Vec3f> p = hair.strand(s);
+            uint32_t k = first_vertex[s];
+            const uint8_t* m = &pieces[hair.offsets[s]];
+            // Shadows change slowly along a strand: looked up at the control points and
+            // interpolated in between.
+            int segment = -1;
+            float shadow0 = 1.f, shadow1 = 1.f;
+            for_each_strand_sample(
+                hair, s, o.width_scale, tip,
+                [&](size_t i, const Vec3f&, const Vec3f&) { return static_cast<int>(m[i]); },
+                [&](const StrandSample& sample) {
+                    const Vec3f q = cam.project(sample.p);
+                    HairVertex& v = vertices[k++];
+                    v.x = q.x();
+                    v.y = q.y();
+                    v.z = q.z();
+                    v.w = 0.f;
+                    v.rgb = 0u;
+                    if (sample.segment != segment) {
+                        shadow0 = segment < 0 ? scene.key_visibility(p[sample.segment]) : shadow1;
+                        segment = sample.segment;
+                        shadow1 = p.size() > 1 ? scene.key_visibility(p[segment + 1]) : shadow0;
+                    }
+                    if (q.z() <= kNear) return;
+                    const float shadow = shadow0 + (shadow1 - shadow0) * sample.u;
+                    v.w = sample.width * cam.focal_pixels / q.z();
+                    v.rgb = pack_color(shade_hair(scene, sample.p, sample.t, color, shadow));
+                });
+            if (k > first_vertex[s]) vertices[k - 1].rgb |= kLastOfStrand;
+        },
+        64);
+}
+
+// Head data prepared for the tiles: projected vertices, smooth normals.
+struct HeadGeometry {
+    std::vector<Vec3f> screen;          // #V (x, y, depth)
+    std::vector<Vec3f> normals;         // #V unit, area-weighted
+    std::vector<uint32_t> front_faces;  // indices of faces facing the camera, all in front
+};
+
+HeadGeometry prepare_head(const Scene& scene) {
+    HeadGeometry g;
+    const Mesh& mesh = *scene.head;
+    g.screen.resize(mesh.vertices.size());
+    parallel_for(
+        mesh.vertices.size(),
+        [&](size_t i) { g.screen[i] = scene.camera.project(mesh.vertices[i]); }, 4096);
+    g.normals.assign(mesh.vertices.size(), Vec3f::Zero());
+    for (size_t f = 0; f < mesh.faces.size(); ++f) {
+        const Vec3i& t = mesh.faces[f];
+        const Vec3f n = (mesh.vertices[t[1]] - mesh.vertices[t[0]])
+                            .cross(mesh.vertices[t[2]] - mesh.vertices[t[0]]);  // 2·area·n
+        for (int k = 0; k < 3; ++k)
+            g.normals[t[k]] += n;
+    }
+    for (Vec3f& n : g.normals)
+        n = n.norm() > 0 ? Vec3f(n.normalized()) : Vec3f::UnitY();
+    for (size_t f = 0; f < mesh.faces.size(); ++f) {
+        const Vec3i& t = mesh.faces[f];
+        const Vec3f &a = g.screen[t[0]], &b = g.screen[t[1]], &c = g.screen[t[2]];
+        if (a.z() <= kNear || b.z() <= kNear || c.z() <= kNear) continue;
+        // Counter-clockwise from outside is clockwise in the y-down image.
+        const float area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+        if (area < 0.f) g.front_faces.push_back(static_cast<uint32_t>(f));
+    }
+    return g;
+}
+
+Vec3f shade_head(const Scene& scene, const HeadGeometry& g, uint32_t face, float px, float py) {
+    const Mesh& mesh = *scene.head;
+    const Vec3i& t = mesh.faces[face];
+    const Vec3f &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+    // The point where the pixel's central ray meets the triangle's plane, and its
+    // barycentrics (clamped: the pixel centre may lie just outside the triangle).
+    const Vec3f dir = scene.camera.ray(px, py);
+    const Vec3f n = (b - a).cross(c - a);
+    const float denom = n.dot(dir);
+    Vec3f p = (a + b + c) / 3.f;
+    if (std::abs(denom) > 1e-12f)
+        p = scene.camera.eye + dir * (n.dot(a - scene.camera.eye) / denom);
+    const float nn = std::max(n.squaredNorm(), 1e-20f);
+    float wa = std::max(0.f, (c - b).cross(p - b).dot(n) / nn);
+    float wb = std::max(0.f, (a - c).cross(p - c).dot(n) / nn);
+    float wc = std::max(0.f, (b - a).cross(p - a).dot(n) / nn);
+    const float sum = wa + wb + wc;
+    if (sum > 0) {
+        wa /= sum;
+        wb /= sum;
+        wc /= sum;
+    } else {
+        wa = wb = wc = 1.f / 3.f;
+    }
+    const Vec3f normal =
+        (wa * g.normals[t[0]] + wb * g.normals[t[1]] + wc * g.normals[t[2]]).normalized();
+    const Lights& l = scene.lights;
+    const float key = lambert(normal, l.key_dir);
+    const float shadow = key > 0.f ? scene.key_visibility(p + 0.05f * normal, 0.1f) : 0.f;
+    const Vec3f light =
+        l.ambient + (key * shadow) * l.key_color + lambert(normal, l.fill_dir) * l.fill_color;
+    return light.cwiseProduct(scene.options->skin_color);
+}
+
+struct TileCounters {
+    size_t fragments = 0;
+};
+
+// Pass 5 for one tile.
+void render_tile(const Scene& scene, const HeadGeometry& head, const Bins<uint32_t>& head_bins,
+                 const std::vector<HairVertex>& vertices, const Bins<uint32_t>& hair_bins, int tile,
+                 RgbImage& image, TileCounters& counters) {
+    const RenderOptions& o = *scene.options;
+    const int tx = tile % hair_bins.tiles_x, ty = tile / hair_bins.tiles_x;
+    const int x0 = tx * kTile, y0 = ty * kTile;
+    const int x1 = std::min(x0 + kTile, o.width), y1 = std::min(y0 + kTile, o.height);
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+
+    // Head: per sample the nearest front face and its depth (1/z interpolated), per pixel
+    // the nearest and farthest sample depths for the hair's quick depth test.
+    std::array<float, kTile * kTile * kSamples> sample_depth;
+    std::array<int32_t, kTile * kTile * kSamples> sample_face;
+    sample_depth.fill(kInf);
+    sample_face.fill(-1);
+    if (scene.head) {
+        for (uint64_t e = head_bins.offsets[tile]; e < head_bins.offsets[tile + 1]; ++e) {
+            const uint32_t f = head_bins.items[e];
+            const Vec3i& t = scene.head->faces[f];
+            const Vec3f &a = head.screen[t[0]], &b = head.screen[t[1]], &c = head.screen[t[2]];
+            const float area =
+                (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+            const float inv = 1.f / area;
+            const int bx0 =
+                std::max(x0, static_cast<int>(std::floor(std::min({a.x(), b.x(), c.x()}))));
+            const int bx1 =
+                std::min(x1 - 1, static_cast<int>(std::floor(std::max({a.x(), b.x(), c.x()}))));
+            const int by0 =
+                std::max(y0, static_cast<int>(std::floor(std::min({a.y(), b.y(), c.y()}))));
+            const int by1 =
+                std::min(y1 - 1, static_cast<int>(std::floor(std::max({a.y(), b.y(), c.y()}))));
+            const float iza = 1.f / a.z(), izb = 1.f / b.z(), izc = 1.f / c.z();
+            for (int y = by0; y <= by1; ++y)
+                for (int x = bx0; x <= bx1; ++x)
+                    for (int s = 0; s < kSamples; ++s) {
+                        const float px = x + kSampleOffsets[s][0], py = y + kSampleOffsets[s][1];
+                        const float wa =
+                            ((b.x() - px) * (c.y() - py) - (b.y() - py) * (c.x() - px)) * inv;
+                        const float wb =
+                            ((c.x() - px) * (a.y() - py) - (c.y() - py) * (a.x() - px)) * inv;
+                        const float wc = 1.f - wa - wb;
+                        if (wa < 0.f || wb < 0.f || wc < 0.f) continue;
+                        const float z = 1.f / (wa * iza + wb * izb + wc * izc);
+                        const size_t k = ((y - y0) * kTile + (x - x0)) * kSamples + s;
+                        if (z < sample_depth[k]) {
+                            sample_depth[k] = z;
+                            sample_face[k] = static_cast<int32_t>(f);
+                        }
+                    }
+        }
+    }
+    std::array<float, kTile * kTile> near_head, far_head;
+    for (int p = 0; p < kTile * kTile; ++p) {
+        const float* d = &sample_depth[p * kSamples];
+        near_head[p] = std::min({d[0], d[1], d[2], d[3]}) + kHeadBias;
+        far_head[p] = std::max({d[0], d[1], d[2], d[3]}) + kHeadBias;
+    }
+
+    // Hair: pieces nearest first, composited under what is in front (Porter-Duff "under"),
+    // each pixel closed once its transmittance drops below kOpaque.
+    std::array<float, kTile * kTile * 3> accum;
+    std::array<float, kTile * kTile> trans;
+    accum.fill(0.f);
+    trans.fill(1.f);
+    int open = (x1 - x0) * (y1 - y0);
+    thread_local std::vector<uint32_t> order, scratch;
+    const uint64_t begin = hair_bins.offsets[tile], end = hair_bins.offsets[tile + 1];
+    sort_by_key(&hair_bins.keys[begin], &hair_bins.items[begin], end - begin, order, scratch);
+    const float opacity = std::clamp(o.hair_opacity, 0.f, 1.f);
+    size_t fragments = 0;
+    const size_t count = order.size();
+    for (size_t k = 0; k < count; ++k) {
+        if (open == 0) break;
+        // Pieces are read in depth order, scattered in memory: fetch ahead.
+        if (k + 16 < count) {
+            const HairVertex* ahead = &vertices[order[k + 16]];
+            __builtin_prefetch(ahead);
+            __builtin_prefetch(ahead + 1);
+        }
+        const HairVertex& v0 = vertices[order[k]];
+        const HairVertex& v1 = (&v0)[1];
+        const Piece piece{v0.x, v0.y, v1.x, v1.y, v0.z, v1.z, v0.w, v1.w, v0.rgb, v1.rgb};
+        const Vec3f c0 = unpack_color(piece.c0), dc = unpack_color(piece.c1) - c0;
+        const float z0 = piece.z0, dz = piece.z1 - piece.z0;
+        rasterize_strand_piece(piece.x0, piece.y0, piece.w0, piece.x1, piece.y1, piece.w1, x0, y0,
+                               x1, y1, [&](int x, int y, float t, float coverage) {
+                                   const int p = (y - y0) * kTile + (x - x0);
+                                   float& tr = trans[p];
+                                   if (tr < kOpaque) return;
+                                   const float z = z0 + dz * t;
+                                   float alpha = coverage * opacity;
+                                   if (z >= near_head[p]) {
+                                       if (z >= far_head[p]) return;
+                                       int visible = 0;
+                                       for (int s = 0; s < kSamples; ++s)
+                                           visible +=
+                                               z < sample_depth[p * kSamples + s] + kHeadBias;
+                                       alpha *= visible * (1.f / kSamples);
+                                   }
+                                   const float w = tr * alpha;
+                                   accum[3 * p] += w * (c0.x() + dc.x() * t);
+                                   accum[3 * p + 1] += w * (c0.y() + dc.y() * t);
+                                   accum[3 * p + 2] += w * (c0.z() + dc.z() * t);
+                                   tr -= w;
+                                   ++fragments;
+                                   if (tr < kOpaque) --open;
+                               });
+    }
+    counters.fragments += fragments;
+
+    // Resolve: what the hair lets through shows the head's samples (each face shaded once
+    // per pixel, at the pixel centre) or the background.
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+            const int p = (y - y0) * kTile + (x - x0);
+            Vec3f under = Vec3f::Zero();
+            if (trans[p] >= kOpaque) {
+                const int32_t* f = &sample_face[p * kSamples];
+                std::array<Vec3f, kSamples> shaded;
+                for (int s = 0; s < kSamples; ++s) {
+                    if (f[s] < 0) {
+                        shaded[s] = o.background;
+                        continue;
+                    }
+                    int same = -1;
+                    for (int r = 0; r < s && same < 0; ++r)
+                        if (f[r] == f[s]) same = r;
+                    shaded[s] = same >= 0 ? shaded[same]
+                                          : shade_head(scene, head, static_cast<uint32_t>(f[s]),
+                                                       x + 0.5f, y + 0.5f);
+                }
+                for (const Vec3f& c : shaded)
+                    under += c;
+                under *= trans[p] / kSamples;
+            }
+            uint8_t* out = &image.rgb[(static_cast<size_t>(y) * o.width + x) * 3];
+            out[0] = to_srgb8(accum[3 * p] + under.x());
+            out[1] = to_srgb8(accum[3 * p + 1] + under.y());
+            out[2] = to_srgb8(accum[3 * p + 2] + under.z());
+        }
+}
+
+}  // namespace
+
+namespace {
+
+// Bounds of the hair's control points: a parallel reduction over fixed chunks (min and max
+// are exact in any order).
+Box3 hair_bounds(const Hair& hair) {
+    Box3 box;
+    const size_t n = hair.point_count();
+    if (n == 0) return box;
+    const size_t chunks = std::clamp<size_t>(n / 65536, 1, 64);
+    std::vector<Box3> part(chunks);
+    parallel_for(chunks, [&](size_t c) {
+        for (size_t i = c * n / chunks; i < (c + 1) * n / chunks; ++i)
+            part[c].extend(hair.points[i]);
+    });
+    for (const Box3& b : part)
+        box.extend(b);
+    return box;
+}
+
+}  // namespace
+
+Box3 framing_bounds(const Hair& hair, const Mesh* head) {
+    const Box3 hair_box = hair_bounds(hair);
+    Box3 box = hair_box;
+    if (head) {
+        const float floor_y = hair_box.empty() ? -INFINITY : hair_box.lo.y() - 4.f;
+        for (const Vec3f& v : head->vertices)
+            if (v.y() >= floor_y) box.extend(v);
+    }
+    return box;
+}
+
+Camera render_camera(const Hair& hair, const Mesh* head, const RenderOptions& o) {
+    if (o.width <= 0 || o.height <= 0 || o.width > 16384 || o.height > 16384)
+        fail("render: image size ", o.width, "x", o.height, " is outside 1..16384");
+    if (o.look_at)
+        return look_at(o.look_at->eye, o.look_at->target, o.look_at->up, o.fov_y_degrees, o.width,
+                       o.height);
+    Box3 box = framing_bounds(hair, head);
+    if (box.empty()) box.extend(Vec3f::Zero());
+    return frame_view(o.view, box, o.width, o.height, o.fov_y_degrees);
+}
+
+RgbImage render(const Hair& hair, const Mesh* head, const RenderOptions& o, RenderStats* stats) {
+    RenderStats local;
+    RenderStats& st = stats ? *stats : local;
+    st = RenderStats{};
+    Stopwatch clock;
+    auto lap = [&](const char* name) {
+        st.stages.emplace_back(name, clock.ms());
+        clock = Stopwatch();
+    };
+
+    Scene scene;
+    scene.hair = &hair;
+    scene.head = head && !head->faces.empty() ? head : nullptr;
+    scene.options = &o;
+    scene.camera = render_camera(hair, scene.head, o);
+    scene.hair_box = hair_bounds(hair);
+    scene.lights.key_dir = camera_to_world(scene.camera, o.key.direction);
+    scene.lights.key_color = o.key.color;
+    scene.lights.fill_dir = camera_to_world(scene.camera, o.fill.direction);
+    scene.lights.fill_color = o.fill.color;
+    scene.lights.ambient = o.ambient;
+    scene.specular_floor = std::pow(1.f / 4096.f, 1.f / std::max(o.specular_exponent, 1e-3f));
+    lap("camera");
+
+    if (o.shadows) {
+        Box3 all = scene.hair_box;
+        if (scene.head) all.extend(scene.head->bounds());
+        const LightFrame frame = LightFrame::towards(scene.lights.key_dir);
+        if (hair.point_count() > 0) {
+            scene.strand_order = light_space_order(hair, frame);
+            OpacityShadowMapOptions so;
+            so.resolution = o.shadow_resolution;
+            so.slices = o.shadow_slices;
+            so.strand_opacity = o.shadow_opacity;
+            so.width_scale = o.width_scale;
+            so.tip_width = hair.widths.empty() ? o.tip_width : 1.f;
+            scene.osm = std::make_unique<OpacityShadowMap>(hair, frame, scene.hair_box, so,
+                                                           scene.strand_order);
+        }
+        if (scene.head)
+            scene.head_shadow = std::make_unique<ShadowDepthMap>(*scene.head, frame, all, 768);
+    }
+    lap("shadows");
+
+    std::vector<HairVertex> vertices;
+    std::vector<uint32_t> first_vertex;
+    tessellate_strands(scene, vertices, first_vertex);
+    HeadGeometry head_geometry;
+    if (scene.head) head_geometry = prepare_head(scene);
+    lap("strands");
+
+    // Depth keys: 16 bits over the depth range of the framed box.
+    Box3 box = scene.hair_box;
+    if (scene.head) box.extend(scene.head->bounds());
+    float z_lo = INFINITY, z_hi = -INFINITY;
+    for (int k = 0; k < 8; ++k) {
+        const Vec3f corner((k & 1) ? box.hi.x() : box.lo.x(), (k & 2) ? box.hi.y() : box.lo.y(),
+                           (k & 4) ? box.hi.z() : box.lo.z());
+        const float z = (corner - scene.camera.eye).dot(scene.camera.forward);
+        z_lo = std::min(z_lo, z);
+        z_hi = std::max(z_hi, z);
+    }
+    z_lo = std::max(z_lo, kNear);
+    const float key_scale = 65535.f / std::max(z_hi - z_lo, 1e-3f);
+
+    Bins<uint32_t> hair_bins, head_bins;
+    hair_bins.tiles_x = head_bins.tiles_x = (o.width + kTile - 1) / kTile;
+    hair_bins.tiles_y = head_bins.tiles_y = (o.height + kTile - 1) / kTile;
+    const int tiles = hair_bins.tiles_x * hair_bins.tiles_y;
+    const float width_f = static_cast<float>(o.width), height_f = static_cast<float>(o.height);
+    auto tile_range = [&](float lx, float ly, float hx, float hy, auto&& visit) {
+        if (hx < 0.f || hy < 0.f || lx >= width_f || ly >= height_f) return;
+        const int tx0 = std::max(0, static_cast<int>(lx) / kTile);
+        const int ty0 = std::max(0, static_cast<int>(ly) / kTile);
+        const int tx1 = std::min(hair_bins.tiles_x - 1, static_cast<int>(hx) / kTile);
+        const int ty1 = std::min(hair_bins.tiles_y - 1, static_cast<int>(hy) / kTile);
+        for (int ty = ty0; ty <= ty1; ++ty)
+            for (int tx = tx0; tx <= tx1; ++tx)
+                visit(ty * hair_bins.tiles_x + tx);
+    };
+    // A piece joins vertex i to i + 1; a strand's last vertex starts none.
+    const size_t strands = hair.strand_count();
+    bin_items(
+        vertices.size(), tiles,
+        [&](size_t i, auto&& emit) {
+            if (i + 1 >= vertices.size()) return;
+            const HairVertex& a = vertices[i];
+            const HairVertex& b = vertices[i + 1];
+            if (a.rgb & kLastOfStrand) return;
+            if (a.z <= kNear || b.z <= kNear) return;
+            const float r = 0.5f * std::max({a.w, b.w, 1.f}) + 1.f;
+            const float zm = 0.5f * (a.z + b.z);
+            const uint16_t key =
+                static_cast<uint16_t>(std::clamp((zm - z_lo) * key_scale, 0.f, 65535.f));
+            const uint32_t piece = static_cast<uint32_t>(i);
+            tile_range(std::min(a.x, b.x) - r, std::min(a.y, b.y) - r, std::max(a.x, b.x) + r,
+                       std::max(a.y, b.y) + r, [&](int tile) { emit(tile, key, piece); });
+        },
+        hair_bins);
+    const size_t pieces = vertices.size() - std::min(vertices.size(), strands);
+    if (scene.head) {
+        bin_items(
+            head_geometry.front_faces.size(), tiles,
+            [&](size_t i, auto&& emit) {
+                const uint32_t f = head_geometry.front_faces[i];
+                const Vec3i& t = scene.head->faces[f];
+                const Vec3f &a = head_geometry.screen[t[0]], &b = head_geometry.screen[t[1]],
+                            &c = head_geometry.screen[t[2]];
+                tile_range(std::min({a.x(), b.x(), c.x()}), std::min({a.y(), b.y(), c.y()}),
+                           std::max({a.x(), b.x(), c.x()}), std::max({a.y(), b.y(), c.y()}),
+                           [&](int tile) { emit(tile, uint16_t{0}, f); });
+            },
+            head_bins);
+    } else {
+        head_bins.offsets.assign(tiles + 1, 0);
+    }
+    lap("bin");
+
+    RgbImage image;
+    image.width = o.width;
+    image.height = o.height;
+    image.rgb.assign(static_cast<size_t>(o.width) * o.height * 3, 0);
+    std::vector<TileCounters> counters(tiles);
+    parallel_for(static_cast<size_t>(tiles), [&](size_t t) {
+        render_tile(scene, head_geometry, head_bins, vertices, hair_bins, static_cast<int>(t),
+                    image, counters[t]);
+    });
+    lap("tiles");
+
+    for (const TileCounters& c : counters)
+        st.fragments += c.fragments;
+    st.tile_entries = hair_bins.items.size();
+    st.head_triangles = head_geometry.front_faces.size();
+    st.pieces = pieces;
+    return image;
+}
+
+RgbImage contact_sheet(const Hair& hair, const Mesh* head, const std::vector<std::string>& views,
+                       const RenderOptions& options) {
+    if (views.empty()) fail("contact sheet: no views");
+    const int n = static_cast<int>(views.size());
+    const int columns = n <= 3 ? n : static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n))));
+    const int rows = (n + columns - 1) / columns;
+    RgbImage sheet;
+    sheet.width = columns * options.width;
+    sheet.height = rows * options.height;
+    sheet.rgb.assign(static_cast<size_t>(sheet.width) * sheet.height * 3, 0);
+    const uint8_t bg[3] = {to_srgb8(options.background.x()), to_srgb8(options.background.y()),
+                           to_srgb8(options.background.z())};
+    for (size_t i = 0; i < sheet.rgb.size(); ++i)
+        sheet.rgb[i] = bg[i % 3];
+    for (int v = 0; v < n; ++v) {
+        RenderOptions o = options;
+        o.view = views[v];
+        o.look_at.reset();
+        const RgbImage img = render(hair, head, o);
+        const int cx = (v % columns) * options.width, cy = (v / columns) * options.height;
+        for (int y = 0; y < img.height; ++y)
+            std::copy_n(&img.rgb[static_cast<size_t>(y) * img.width * 3], img.width * 3,
+                        &sheet.rgb[(static_cast<size_t>(cy + y) * sheet.width + cx) * 3]);
+    }
+    return sheet;
+}
+
+}  // namespace wisp

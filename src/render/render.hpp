@@ -1,0 +1,103 @@
+#pragma once
+// The hair renderer (Choe & Ko 2005 §5 on the CPU): the head with diffuse skin shading and
+// every strand as a thin camera-facing ribbon along its Catmull-Rom curve, Kajiya-Kay
+// shaded (kajiya_kay.hpp) under a key light, a fill light and ambient, shadowed from the
+// key light by an opacity shadow map of the hair (opacity_shadow_map.hpp) and a depth map
+// of the head (shadow_depth_map.hpp), antialiased by coverage and composited front to back.
+//
+// Passes, each timed in RenderStats::stages:
+//   1. camera       named view framed on framing_bounds(), or an explicit look-at
+//   2. shadows      opacity shadow map of the hair + depth map of the head, from the key light
+//   3. strands      each Catmull-Rom segment cut into pieces of ≤ ~6 pixels; every piece end
+//                   projected and shaded (Kajiya-Kay × shadow), width tapered to the tip
+//   4. bin          pieces and head triangles binned to 32×32-pixel tiles, in strand order
+//   5. tiles        per tile, in parallel: the head rasterized with 2×2 samples per pixel
+//                   (deferred shading), the pieces sorted by depth and rasterized front to
+//                   back with coverage, per pixel, until it is opaque; resolved to sRGB.
+// Every pass writes only its own outputs, so the picture is bit-identical for any thread
+// count.
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/hair.hpp"
+#include "core/image.hpp"
+#include "core/math.hpp"
+#include "core/timer.hpp"
+#include "geometry/mesh.hpp"
+#include "render/camera.hpp"
+
+namespace wisp {
+
+struct DirectionalLight {
+    // Towards the light, in camera space (x right, y up, z towards the viewer), so that
+    // every view is lit alike; normalized by the renderer.
+    Vec3f direction;
+    Vec3f color;  // linear RGB intensity
+};
+
+struct LookAt {
+    Vec3f eye, target;  // cm, head space
+    Vec3f up = Vec3f::UnitY();
+};
+
+struct RenderOptions {
+    int width = 1024, height = 1024;     // pixels
+    std::string view = "three-quarter";  // one of view_names(), unless look_at is set
+    std::optional<LookAt> look_at;       // explicit camera; overrides view
+    float fov_y_degrees = 30.f;
+    Vec3f background = Vec3f(0.3f, 0.3f, 0.31f);  // linear RGB
+
+    // Kajiya-Kay: colour = ambient·c + Σ_lights light·(diffuse_strength·c·sin(t,l) +
+    // specular_strength·s·cone^specular_exponent), s = mix(white, c, specular_tint).
+    float diffuse_strength = 0.7f;
+    float specular_strength = 0.5f;
+    float specular_exponent = 80.f;
+    float specular_tint = 0.4f;
+    // Key from the upper left, fill from the right, both relative to the camera.
+    DirectionalLight key{Vec3f(-0.8f, 0.6f, 0.3f), Vec3f(1.5f, 1.47f, 1.4f)};
+    DirectionalLight fill{Vec3f(0.8f, 0.1f, 0.6f), Vec3f(0.19f, 0.2f, 0.22f)};
+    Vec3f ambient = Vec3f(0.05f, 0.05f, 0.055f);
+
+    // Strands.
+    float width_scale = 1.f;   // multiplies the hair's widths
+    float tip_width = 0.3f;    // width at the tip as a fraction of the width at mid-length
+    float hair_opacity = 1.f;  // opacity of a strand where it covers a whole pixel
+
+    Vec3f skin_color = Vec3f(0.62f, 0.42f, 0.32f);  // linear RGB albedo of the head
+
+    // Shadows from the key light.
+    bool shadows = true;
+    int shadow_resolution = 256;  // opacity shadow map texels per side
+    int shadow_slices = 64;       // opacity shadow map slabs along the light
+    float shadow_opacity = 0.4f;  // light blocked by one strand fully covering a texel
+};
+
+struct RenderStats {
+    StageTimes stages;          // (pass, ms) in the order above
+    size_t pieces = 0;          // straight strand pieces drawn
+    size_t tile_entries = 0;    // (piece, tile) pairs after binning
+    size_t fragments = 0;       // hair fragments composited (after early termination)
+    size_t head_triangles = 0;  // front-facing head triangles binned
+};
+
+// The box that named views frame: the hair and the part of the head above the hair's
+// lowest point less 4 cm (so a bust mesh's shoulders do not shrink short hair); the whole
+// head if there is no hair. Empty only if both are.
+Box3 framing_bounds(const Hair& hair, const Mesh* head);
+
+// The camera render() uses for these options.
+Camera render_camera(const Hair& hair, const Mesh* head, const RenderOptions& options);
+
+// Renders hair (and head, if not null; both cm, head space) to an 8-bit sRGB image of
+// options.width × options.height. Throws wisp::Error for an unknown view or a bad size.
+RgbImage render(const Hair& hair, const Mesh* head, const RenderOptions& options,
+                RenderStats* stats = nullptr);
+
+// Renders each view of `views` at options.width × options.height and lays them out left to
+// right, top to bottom, on a grid of ceil(sqrt(n)) columns (one row for n ≤ 3).
+RgbImage contact_sheet(const Hair& hair, const Mesh* head, const std::vector<std::string>& views,
+                       const RenderOptions& options);
+
+}  // namespace wisp

@@ -1,0 +1,73 @@
+#include "render/shadow_depth_map.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace wisp {
+
+ShadowDepthMap::ShadowDepthMap(const Mesh& mesh, const LightFrame& light, const Box3& bounds,
+                               int resolution)
+    : light_(light), n_(std::max(1, resolution)) {
+    Box3 box;
+    for (int k = 0; k < 8; ++k)
+        box.extend(light.to_light_space(Vec3f((k & 1) ? bounds.hi.x() : bounds.lo.x(),
+                                              (k & 2) ? bounds.hi.y() : bounds.lo.y(),
+                                              (k & 4) ? bounds.hi.z() : bounds.lo.z())));
+    if (box.empty()) box.extend(Vec3f::Zero());
+    lo_ = box.lo;
+    texel_ = std::max(box.size().x(), box.size().y()) / n_;
+    texel_ = std::max(texel_, 1e-4f);
+    depth_.assign(static_cast<size_t>(n_) * n_, std::numeric_limits<float>::infinity());
+
+    // Serial: a head is ~10⁵ small triangles, a few milliseconds, and a min-depth buffer
+    // written from several threads would need atomics for no gain.
+    std::vector<Vec3f> q(mesh.vertices.size());
+    for (size_t i = 0; i < q.size(); ++i) {
+        const Vec3f l = light.to_light_space(mesh.vertices[i]);
+        q[i] = Vec3f((l.x() - lo_.x()) / texel_, (l.y() - lo_.y()) / texel_, l.z());
+    }
+    for (const Vec3i& f : mesh.faces) {
+        const Vec3f &a = q[f[0]], &b = q[f[1]], &c = q[f[2]];
+        const float area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+        if (std::abs(area) < 1e-12f) continue;
+        const int x0 = std::max(0, static_cast<int>(std::floor(std::min({a.x(), b.x(), c.x()}))));
+        const int x1 =
+            std::min(n_ - 1, static_cast<int>(std::floor(std::max({a.x(), b.x(), c.x()}))));
+        const int y0 = std::max(0, static_cast<int>(std::floor(std::min({a.y(), b.y(), c.y()}))));
+        const int y1 =
+            std::min(n_ - 1, static_cast<int>(std::floor(std::max({a.y(), b.y(), c.y()}))));
+        const float inv = 1.f / area;
+        for (int y = y0; y <= y1; ++y)
+            for (int x = x0; x <= x1; ++x) {
+                const float px = x + 0.5f, py = y + 0.5f;
+                const float w0 = ((b.x() - px) * (c.y() - py) - (b.y() - py) * (c.x() - px)) * inv;
+                const float w1 = ((c.x() - px) * (a.y() - py) - (c.y() - py) * (a.x() - px)) * inv;
+                const float w2 = 1.f - w0 - w1;
+                if (w0 < 0 || w1 < 0 || w2 < 0) continue;
+                const float z = w0 * a.z() + w1 * b.z() + w2 * c.z();
+                float& d = depth_[static_cast<size_t>(y) * n_ + x];
+                d = std::min(d, z);
+            }
+    }
+}
+
+float ShadowDepthMap::visibility(const Vec3f& p, float bias) const {
+    if (depth_.empty()) return 1.f;
+    const Vec3f l = light_.to_light_space(p);
+    // Bilinearly weighted depth tests of the four nearest texels.
+    const float fx = (l.x() - lo_.x()) / texel_ - 0.5f, fy = (l.y() - lo_.y()) / texel_ - 0.5f;
+    const int x0 = static_cast<int>(std::floor(fx)), y0 = static_cast<int>(std::floor(fy));
+    const float ax = fx - x0, ay = fy - y0;
+    const float z = l.z() - bias - 1.5f * texel_;
+    auto lit = [&](int x, int y) {
+        return x < 0 || y < 0 || x >= n_ || y >= n_ || depth_[static_cast<size_t>(y) * n_ + x] >= z
+                   ? 1.f
+                   : 0.f;
+    };
+    const float top = lit(x0, y0) + (lit(x0 + 1, y0) - lit(x0, y0)) * ax;
+    const float bottom = lit(x0, y0 + 1) + (lit(x0 + 1, y0 + 1) - lit(x0, y0 + 1)) * ax;
+    return top + (bottom - top) * ay;
+}
+
+}  // namespace wisp

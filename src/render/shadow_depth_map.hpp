@@ -1,0 +1,34 @@
+#pragma once
+// A classic depth shadow map (Williams 1978) of the head mesh from a directional light, so
+// that the head shadows the hair and itself. Opaque surfaces only; the hair's own shadow is
+// the opacity shadow map.
+#include <vector>
+
+#include "geometry/mesh.hpp"
+#include "render/opacity_shadow_map.hpp"
+
+namespace wisp {
+
+class ShadowDepthMap {
+  public:
+    ShadowDepthMap() = default;
+    // Rasterizes every triangle of `mesh` in the light frame over `bounds` (cm, head space)
+    // at resolution × resolution texels, keeping the depth nearest the light.
+    ShadowDepthMap(const Mesh& mesh, const LightFrame& light, const Box3& bounds, int resolution);
+
+    // Fraction in [0, 1] of the light reaching p (percentage-closer filtering of the four
+    // nearest texels, bilinearly weighted), with a depth bias of `bias` cm plus 1.5 texels.
+    // 1 for an empty map.
+    float visibility(const Vec3f& p, float bias = 0.05f) const;
+
+    float texel_size() const { return texel_; }  // cm
+
+  private:
+    LightFrame light_{};
+    Vec3f lo_ = Vec3f::Zero();
+    float texel_ = 1;
+    int n_ = 0;
+    std::vector<float> depth_;  // #n·n, light-space depth nearest the light (+inf if none)
+};
+
+}  // namespace wisp

@@ -1,0 +1,211 @@
+#include "render/render.hpp"
+
+#include <gtest/gtest.h>
+#include <stb_image.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "core/error.hpp"
+#include "core/parallel.hpp"
+#include "synthetic_hair.hpp"
+
+namespace wisp {
+namespace {
+
+// A small scene: a few thousand thick strands on a sphere standing in for the head.
+struct Scene {
+    Hair hair;
+    Mesh head;
+};
+
+const Scene& small_scene() {
+    static const Scene scene = [] {
+        Scene s;
+        test::SyntheticHairSpec spec;
+        spec.strands = 3000;
+        spec.points = 16;
+        spec.width = 0.08f;  // ten times real hair, so that 3000 strands read at 96 px
+        s.hair = test::synthetic_hair(spec);
+        s.head = test::sphere_mesh(spec.center, spec.radius - 0.1f, 32);
+        return s;
+    }();
+    return scene;
+}
+
+RenderOptions small_options(const std::string& view = "three-quarter") {
+    RenderOptions o;
+    o.width = o.height = 96;
+    o.view = view;
+    return o;
+}
+
+float luminance(const uint8_t* p) {
+    return 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2];
+}
+
+TEST(Render, ShadowsDarkenTheHair) {
+    const Scene& s = small_scene();
+    RenderOptions o = small_options();
+    o.width = o.height = 128;
+    const RgbImage lit_background = render(Hair{}, nullptr, o);
+    o.shadows = true;
+    const RgbImage with = render(s.hair, &s.head, o);
+    o.shadows = false;
+    const RgbImage without = render(s.hair, &s.head, o);
+    // Hair pixels: where a render of the hair alone differs from the empty background.
+    o.shadows = false;
+    const RgbImage hair_only = render(s.hair, nullptr, o);
+    double sum_with = 0, sum_without = 0;
+    size_t n = 0;
+    for (size_t i = 0; i < hair_only.rgb.size(); i += 3)
+        if (hair_only.rgb[i] != lit_background.rgb[i] ||
+            hair_only.rgb[i + 1] != lit_background.rgb[i + 1]) {
+            sum_with += luminance(&with.rgb[i]);
+            sum_without += luminance(&without.rgb[i]);
+            ++n;
+        }
+    ASSERT_GT(n, 1000u);
+    EXPECT_LT(sum_with / n, 0.97 * sum_without / n);
+}
+
+TEST(Render, PictureDoesNotDependOnThreadCount) {
+    const Scene& s = small_scene();
+    RenderOptions o = small_options();
+    o.width = 200;
+    o.height = 150;  // several tiles, partial ones at the edges
+    RgbImage one, two;
+    {
+        ThreadLimit limit(1);
+        one = render(s.hair, &s.head, o);
+    }
+    {
+        ThreadLimit limit(2);
+        two = render(s.hair, &s.head, o);
+    }
+    EXPECT_EQ(one.rgb, two.rgb);
+}
+
+TEST(Render, EmptySceneIsBackground) {
+    RenderOptions o = small_options();
+    o.background = Vec3f(0.2f, 0.5f, 1.f);
+    const RgbImage img = render(Hair{}, nullptr, o);
+    ASSERT_EQ(img.width, 96);
+    ASSERT_EQ(img.rgb.size(), 96u * 96u * 3u);
+    for (size_t i = 0; i < img.rgb.size(); i += 3) {
+        ASSERT_EQ(img.rgb[i], 124);  // sRGB of 0.2
+        ASSERT_EQ(img.rgb[i + 1], 188);
+        ASSERT_EQ(img.rgb[i + 2], 255);
+    }
+}
+
+TEST(Render, ExplicitCameraAndBadOptions) {
+    const Scene& s = small_scene();
+    RenderOptions o = small_options();
+    o.look_at = LookAt{Vec3f(0, 3, 60), Vec3f(0, 0, 0)};
+    const Camera c = render_camera(s.hair, &s.head, o);
+    EXPECT_NEAR((c.eye - Vec3f(0, 3, 60)).norm(), 0.f, 1e-5f);
+    const RgbImage img = render(s.hair, &s.head, o);
+    EXPECT_EQ(img.width, 96);
+    o.look_at.reset();
+    o.view = "nowhere";
+    EXPECT_THROW(render(s.hair, &s.head, o), Error);
+    o.view = "front";
+    o.width = 0;
+    EXPECT_THROW(render(s.hair, &s.head, o), Error);
+}
+
+TEST(Render, ContactSheetLaysViewsOnAGrid) {
+    const Scene& s = small_scene();
+    RenderOptions o = small_options();
+    o.width = 40;
+    o.height = 30;
+    const RgbImage row = contact_sheet(s.hair, &s.head, {"front", "back", "left"}, o);
+    EXPECT_EQ(row.width, 120);
+    EXPECT_EQ(row.height, 30);
+    const RgbImage grid =
+        contact_sheet(s.hair, &s.head, {"front", "back", "left", "right", "top"}, o);
+    EXPECT_EQ(grid.width, 120);
+    EXPECT_EQ(grid.height, 60);
+    // The first cell is the front view.
+    o.view = "front";
+    const RgbImage front = render(s.hair, &s.head, o);
+    for (int y = 0; y < 30; ++y)
+        for (int x = 0; x < 40; ++x)
+            for (int c = 0; c < 3; ++c)
+                ASSERT_EQ(grid.rgb[(y * 120 + x) * 3 + c], front.rgb[(y * 40 + x) * 3 + c]);
+}
+
+// ---- Golden images.
+//
+// tests/render/golden/NAME.png, compared with a tolerance that absorbs floating-point
+// differences between compilers and libms (a few levels on a few pixels) but not a change of
+// the picture: mean absolute difference ≤ 1.0 level (of 255) per channel and at most 1% of
+// pixels off by more than 24 levels. On failure the render and a diff image (|a − b| × 4)
+// are written next to the test's temporary files. WISP_UPDATE_GOLDEN=1 rewrites the goldens.
+
+void check_golden(const std::string& name, const RgbImage& img) {
+    const std::filesystem::path golden =
+        std::filesystem::path(WISP_SOURCE_DIR) / "tests/render/golden" / (name + ".png");
+    const char* update = std::getenv("WISP_UPDATE_GOLDEN");
+    if (update && std::string(update) == "1") {
+        write_png(golden, img);
+        GTEST_SKIP() << "rewrote " << golden;
+    }
+    int w = 0, h = 0, channels = 0;
+    uint8_t* ref = stbi_load(golden.string().c_str(), &w, &h, &channels, 3);
+    ASSERT_NE(ref, nullptr) << "missing golden " << golden
+                            << " (run with WISP_UPDATE_GOLDEN=1 to create it)";
+    ASSERT_EQ(w, img.width);
+    ASSERT_EQ(h, img.height);
+    double sum = 0;
+    size_t bad = 0;
+    RgbImage diff = img;
+    for (size_t p = 0; p < static_cast<size_t>(w) * h; ++p) {
+        int worst = 0;
+        for (int c = 0; c < 3; ++c) {
+            const int d = std::abs(static_cast<int>(img.rgb[p * 3 + c]) - ref[p * 3 + c]);
+            sum += d;
+            worst = std::max(worst, d);
+            diff.rgb[p * 3 + c] = static_cast<uint8_t>(std::min(255, 4 * d));
+        }
+        bad += worst > 24;
+    }
+    stbi_image_free(ref);
+    const double mean = sum / (3.0 * w * h);
+    const double bad_fraction = static_cast<double>(bad) / (static_cast<double>(w) * h);
+    if (mean > 1.0 || bad_fraction > 0.01) {
+        const std::filesystem::path dir = testing::TempDir();
+        write_png(dir / (name + ".actual.png"), img);
+        write_png(dir / (name + ".diff.png"), diff);
+        ADD_FAILURE() << name << ": mean difference " << mean << " levels, " << bad_fraction * 100
+                      << "% pixels off by > 24; wrote " << (dir / (name + ".actual.png")) << " and "
+                      << (dir / (name + ".diff.png"));
+    }
+}
+
+TEST(RenderGolden, ThreeQuarterWithShadows) {
+    const Scene& s = small_scene();
+    check_golden("three_quarter_96", render(s.hair, &s.head, small_options("three-quarter")));
+}
+
+TEST(RenderGolden, BackWithoutShadows) {
+    const Scene& s = small_scene();
+    RenderOptions o = small_options("back");
+    o.shadows = false;
+    check_golden("back_noshadow_96", render(s.hair, &s.head, o));
+}
+
+TEST(RenderGolden, TopHairOnly) {
+    const Scene& s = small_scene();
+    check_golden("top_hair_only_64", [&] {
+        RenderOptions o = small_options("top");
+        o.width = o.height = 64;
+        return render(s.hair, nullptr, o);
+    }());
+}
+
+}  // namespace
+}  // namespace wisp
