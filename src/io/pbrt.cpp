@@ -1,0 +1,113 @@
+#include "io/pbrt.hpp"
+
+#include <cmath>
+
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "io/io_util.hpp"
+
+namespace wisp {
+namespace {
+
+using io_detail::append_number;
+
+void append_vec(std::string& out, const Vec3f& v) {
+    append_number(out, v.x());
+    out += ' ';
+    append_number(out, v.y());
+    out += ' ';
+    append_number(out, v.z());
+}
+
+}  // namespace
+
+std::string encode_pbrt(const Hair& hair, const ExportCamera& camera,
+                        const std::string& image_name) {
+    if (!((camera.target - camera.eye).norm() > 0))
+        fail("pbrt export: camera eye and target coincide");
+    if (!((camera.target - camera.eye).normalized().cross(camera.up).norm() > 1e-6f))
+        fail("pbrt export: camera up is parallel to the view");
+    // pbrt's "fov" spans the shorter image side.
+    const float half_y = 0.5f * camera.fov_y_degrees * kPi / 180.f;
+    float fov = camera.fov_y_degrees;
+    if (camera.width < camera.height)
+        fov = 2.f * std::atan(std::tan(half_y) * camera.width / camera.height) * 180.f / kPi;
+
+    std::string out;
+    out.reserve(1024 + hair.point_count() * 60);
+    out += "# wisp hair: ";
+    append_number(out, static_cast<uint64_t>(hair.strand_count()));
+    out += " strands, centimetres, Catmull-Rom converted to Bezier (Choe & Ko 2005, section 5)\n";
+    // pbrt's default camera space is left-handed; flipping x keeps the image unmirrored.
+    out += "Scale -1 1 1\nLookAt ";
+    append_vec(out, camera.eye);
+    out += "  ";
+    append_vec(out, camera.target);
+    out += "  ";
+    append_vec(out, camera.up);
+    out += "\nCamera \"perspective\" \"float fov\" [ ";
+    append_number(out, fov);
+    out += " ]\nFilm \"rgb\" \"integer xresolution\" [ ";
+    append_number(out, camera.width);
+    out += " ] \"integer yresolution\" [ ";
+    append_number(out, camera.height);
+    out += " ]\n    \"string filename\" [ \"" + image_name + "\" ]\n";
+    out += "Sampler \"zsobol\" \"integer pixelsamples\" [ 64 ]\n";
+    out += "Integrator \"volpath\" \"integer maxdepth\" [ 30 ]\n";
+    out += "WorldBegin\n";
+    out += "LightSource \"distant\" \"point3 from\" [ ";
+    append_vec(out, camera.key_direction);
+    out += " ] \"point3 to\" [ 0 0 0 ] \"float scale\" [ ";
+    append_number(out, camera.key_intensity);
+    out += " ]\nLightSource \"infinite\" \"rgb L\" [ 0.15 0.15 0.16 ]\n";
+
+    out += "AttributeBegin\n";
+    bool have_color = false;
+    Vec3f last_color = Vec3f::Zero();
+    for (size_t s = 0; s < hair.strand_count(); ++s) {
+        const auto p = hair.strand(s);
+        const size_t n = p.size();
+        if (n < 2) continue;
+        const Vec3f color = hair.color_of(s).cwiseMax(Vec3f::Zero()).cwiseMin(Vec3f::Ones());
+        if (!have_color || color != last_color) {
+            out += "Material \"hair\" \"rgb reflectance\" [ ";
+            append_vec(out, color);
+            out += " ]\n";
+            have_color = true;
+            last_color = color;
+        }
+        out +=
+            "Shape \"curve\" \"string type\" \"cylinder\" \"string basis\" \"bezier\" "
+            "\"integer degree\" [ 3 ]\n    \"point3 P\" [ ";
+        for (size_t i = 0; i + 1 < n; ++i) {
+            const Vec3f& p1 = p[i];
+            const Vec3f& p2 = p[i + 1];
+            const Vec3f p0 = i > 0 ? p[i - 1] : Vec3f(2.f * p1 - p2);
+            const Vec3f p3 = i + 2 < n ? p[i + 2] : Vec3f(2.f * p2 - p1);
+            if (i == 0) {
+                append_vec(out, p1);
+                out += ' ';
+            }
+            append_vec(out, p1 + (p2 - p0) / 6.f);
+            out += ' ';
+            append_vec(out, p2 - (p3 - p1) / 6.f);
+            out += ' ';
+            append_vec(out, p2);
+            out += ' ';
+        }
+        const size_t first = hair.offsets[s];
+        out += "]\n    \"float width0\" [ ";
+        append_number(out, hair.width_at(first));
+        out += " ] \"float width1\" [ ";
+        append_number(out, hair.width_at(first + n - 1));
+        out += " ]\n";
+    }
+    out += "AttributeEnd\n";
+    return out;
+}
+
+void write_pbrt(const std::filesystem::path& path, const Hair& hair, const ExportCamera& camera) {
+    write_file_atomic(path, encode_pbrt(hair, camera, path.stem().string() + ".exr"));
+}
+
+}  // namespace wisp
