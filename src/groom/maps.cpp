@@ -46,6 +46,14 @@ float procedural(int which, const Vec2f& uv) {
             const float d = std::abs(px - line_x);
             return (pz > -0.15f && d < 0.025f) ? 0.15f : 1.f;
         }
+        case 8:  // left: the character's left half (x > 0) above 0.5
+            return 0.5f + 0.5f * x * r;
+        case 9:  // right
+            return 0.5f - 0.5f * x * r;
+        case 10:  // nape: the low back of the head, by the nape hairline
+            return smoothstep(0.55f, 0.85f, r) * smoothstep(0.35f, 0.75f, -z);
+        case 11:  // sides: above and behind the ears
+            return smoothstep(0.55f, 0.85f, r) * smoothstep(0.55f, 0.85f, std::abs(x));
     }
     return 1.f;
 }
@@ -53,8 +61,10 @@ float procedural(int which, const Vec2f& uv) {
 }  // namespace
 
 const std::vector<std::string>& procedural_map_names() {
+    // New names go at the end: the index is the case in procedural().
     static const std::vector<std::string> names = {"uniform",  "bangs", "nape-short", "crown",
-                                                   "hairline", "front", "back",       "side-part"};
+                                                   "hairline", "front", "back",       "side-part",
+                                                   "left",     "right", "nape",       "sides"};
     return names;
 }
 

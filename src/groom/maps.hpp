@@ -20,6 +20,12 @@ namespace wisp {
 //   front       1 at the front hairline falling to 0 at the back
 //   back        0 at the front rising to 1 at the back
 //   side-part   0.15 along a parting line on the left of the crown, 1 elsewhere (density)
+//   left        0 at the right hairline rising to 1 at the left (the character's left, +X);
+//               above 0.5 on the left half
+//   right       its mirror: above 0.5 on the right half
+//   nape        1 along the nape hairline, 0 on top and at the front (the low back)
+//   sides       1 above and behind the ears, 0 on top, at the front and at the nape
+// Constraint groups select a named region's roots where its map is above 0.5.
 const std::vector<std::string>& procedural_map_names();
 
 // A map ready for lookups; image maps are loaded once.

@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "groom/hairdressing.hpp"
 #include "groom/maps.hpp"
 
 namespace wisp {
@@ -35,11 +36,18 @@ constexpr size_t kMaxTableValues = 1024;
 constexpr size_t kMaxDeviationRadii = 256;
 constexpr size_t kMaxPolylinePoints = 10'000;
 constexpr std::uintmax_t kMaxFileBytes = 16u << 20;
+constexpr size_t kMaxTrajectoryPoints = 10'000;
+constexpr size_t kMaxGroups = 1024;  // constraint groups after expansion
+constexpr size_t kMaxQueue = 256;    // constraints per group
+constexpr size_t kMaxFieldTerms = 64;
+constexpr double kMaxCoordinate = 1e4;  // cm or head units
 
 // The fields of each section; the unknown-key check and its suggestions use these.
 const std::vector<std::pair<std::string, std::vector<std::string>>>& schema() {
     static const std::vector<std::pair<std::string, std::vector<std::string>>> sections = {
-        {"", {"name", "seed", "head", "roots", "maps", "strand", "prototype", "wisp", "color"}},
+        {"",
+         {"name", "seed", "head", "roots", "maps", "strand", "prototype", "wisp", "color", "solve",
+          "cut", "group", "tie", "braid", "updo", "comb"}},
         {"head", {"obj", "scale", "scalp"}},
         {"head.scalp", {"method", "group", "mask", "front", "side", "back"}},
         {"roots", {"wisps", "strands", "points_per_strand"}},
@@ -50,6 +58,10 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& schema() {
         {"wisp", {"length", "deviation_radius", "fuzziness"}},
         {"color",
          {"preset", "hue", "saturation", "value", "wisp_hue", "wisp_saturation", "wisp_value"}},
+        {"solve",
+         {"enabled", "stiffness", "threshold", "cell", "full_density", "bend_step", "max_tries",
+          "order", "head_margin", "field"}},
+        {"cut", {"enabled", "normal", "offset", "head_relative"}},
     };
     return sections;
 }
@@ -64,6 +76,30 @@ const std::vector<std::string>& keys_of(const std::string& section) {
 const std::vector<std::string> kDistributionKeys = {"distribution", "value",  "min",   "max",
                                                     "mean",         "stddev", "values"};
 const std::vector<std::string> kMapKeys = {"value", "image", "procedural", "low", "high"};
+
+// The keys of the arrays of tables: solve.field terms, constraint groups and the
+// hairdressing operations, which all select wisps with the same keys.
+const std::vector<std::string> kFieldKeys = {"kind", "weight", "direction", "side", "file"};
+const std::vector<std::string> kSelectionSources = {"select", "region",     "mask",
+                                                    "box",    "half_space", "wisps"};
+const std::vector<std::string> kSelectionKeys = {
+    "select", "region", "mask", "box", "half_space", "wisps", "part", "parts", "head_relative"};
+const std::vector<std::string> kConstraintKeys = {"kind",   "point",  "trajectory",   "smooth",
+                                                  "radius", "weight", "head_relative"};
+
+std::vector<std::string> with_selection(std::vector<std::string> keys) {
+    keys.insert(keys.end(), kSelectionKeys.begin(), kSelectionKeys.end());
+    return keys;
+}
+
+const std::vector<std::string> kGroupKeys = with_selection({"name", "constraint"});
+const std::vector<std::string> kTieKeys = with_selection({"name", "point", "radius", "weight"});
+const std::vector<std::string> kBraidKeys = with_selection(
+    {"name", "strands", "start", "axis", "side", "length", "width", "period", "radius", "weight"});
+const std::vector<std::string> kUpdoKeys =
+    with_selection({"name", "point", "facing", "radius", "bun_radius", "turns", "weight"});
+const std::vector<std::string> kCombKeys =
+    with_selection({"name", "trajectory", "smooth", "radius", "weight"});
 
 std::string join_path(const std::string& path, std::string_view key) {
     return path.empty() ? std::string(key) : path + "." + std::string(key);
@@ -206,12 +242,24 @@ class Parser {
     E choice(const toml::node& node, const std::string& field,
              const std::vector<std::pair<std::string, E>>& options) const;
     fs::path path(const toml::node& node, const std::string& field) const;
+    bool boolean(const toml::node& node, const std::string& field) const;
+    // A point or direction [x, y, z] with finite coordinates within ±kMaxCoordinate;
+    // `direction`: it must not be the zero vector.
+    Vec3f vec3(const toml::node& node, const std::string& field, bool direction) const;
+    std::vector<Vec3f> points(const toml::node& node, const std::string& field) const;
+    // table[key] as an array of tables ([[key]] or key = [{…}, …]); null if absent.
+    const toml::array* tables(const toml::table& parent, const std::string& path,
+                              std::string_view key) const;
 
     // Sets `out` from table[key] if present.
     void opt_real(const toml::table* table, const std::string& path, std::string_view key,
                   float& out, const Range& range) const;
     void opt_int(const toml::table* table, const std::string& path, std::string_view key, int& out,
                  int64_t lo, int64_t hi) const;
+    void opt_bool(const toml::table* table, const std::string& path, std::string_view key,
+                  bool& out) const;
+    void opt_vec3(const toml::table* table, const std::string& path, std::string_view key,
+                  Vec3f& out, bool direction) const;
 
     Distribution distribution(const toml::node& node, const std::string& field,
                               const Distribution& current, const Domain& domain) const;
@@ -225,6 +273,23 @@ class Parser {
     void read_prototype(const toml::table* root, Style& style) const;
     void read_wisp(const toml::table* root, Style& style) const;
     void read_color(const toml::table* root, Style& style) const;
+    void read_solve(const toml::table* root, Style& style) const;
+    void read_cut(const toml::table* root, Style& style) const;
+    // [[group]], [[tie]], [[braid]], [[updo]] and [[comb]] in file order into style.groups.
+    void read_groups(const toml::table* root, Style& style) const;
+
+    FieldTerm field_term(const toml::table& table, const std::string& path) const;
+    Selection selection(const toml::table& table, const std::string& path, int wisps,
+                        bool with_parts) const;
+    ConstraintSpec constraint(const toml::table& table, const std::string& path,
+                              bool head_relative) const;
+    std::vector<GroupSpec> group(const toml::table& table, const std::string& path,
+                                 int wisps) const;
+    std::vector<GroupSpec> tie(const toml::table& table, const std::string& path, int wisps) const;
+    std::vector<GroupSpec> braid(const toml::table& table, const std::string& path,
+                                 int wisps) const;
+    std::vector<GroupSpec> updo(const toml::table& table, const std::string& path, int wisps) const;
+    std::vector<GroupSpec> comb(const toml::table& table, const std::string& path, int wisps) const;
 
     std::string source_;
     fs::path base_dir_;
@@ -342,6 +407,76 @@ void Parser::opt_int(const toml::table* table, const std::string& path, std::str
     if (!table) return;
     if (const toml::node* node = table->get(key))
         out = static_cast<int>(integer(*node, join_path(path, key), lo, hi));
+}
+
+void Parser::opt_bool(const toml::table* table, const std::string& path, std::string_view key,
+                      bool& out) const {
+    if (!table) return;
+    if (const toml::node* node = table->get(key)) out = boolean(*node, join_path(path, key));
+}
+
+void Parser::opt_vec3(const toml::table* table, const std::string& path, std::string_view key,
+                      Vec3f& out, bool direction) const {
+    if (!table) return;
+    if (const toml::node* node = table->get(key))
+        out = vec3(*node, join_path(path, key), direction);
+}
+
+bool Parser::boolean(const toml::node& node, const std::string& field) const {
+    const auto* b = node.as_boolean();
+    if (!b) error(node, field, "must be true or false, got " + describe(node));
+    return b->get();
+}
+
+Vec3f Parser::vec3(const toml::node& node, const std::string& field, bool direction) const {
+    const toml::array* xyz = node.as_array();
+    if (!xyz || xyz->size() != 3)
+        error(node, field,
+              std::string("must be ") + (direction ? "a direction" : "a point") +
+                  " [x, y, z], got " + describe(node) +
+                  (xyz ? cat(" of ", xyz->size(), " values") : std::string()));
+    Vec3f v;
+    const Range range{-kMaxCoordinate, kMaxCoordinate};
+    for (int c = 0; c < 3; ++c)
+        v[c] = static_cast<float>(real((*xyz)[c], cat(field, "[", c, "]"), range));
+    if (direction && !(v.norm() > 1e-6f))
+        error(node, field, "must be a non-zero direction, got [0, 0, 0]");
+    return v;
+}
+
+std::vector<Vec3f> Parser::points(const toml::node& node, const std::string& field) const {
+    const toml::array* array = node.as_array();
+    if (!array) error(node, field, "must be an array of [x, y, z] points, got " + describe(node));
+    if (array->size() < 2 || array->size() > kMaxTrajectoryPoints)
+        error(node, field,
+              cat("must hold 2 to ", kMaxTrajectoryPoints, " points, got ", array->size()));
+    std::vector<Vec3f> out;
+    out.reserve(array->size());
+    for (size_t i = 0; i < array->size(); ++i)
+        out.push_back(vec3((*array)[i], cat(field, "[", i, "]"), false));
+    for (size_t i = 1; i < out.size(); ++i)
+        if (out[i] == out[i - 1])
+            error((*array)[i], cat(field, "[", i, "]"),
+                  "repeats the previous point: a trajectory needs a direction between points");
+    return out;
+}
+
+const toml::array* Parser::tables(const toml::table& parent, const std::string& path,
+                                  std::string_view key) const {
+    const toml::node* node = parent.get(key);
+    if (!node) return nullptr;
+    const std::string field = join_path(path, key);
+    if (node->is_table())
+        error(*node, field, "must be an array of tables: write [[" + field + "]] for each");
+    const toml::array* array = node->as_array();
+    if (!array)
+        error(*node, field,
+              "must be an array of tables ([[" + field + "]]), got " + describe(*node));
+    for (size_t i = 0; i < array->size(); ++i)
+        if (!(*array)[i].is_table())
+            error((*array)[i], cat(field, "[", i, "]"),
+                  "must be a table, got " + describe((*array)[i]));
+    return array;
 }
 
 const char* kind_name(Distribution::Kind kind) {
@@ -768,6 +903,351 @@ void Parser::read_color(const toml::table* root, Style& style) const {
     opt_real(color, "color", "wisp_value", spec.wisp_value, Range{0, 1});
 }
 
+void Parser::read_solve(const toml::table* root, Style& style) const {
+    const toml::table* solve = section(root, "", "solve");
+    if (!solve) return;
+    SolveSpec& spec = style.solve;
+    opt_bool(solve, "solve", "enabled", spec.enabled);
+    opt_real(solve, "solve", "stiffness", spec.stiffness, Range{0, 1000});
+    opt_real(solve, "solve", "threshold", spec.threshold, Range{0, 1, true});
+    opt_real(solve, "solve", "cell", spec.cell, Range{0.2, 10});
+    opt_real(solve, "solve", "full_density", spec.full_density, Range{0, 1e9, true});
+    opt_real(solve, "solve", "bend_step", spec.bend_step, Range{0, 45, true});
+    opt_int(solve, "solve", "max_tries", spec.max_tries, 0, 1000);
+    opt_real(solve, "solve", "head_margin", spec.head_margin, Range{0, 10});
+    if (const toml::node* order = solve->get("order"))
+        spec.depth_first =
+            choice<bool>(*order, "solve.order", {{"breadth-first", false}, {"depth-first", true}});
+    if (const toml::array* terms = tables(*solve, "solve", "field")) {
+        if (terms->size() > kMaxFieldTerms)
+            error(*solve->get("field"), "solve.field",
+                  cat("must hold at most ", kMaxFieldTerms, " terms, got ", terms->size()));
+        spec.field.clear();
+        for (size_t i = 0; i < terms->size(); ++i) {
+            const std::string path = cat("solve.field[", i, "]");
+            const toml::table& term = *(*terms)[i].as_table();
+            check_keys(term, path, kFieldKeys);
+            spec.field.push_back(field_term(term, path));
+        }
+    }
+}
+
+FieldTerm Parser::field_term(const toml::table& table, const std::string& path) const {
+    using Kind = FieldTerm::Kind;
+    const std::vector<std::pair<std::string, Kind>> kinds = {{"gravity", Kind::kGravity},
+                                                             {"pulled-back", Kind::kPulledBack},
+                                                             {"side-part", Kind::kSidePart},
+                                                             {"wind", Kind::kWind},
+                                                             {"file", Kind::kFile}};
+    const toml::node* kind = table.get("kind");
+    if (!kind)
+        error(table, path + ".kind",
+              "required: one of \"gravity\", \"pulled-back\", \"side-part\", \"wind\", \"file\"");
+    FieldTerm term;
+    term.kind = choice(*kind, path + ".kind", kinds);
+    // Each kind's own parameter, rejected with the others so a misplaced key is not ignored.
+    const std::vector<std::pair<std::string, Kind>> owners = {
+        {"direction", Kind::kWind}, {"side", Kind::kSidePart}, {"file", Kind::kFile}};
+    for (const auto& [key, owner] : owners) {
+        const toml::node* node = table.get(key);
+        if (!node || owner == term.kind) continue;
+        std::string owner_name;
+        for (const auto& [name, k] : kinds)
+            if (k == owner) owner_name = name;
+        error(*node, join_path(path, key),
+              "only used with kind = " + toml_string(owner_name) + ", but kind is " +
+                  describe(*kind));
+    }
+    opt_real(&table, path, "weight", term.weight, Range{-1000, 1000});
+    opt_vec3(&table, path, "direction", term.direction, true);
+    if (const toml::node* side = table.get("side"))
+        term.side = choice<float>(*side, path + ".side", {{"left", 1.f}, {"right", -1.f}});
+    if (const toml::node* file = table.get("file")) term.file = this->path(*file, path + ".file");
+    if (term.kind == Kind::kFile && term.file.empty())
+        error(table, path + ".file", "required by kind = \"file\"");
+    return term;
+}
+
+void Parser::read_cut(const toml::table* root, Style& style) const {
+    const toml::table* cut = section(root, "", "cut");
+    if (!cut) return;
+    CutSpec& spec = style.cut;
+    spec.enabled = true;
+    opt_bool(cut, "cut", "enabled", spec.enabled);
+    opt_vec3(cut, "cut", "normal", spec.normal, true);
+    opt_real(cut, "cut", "offset", spec.offset, Range{-kMaxCoordinate, kMaxCoordinate});
+    opt_bool(cut, "cut", "head_relative", spec.head_relative);
+}
+
+Selection Parser::selection(const toml::table& table, const std::string& path, int wisps,
+                            bool with_parts) const {
+    Selection s;
+    std::vector<std::string> given;
+    for (const auto& key : kSelectionSources)
+        if (table.get(key)) given.push_back(key);
+    if (given.size() > 1)
+        error(*table.get(given[1]), join_path(path, given[1]),
+              "cannot be combined with '" + given[0] + "': a group selects by one of " +
+                  list(kSelectionSources, false));
+    if (const toml::node* node = table.get("select")) {
+        s.kind = choice<Selection::Kind>(*node, path + ".select", {{"all", Selection::Kind::kAll}});
+    } else if (const toml::node* node = table.get("region")) {
+        s.kind = Selection::Kind::kRegion;
+        s.region = procedural_name(*node, path + ".region");
+    } else if (const toml::node* node = table.get("mask")) {
+        s.kind = Selection::Kind::kMask;
+        s.mask = this->path(*node, path + ".mask");
+    } else if (const toml::node* node = table.get("box")) {
+        const std::string field = path + ".box";
+        const toml::table* box = node->as_table();
+        if (!box)
+            error(*node, field,
+                  "must be a table { min = [x, y, z], max = [x, y, z] }, got " + describe(*node));
+        check_keys(*box, field, {"min", "max"});
+        for (const char* key : {"min", "max"})
+            if (!box->get(key)) error(*box, join_path(field, key), "required");
+        s.kind = Selection::Kind::kBox;
+        s.lo = vec3(*box->get("min"), field + ".min", false);
+        s.hi = vec3(*box->get("max"), field + ".max", false);
+        for (int c = 0; c < 3; ++c)
+            if (s.hi[c] < s.lo[c])
+                error(*box->get("max"), field + ".max",
+                      cat("must be ≥ min in every coordinate, got max[", c, "] = ", number(s.hi[c]),
+                          " < min[", c, "] = ", number(s.lo[c])));
+    } else if (const toml::node* node = table.get("half_space")) {
+        const std::string field = path + ".half_space";
+        const toml::table* half = node->as_table();
+        if (!half)
+            error(*node, field,
+                  "must be a table { normal = [x, y, z], offset = … }, got " + describe(*node));
+        check_keys(*half, field, {"normal", "offset"});
+        if (!half->get("normal")) error(*half, field + ".normal", "required");
+        s.kind = Selection::Kind::kHalfSpace;
+        s.normal = vec3(*half->get("normal"), field + ".normal", true);
+        opt_real(half, field, "offset", s.offset, Range{-kMaxCoordinate, kMaxCoordinate});
+    } else if (const toml::node* node = table.get("wisps")) {
+        const std::string field = path + ".wisps";
+        const toml::array* ids = node->as_array();
+        if (!ids) error(*node, field, "must be an array of wisp ids, got " + describe(*node));
+        if (ids->empty() || ids->size() > size_t(wisps))
+            error(*node, field,
+                  cat("must hold 1 to roots.wisps (", wisps, ") ids, got ", ids->size()));
+        s.kind = Selection::Kind::kWisps;
+        for (size_t i = 0; i < ids->size(); ++i) {
+            const std::string id_field = cat(field, "[", i, "]");
+            const int64_t id = integer((*ids)[i], id_field, 0, std::numeric_limits<int>::max());
+            if (id >= wisps)
+                error((*ids)[i], id_field,
+                      cat("must be < roots.wisps (", wisps, "), got ", id,
+                          " (wisp ids count from 0)"));
+            if (std::find(s.wisps.begin(), s.wisps.end(), int(id)) != s.wisps.end())
+                error((*ids)[i], id_field, cat("lists wisp ", id, " twice"));
+            s.wisps.push_back(int(id));
+        }
+    }
+    opt_bool(&table, path, "head_relative", s.head_relative);
+    if (!with_parts) {
+        for (const char* key : {"part", "parts"})
+            if (const toml::node* node = table.get(key))
+                error(*node, join_path(path, key),
+                      "is set by the braid: its selection is split into `strands` parts");
+        return s;
+    }
+    opt_int(&table, path, "parts", s.parts, 1, int64_t(kMaxGroups));
+    if (const toml::node* node = table.get("part")) {
+        s.part = static_cast<int>(integer(*node, path + ".part", 0, kMaxGroups));
+        if (s.part >= s.parts)
+            error(*node, path + ".part",
+                  cat("must be < parts (", s.parts, "), got ", s.part, " (parts count from 0)"));
+    } else if (table.get("parts")) {
+        error(*table.get("parts"), path + ".part",
+              "required with 'parts': which of the parts (0 to parts − 1) the group keeps");
+    }
+    return s;
+}
+
+ConstraintSpec Parser::constraint(const toml::table& table, const std::string& path,
+                                  bool head_relative) const {
+    using Kind = ConstraintSpec::Kind;
+    const toml::node* kind = table.get("kind");
+    if (!kind)
+        error(table, path + ".kind", "required: one of \"point\", \"trajectory\", \"direction\"");
+    ConstraintSpec c;
+    c.kind = choice<Kind>(*kind, path + ".kind",
+                          {{"point", Kind::kPoint},
+                           {"trajectory", Kind::kTrajectory},
+                           {"direction", Kind::kDirection}});
+    c.head_relative = head_relative;
+    opt_bool(&table, path, "head_relative", c.head_relative);
+    const bool is_point = c.kind == Kind::kPoint;
+    for (const char* key : {"trajectory", "smooth"})
+        if (const toml::node* node = table.get(key); node && is_point)
+            error(*node, join_path(path, key),
+                  "only used with kind = \"trajectory\" or \"direction\", but kind is \"point\"");
+    if (const toml::node* node = table.get("point"); node && !is_point)
+        error(*node, path + ".point",
+              "only used with kind = \"point\", but kind is " + describe(*kind));
+    if (is_point) {
+        if (!table.get("point")) error(table, path + ".point", "required by kind = \"point\"");
+        c.point = vec3(*table.get("point"), path + ".point", false);
+    } else {
+        if (!table.get("trajectory"))
+            error(table, path + ".trajectory", "required by kind = " + describe(*kind));
+        c.trajectory = points(*table.get("trajectory"), path + ".trajectory");
+        opt_bool(&table, path, "smooth", c.smooth);
+    }
+    // Tolerance radii hug the target; a direction's influence radius reaches further.
+    const float unit = c.head_relative ? 1.f : 10.f;
+    c.radius = (c.kind == Kind::kDirection ? 0.4f : 0.1f) * unit;
+    opt_real(&table, path, "radius", c.radius, Range{0, kMaxCoordinate, true});
+    opt_real(&table, path, "weight", c.weight, Range{0, 1});
+    return c;
+}
+
+// The group's name: `name` if given, else the section's path ("tie[1]"); a braid's groups
+// add " strand i". head_relative, read with the selection, applies to the constraints too.
+void finish_groups(std::vector<GroupSpec>& groups, const std::string& name) {
+    for (size_t i = 0; i < groups.size(); ++i) {
+        groups[i].name = groups.size() > 1 ? cat(name, " strand ", i) : name;
+        for (ConstraintSpec& c : groups[i].queue)
+            c.head_relative = groups[i].selection.head_relative;
+    }
+}
+
+std::vector<GroupSpec> Parser::group(const toml::table& table, const std::string& path,
+                                     int wisps) const {
+    check_keys(table, path, kGroupKeys);
+    GroupSpec g;
+    g.name = path;
+    if (const toml::node* name = table.get("name")) g.name = string(*name, path + ".name", true);
+    g.selection = selection(table, path, wisps, true);
+    const toml::array* queue = tables(table, path, "constraint");
+    if (!queue || queue->empty())
+        error(queue ? *table.get("constraint") : static_cast<const toml::node&>(table),
+              path + ".constraint",
+              "required: at least one [[group.constraint]] (the group's constraint queue)");
+    if (queue->size() > kMaxQueue)
+        error(*table.get("constraint"), path + ".constraint",
+              cat("must hold at most ", kMaxQueue, " constraints, got ", queue->size()));
+    for (size_t i = 0; i < queue->size(); ++i) {
+        const std::string cpath = cat(path, ".constraint[", i, "]");
+        const toml::table& c = *(*queue)[i].as_table();
+        check_keys(c, cpath, kConstraintKeys);
+        g.queue.push_back(constraint(c, cpath, g.selection.head_relative));
+    }
+    return {std::move(g)};
+}
+
+std::vector<GroupSpec> Parser::tie(const toml::table& table, const std::string& path,
+                                   int wisps) const {
+    check_keys(table, path, kTieKeys);
+    TieSpec spec;
+    spec.selection = selection(table, path, wisps, true);
+    opt_vec3(&table, path, "point", spec.point, false);
+    opt_real(&table, path, "radius", spec.radius, Range{0, kMaxCoordinate, true});
+    opt_real(&table, path, "weight", spec.weight, Range{0, 1});
+    return tie_groups(spec);
+}
+
+std::vector<GroupSpec> Parser::braid(const toml::table& table, const std::string& path,
+                                     int wisps) const {
+    check_keys(table, path, kBraidKeys);
+    BraidSpec spec;
+    spec.selection = selection(table, path, wisps, false);
+    opt_int(&table, path, "strands", spec.strands, 3, 16);
+    opt_vec3(&table, path, "start", spec.start, false);
+    opt_vec3(&table, path, "axis", spec.axis, true);
+    opt_vec3(&table, path, "side", spec.side, true);
+    const Range positive{0, kMaxCoordinate, true};
+    opt_real(&table, path, "length", spec.length, positive);
+    opt_real(&table, path, "width", spec.width, positive);
+    opt_real(&table, path, "period", spec.period, positive);
+    opt_real(&table, path, "radius", spec.radius, positive);
+    opt_real(&table, path, "weight", spec.weight, Range{0, 1});
+    const float sine = spec.axis.normalized().cross(spec.side.normalized()).norm();
+    if (sine < 0.05f) {
+        const toml::node* node = table.get("side") ? table.get("side") : table.get("axis");
+        error(node ? *node : static_cast<const toml::node&>(table),
+              path + (table.get("side") ? ".side" : ".axis"),
+              "side must point across the braid's axis, but side and axis are (nearly) parallel");
+    }
+    if (spec.length / spec.period > 1000)
+        error(table.get("period") ? *table.get("period") : *table.get("length"),
+              path + (table.get("period") ? ".period" : ".length"),
+              cat("length / period must be ≤ 1000 crossing cycles, got ",
+                  number(spec.length / spec.period)));
+    return braid_groups(spec);
+}
+
+std::vector<GroupSpec> Parser::updo(const toml::table& table, const std::string& path,
+                                    int wisps) const {
+    check_keys(table, path, kUpdoKeys);
+    UpdoSpec spec;
+    spec.selection = selection(table, path, wisps, true);
+    const Range positive{0, kMaxCoordinate, true};
+    opt_vec3(&table, path, "point", spec.point, false);
+    opt_vec3(&table, path, "facing", spec.facing, true);
+    opt_real(&table, path, "radius", spec.radius, positive);
+    opt_real(&table, path, "bun_radius", spec.bun_radius, positive);
+    opt_real(&table, path, "turns", spec.turns, Range{0, 50, true});
+    opt_real(&table, path, "weight", spec.weight, Range{0, 1});
+    return updo_groups(spec);
+}
+
+std::vector<GroupSpec> Parser::comb(const toml::table& table, const std::string& path,
+                                    int wisps) const {
+    check_keys(table, path, kCombKeys);
+    CombSpec spec;
+    spec.selection = selection(table, path, wisps, true);
+    const toml::node* trajectory = table.get("trajectory");
+    if (!trajectory) error(table, path + ".trajectory", "required: the comb's path, ≥ 2 points");
+    spec.trajectory = points(*trajectory, path + ".trajectory");
+    opt_bool(&table, path, "smooth", spec.smooth);
+    opt_real(&table, path, "radius", spec.radius, Range{0, kMaxCoordinate, true});
+    opt_real(&table, path, "weight", spec.weight, Range{0, 1});
+    return comb_groups(spec);
+}
+
+void Parser::read_groups(const toml::table* root, Style& style) const {
+    using Reader =
+        std::vector<GroupSpec> (Parser::*)(const toml::table&, const std::string&, int) const;
+    const std::vector<std::pair<std::string, Reader>> kinds = {{"group", &Parser::group},
+                                                               {"tie", &Parser::tie},
+                                                               {"braid", &Parser::braid},
+                                                               {"updo", &Parser::updo},
+                                                               {"comb", &Parser::comb}};
+    // toml++ keeps a table's keys sorted, not in file order; the headers' lines restore it,
+    // so groups queue in the order they are written.
+    struct Entry {
+        uint32_t line;
+        std::string path;
+        Reader reader;
+        const toml::table* table;
+    };
+    std::vector<Entry> entries;
+    for (const auto& [key, reader] : kinds) {
+        const toml::array* array = tables(*root, "", key);
+        if (!array) continue;
+        for (size_t i = 0; i < array->size(); ++i) {
+            const toml::table* table = (*array)[i].as_table();
+            entries.push_back({table->source().begin.line, cat(key, "[", i, "]"), reader, table});
+        }
+    }
+    std::stable_sort(entries.begin(), entries.end(),
+                     [](const Entry& a, const Entry& b) { return a.line < b.line; });
+    for (const Entry& e : entries) {
+        std::vector<GroupSpec> groups = (this->*e.reader)(*e.table, e.path, style.wisps);
+        std::string name = e.path;
+        if (const toml::node* n = e.table->get("name")) name = string(*n, e.path + ".name", true);
+        if (e.reader != &Parser::group) finish_groups(groups, name);
+        if (style.groups.size() + groups.size() > kMaxGroups)
+            error(*e.table, e.path,
+                  cat("too many constraint groups: at most ", kMaxGroups, " in all"));
+        for (GroupSpec& g : groups)
+            style.groups.push_back(std::move(g));
+    }
+}
+
 Style Parser::parse(std::string_view text) {
     toml::table root;
     try {
@@ -792,6 +1272,9 @@ Style Parser::parse(std::string_view text) {
     read_prototype(&root, style);
     read_wisp(&root, style);
     read_color(&root, style);
+    read_solve(&root, style);
+    read_cut(&root, style);
+    read_groups(&root, style);  // after [roots]: wisp ids are checked against roots.wisps
     return style;
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "groom/hairdressing.hpp"
 #include "groom/maps.hpp"
 
 namespace wisp {
@@ -72,6 +73,25 @@ void expect_same(const Style& a, const Style& b) {
     EXPECT_EQ(a.color.wisp_hue, b.color.wisp_hue);
     EXPECT_EQ(a.color.wisp_saturation, b.color.wisp_saturation);
     EXPECT_EQ(a.color.wisp_value, b.color.wisp_value);
+    EXPECT_EQ(a.solve.enabled, b.solve.enabled);
+    EXPECT_EQ(a.solve.stiffness, b.solve.stiffness);
+    EXPECT_EQ(a.solve.threshold, b.solve.threshold);
+    EXPECT_EQ(a.solve.cell, b.solve.cell);
+    EXPECT_EQ(a.solve.full_density, b.solve.full_density);
+    EXPECT_EQ(a.solve.bend_step, b.solve.bend_step);
+    EXPECT_EQ(a.solve.max_tries, b.solve.max_tries);
+    EXPECT_EQ(a.solve.depth_first, b.solve.depth_first);
+    EXPECT_EQ(a.solve.head_margin, b.solve.head_margin);
+    ASSERT_EQ(a.solve.field.size(), b.solve.field.size());
+    for (size_t i = 0; i < a.solve.field.size(); ++i) {
+        EXPECT_EQ(a.solve.field[i].kind, b.solve.field[i].kind);
+        EXPECT_EQ(a.solve.field[i].weight, b.solve.field[i].weight);
+    }
+    EXPECT_EQ(a.cut.enabled, b.cut.enabled);
+    EXPECT_EQ(a.cut.normal, b.cut.normal);
+    EXPECT_EQ(a.cut.offset, b.cut.offset);
+    EXPECT_EQ(a.cut.head_relative, b.cut.head_relative);
+    EXPECT_EQ(a.groups.size(), b.groups.size());
 }
 
 Style parse(const std::string& text) {
@@ -91,7 +111,7 @@ std::string error_of(const std::string& text) {
 TEST(StyleToml, EmptyTextGivesTheDefaults) {
     expect_same(parse(""), Style{});
     expect_same(parse("# only a comment\n\n"), Style{});
-    expect_same(parse("[roots]\n[wisp]\n[color]\n"), Style{});
+    expect_same(parse("[roots]\n[wisp]\n[color]\n[solve]\n"), Style{});
 }
 
 TEST(StyleToml, ReadsEveryField) {
@@ -262,6 +282,304 @@ TEST(StyleToml, ColorPresetThenExplicitFields) {
     }
 }
 
+TEST(StyleToml, ReadsSolveAndCut) {
+    const Style s = parse(R"(
+[solve]
+enabled = false
+stiffness = 2.5
+threshold = 0.1
+cell = 0.5
+full_density = 150
+bend_step = 6
+max_tries = 40
+order = "depth-first"
+head_margin = 0.5
+[[solve.field]]
+kind = "gravity"
+weight = 0.5
+[[solve.field]]
+kind = "wind"
+weight = 0.3
+direction = [1, 0, 0]
+[[solve.field]]
+kind = "side-part"
+side = "right"
+[[solve.field]]
+kind = "pulled-back"
+weight = -0.2
+[[solve.field]]
+kind = "file"
+file = "fields/swirl.field"
+[cut]
+normal = [0, -1, 0.2]
+offset = 1.4
+head_relative = false
+)");
+    EXPECT_FALSE(s.solve.enabled);
+    EXPECT_FLOAT_EQ(s.solve.stiffness, 2.5f);
+    EXPECT_FLOAT_EQ(s.solve.threshold, 0.1f);
+    EXPECT_FLOAT_EQ(s.solve.cell, 0.5f);
+    EXPECT_FLOAT_EQ(s.solve.full_density, 150.f);
+    EXPECT_FLOAT_EQ(s.solve.bend_step, 6.f);
+    EXPECT_EQ(s.solve.max_tries, 40);
+    EXPECT_TRUE(s.solve.depth_first);
+    EXPECT_FLOAT_EQ(s.solve.head_margin, 0.5f);
+    ASSERT_EQ(s.solve.field.size(), 5u);
+    EXPECT_EQ(s.solve.field[0].kind, FieldTerm::Kind::kGravity);
+    EXPECT_FLOAT_EQ(s.solve.field[0].weight, 0.5f);
+    EXPECT_EQ(s.solve.field[1].kind, FieldTerm::Kind::kWind);
+    EXPECT_TRUE(s.solve.field[1].direction.isApprox(Vec3f(1, 0, 0)));
+    EXPECT_EQ(s.solve.field[2].kind, FieldTerm::Kind::kSidePart);
+    EXPECT_FLOAT_EQ(s.solve.field[2].side, -1.f);
+    EXPECT_FLOAT_EQ(s.solve.field[2].weight, 1.f);
+    EXPECT_EQ(s.solve.field[3].kind, FieldTerm::Kind::kPulledBack);
+    EXPECT_FLOAT_EQ(s.solve.field[3].weight, -0.2f);
+    EXPECT_EQ(s.solve.field[4].kind, FieldTerm::Kind::kFile);
+    EXPECT_EQ(s.solve.field[4].file, fs::path("/styles/fields/swirl.field"));
+    EXPECT_TRUE(s.cut.enabled);
+    EXPECT_TRUE(s.cut.normal.isApprox(Vec3f(0, -1, 0.2f)));
+    EXPECT_FLOAT_EQ(s.cut.offset, 1.4f);
+    EXPECT_FALSE(s.cut.head_relative);
+    EXPECT_EQ(parse("[solve]\norder = \"breadth-first\"").solve.depth_first, false);
+    EXPECT_FLOAT_EQ(parse("[[solve.field]]\nkind = \"side-part\"").solve.field[0].side, 1.f);
+}
+
+TEST(StyleToml, FieldTermsReplaceTheDefaultGravity) {
+    const Style none = parse("[solve]\nstiffness = 1");
+    ASSERT_EQ(none.solve.field.size(), 1u);
+    EXPECT_EQ(none.solve.field[0].kind, FieldTerm::Kind::kGravity);
+    EXPECT_FLOAT_EQ(none.solve.field[0].weight, 1.f);
+    const Style wind = parse("[[solve.field]]\nkind = \"wind\"");
+    ASSERT_EQ(wind.solve.field.size(), 1u);
+    EXPECT_EQ(wind.solve.field[0].kind, FieldTerm::Kind::kWind);
+    EXPECT_TRUE(wind.solve.field[0].direction.isApprox(FieldTerm{}.direction));
+    EXPECT_TRUE(parse("solve.field = []").solve.field.empty());  // no force at all
+}
+
+TEST(StyleToml, CutIsEnabledByItsSection) {
+    EXPECT_FALSE(parse("").cut.enabled);
+    const Style cut = parse("[cut]\noffset = 1.5");
+    EXPECT_TRUE(cut.cut.enabled);
+    EXPECT_TRUE(cut.cut.head_relative);
+    EXPECT_TRUE(cut.cut.normal.isApprox(CutSpec{}.normal));
+    EXPECT_FALSE(parse("[cut]\nenabled = false").cut.enabled);
+}
+
+TEST(StyleToml, GroupsSelectEveryWayAndQueueTheirConstraints) {
+    const Style s = parse(R"(
+[roots]
+wisps = 100
+strands = 1000
+[[group]]
+name = "fringe"
+region = "bangs"
+[[group.constraint]]
+kind = "point"
+point = [0, 0.5, 1.2]
+radius = 0.2
+weight = 0.7
+[[group.constraint]]
+kind = "trajectory"
+trajectory = [[0, 0.5, 1.2], [0.5, 0, 1.1], [0.9, -0.5, 0.6]]
+smooth = true
+[[group]]
+mask = "left.png"
+part = 1
+parts = 2
+head_relative = false
+[[group.constraint]]
+kind = "direction"
+trajectory = [[5, 10, 0], [10, 0, -5]]
+[[group.constraint]]
+kind = "point"
+point = [0, 0, -14]
+head_relative = true
+[[group]]
+box = { min = [-1, 0, -2], max = [1, 2, 0] }
+[[group.constraint]]
+kind = "point"
+point = [0, 0, -1.2]
+[[group]]
+half_space = { normal = [0, 0, -1], offset = 0.2 }
+[[group.constraint]]
+kind = "point"
+point = [0, 0, -1.2]
+[[group]]
+wisps = [0, 5, 99]
+[[group.constraint]]
+kind = "point"
+point = [0, 0, -1.2]
+[[group]]
+select = "all"
+[[group.constraint]]
+kind = "point"
+point = [0, 0, -1.2]
+)");
+    ASSERT_EQ(s.groups.size(), 6u);
+    const GroupSpec& fringe = s.groups[0];
+    EXPECT_EQ(fringe.name, "fringe");
+    EXPECT_EQ(fringe.selection.kind, Selection::Kind::kRegion);
+    EXPECT_EQ(fringe.selection.region, "bangs");
+    EXPECT_EQ(fringe.selection.part, 0);
+    EXPECT_EQ(fringe.selection.parts, 1);
+    EXPECT_TRUE(fringe.selection.head_relative);
+    ASSERT_EQ(fringe.queue.size(), 2u);
+    EXPECT_EQ(fringe.queue[0].kind, ConstraintSpec::Kind::kPoint);
+    EXPECT_TRUE(fringe.queue[0].point.isApprox(Vec3f(0, 0.5f, 1.2f)));
+    EXPECT_FLOAT_EQ(fringe.queue[0].radius, 0.2f);
+    EXPECT_FLOAT_EQ(fringe.queue[0].weight, 0.7f);
+    EXPECT_TRUE(fringe.queue[0].head_relative);
+    EXPECT_EQ(fringe.queue[1].kind, ConstraintSpec::Kind::kTrajectory);
+    ASSERT_EQ(fringe.queue[1].trajectory.size(), 3u);
+    EXPECT_TRUE(fringe.queue[1].trajectory[2].isApprox(Vec3f(0.9f, -0.5f, 0.6f)));
+    EXPECT_TRUE(fringe.queue[1].smooth);
+    EXPECT_FLOAT_EQ(fringe.queue[1].radius, 0.1f);  // documented default, head units
+    EXPECT_FLOAT_EQ(fringe.queue[1].weight, 1.f);
+
+    const GroupSpec& masked = s.groups[1];
+    EXPECT_EQ(masked.name, "group[1]");
+    EXPECT_EQ(masked.selection.kind, Selection::Kind::kMask);
+    EXPECT_EQ(masked.selection.mask, fs::path("/styles/left.png"));
+    EXPECT_EQ(masked.selection.part, 1);
+    EXPECT_EQ(masked.selection.parts, 2);
+    EXPECT_FALSE(masked.selection.head_relative);
+    ASSERT_EQ(masked.queue.size(), 2u);
+    EXPECT_EQ(masked.queue[0].kind, ConstraintSpec::Kind::kDirection);
+    EXPECT_FALSE(masked.queue[0].head_relative);  // inherited from the group
+    EXPECT_FALSE(masked.queue[0].smooth);
+    EXPECT_FLOAT_EQ(masked.queue[0].radius, 4.f);   // a direction's default influence, in cm
+    EXPECT_TRUE(masked.queue[1].head_relative);     // its own setting wins
+    EXPECT_FLOAT_EQ(masked.queue[1].radius, 0.1f);  // … and its default radius follows it
+
+    EXPECT_EQ(s.groups[2].selection.kind, Selection::Kind::kBox);
+    EXPECT_TRUE(s.groups[2].selection.lo.isApprox(Vec3f(-1, 0, -2)));
+    EXPECT_TRUE(s.groups[2].selection.hi.isApprox(Vec3f(1, 2, 0)));
+    EXPECT_EQ(s.groups[3].selection.kind, Selection::Kind::kHalfSpace);
+    EXPECT_TRUE(s.groups[3].selection.normal.isApprox(Vec3f(0, 0, -1)));
+    EXPECT_FLOAT_EQ(s.groups[3].selection.offset, 0.2f);
+    EXPECT_EQ(s.groups[4].selection.kind, Selection::Kind::kWisps);
+    EXPECT_EQ(s.groups[4].selection.wisps, (std::vector<int>{0, 5, 99}));
+    EXPECT_EQ(s.groups[5].selection.kind, Selection::Kind::kAll);
+}
+
+TEST(StyleToml, HairdressingSectionsExpandInFileOrder) {
+    const Style s = parse(R"(
+[[comb]]
+name = "sweep"
+region = "front"
+trajectory = [[0, 1, 1], [0, 1.2, 0], [0, 0.6, -1.2]]
+radius = 0.5
+weight = 0.4
+smooth = false
+
+[[braid]]
+region = "back"
+strands = 4
+start = [0, -0.3, -1.1]
+axis = [0, -1, -0.1]
+side = [1, 0, 0]
+length = 2
+width = 0.3
+period = 0.4
+radius = 0.05
+weight = 0.9
+
+[[tie]]
+name = "ponytail"
+point = [0, 0.4, -1.1]
+radius = 0.15
+
+[[group]]
+name = "late"
+[[group.constraint]]
+kind = "point"
+point = [0, 0, -1.2]
+
+[[updo]]
+point = [0, 0.5, -1]
+facing = [0, 0.2, -1]
+radius = 0.1
+bun_radius = 0.25
+turns = 3
+weight = 0.8
+head_relative = false
+)");
+    // comb, 4 braid strands, tie, group, updo: the order they are written in.
+    ASSERT_EQ(s.groups.size(), 8u);
+    EXPECT_EQ(s.groups[0].name, "sweep");
+    ASSERT_EQ(s.groups[0].queue.size(), 1u);
+    EXPECT_EQ(s.groups[0].queue[0].kind, ConstraintSpec::Kind::kDirection);
+    EXPECT_FALSE(s.groups[0].queue[0].smooth);
+    EXPECT_FLOAT_EQ(s.groups[0].queue[0].radius, 0.5f);
+    EXPECT_FLOAT_EQ(s.groups[0].queue[0].weight, 0.4f);
+    EXPECT_EQ(s.groups[0].selection.region, "front");
+
+    BraidSpec braid;
+    braid.strands = 4;
+    braid.start = Vec3f(0, -0.3f, -1.1f);
+    braid.axis = Vec3f(0, -1, -0.1f);
+    braid.side = Vec3f(1, 0, 0);
+    braid.length = 2;
+    braid.width = 0.3f;
+    braid.period = 0.4f;
+    for (int i = 0; i < 4; ++i) {
+        SCOPED_TRACE(i);
+        const GroupSpec& g = s.groups[1 + i];
+        EXPECT_EQ(g.name, "braid[0] strand " + std::to_string(i));
+        EXPECT_EQ(g.selection.kind, Selection::Kind::kRegion);
+        EXPECT_EQ(g.selection.region, "back");
+        EXPECT_EQ(g.selection.part, i);
+        EXPECT_EQ(g.selection.parts, 4);
+        ASSERT_EQ(g.queue.size(), 2u);
+        EXPECT_EQ(g.queue[0].kind, ConstraintSpec::Kind::kPoint);
+        EXPECT_TRUE(g.queue[0].point.isApprox(braid.start));
+        EXPECT_FLOAT_EQ(g.queue[0].radius, 0.05f);
+        EXPECT_FLOAT_EQ(g.queue[0].weight, 0.9f);
+        EXPECT_EQ(g.queue[1].kind, ConstraintSpec::Kind::kTrajectory);
+        const auto& traj = g.queue[1].trajectory;
+        const auto expected = braid_trajectory(braid, i, int(traj.size()));
+        ASSERT_EQ(traj.size(), expected.size());
+        for (size_t k = 0; k < traj.size(); ++k)
+            EXPECT_LT((traj[k] - expected[k]).norm(), 1e-5f);
+    }
+    EXPECT_EQ(s.groups[5].name, "ponytail");
+    EXPECT_EQ(s.groups[5].selection.kind, Selection::Kind::kAll);
+    ASSERT_EQ(s.groups[5].queue.size(), 1u);
+    EXPECT_TRUE(s.groups[5].queue[0].point.isApprox(Vec3f(0, 0.4f, -1.1f)));
+    EXPECT_FLOAT_EQ(s.groups[5].queue[0].radius, 0.15f);
+    EXPECT_FLOAT_EQ(s.groups[5].queue[0].weight, 1.f);
+    EXPECT_EQ(s.groups[6].name, "late");
+    EXPECT_EQ(s.groups[7].name, "updo[0]");
+    ASSERT_EQ(s.groups[7].queue.size(), 2u);
+    EXPECT_FLOAT_EQ(s.groups[7].queue[0].weight, 0.8f);
+    for (const ConstraintSpec& c : s.groups[7].queue)
+        EXPECT_FALSE(c.head_relative);  // the whole section is in cm
+    EXPECT_FALSE(s.groups[7].selection.head_relative);
+    const auto& spiral = s.groups[7].queue[1].trajectory;
+    float r = 0.f;
+    for (const Vec3f& p : spiral)
+        r = std::max(r, (p - Vec3f(0, 0.5f, -1)).norm());
+    EXPECT_NEAR(r, 0.25f, 1e-4f);
+}
+
+TEST(StyleToml, HairdressingDefaultsComeFromTheSpecs) {
+    const Style s = parse("[[tie]]\n[[braid]]\n[[updo]]\n");
+    ASSERT_EQ(s.groups.size(), 5u);  // tie, 3 braid strands, updo
+    EXPECT_TRUE(s.groups[0].queue[0].point.isApprox(TieSpec{}.point));
+    EXPECT_FLOAT_EQ(s.groups[0].queue[0].weight, 1.f);
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_EQ(s.groups[1 + i].selection.parts, 3);
+        EXPECT_EQ(s.groups[1 + i].selection.part, i);
+        EXPECT_TRUE(s.groups[1 + i].queue[0].point.isApprox(BraidSpec{}.start));
+    }
+    EXPECT_TRUE(s.groups[4].queue[0].point.isApprox(UpdoSpec{}.point));
+    for (const GroupSpec& g : s.groups)
+        for (const ConstraintSpec& c : g.queue)
+            EXPECT_TRUE(c.head_relative);
+    // An inline array of tables reads like [[…]] sections.
+    EXPECT_EQ(parse("tie = [{ point = [0, 0.3, -1.1] }, { region = \"left\" }]").groups.size(), 2u);
+}
+
 TEST(StyleToml, RelativePathsResolveAgainstBaseDir) {
     const std::string text = "[head]\nobj = \"h.obj\"\n[maps]\ndensity = { image = \"d.png\" }";
     const Style rel = parse_style(text, "s.toml", "/a/b");
@@ -368,6 +686,27 @@ TEST(StyleToml, UnknownKeysSuggestTheField) {
     EXPECT_NE(error_of("[maps]\nlength = { image = \"a.png\", hihg = 3 }")
                   .find("did you mean 'maps.length.high'"),
               std::string::npos);
+}
+
+TEST(StyleToml, UnknownKeysInTheNewSectionsSuggestTheField) {
+    EXPECT_EQ(error_of("[[tie]]\npiont = [0, 0.1, -1]"),
+              "test.toml:2: unknown field 'tie[0].piont' (did you mean 'tie[0].point'?)");
+    EXPECT_EQ(error_of("[[tie]]\nbox = { min = [0, 0, 0], max = [1, 1, 1], mid = 2 }"),
+              "test.toml:2: unknown field 'tie[0].box.mid' (did you mean 'tie[0].box.min'?)");
+    EXPECT_EQ(error_of("[[group]]\n[[group.constraint]]\nkind = \"point\"\nweigth = 1"),
+              "test.toml:4: unknown field 'group[0].constraint[0].weigth' (did you mean "
+              "'group[0].constraint[0].weight'?)");
+    EXPECT_EQ(error_of("[solve]\nstifness = 2"),
+              "test.toml:2: unknown field 'solve.stifness' (did you mean 'solve.stiffness'?)");
+    EXPECT_EQ(error_of("\nstiffness = 2"),
+              "test.toml:2: unknown field 'stiffness' (did you mean 'solve.stiffness'?)");
+    EXPECT_EQ(error_of("[[braids]]"),
+              "test.toml:1: unknown field 'braids' (did you mean 'braid'?)");
+    EXPECT_EQ(error_of("[[solve.field]]\nkind = \"wind\"\ndirecton = [1, 0, 0]"),
+              "test.toml:3: unknown field 'solve.field[0].directon' (did you mean "
+              "'solve.field[0].direction'?)");
+    EXPECT_EQ(error_of("[cut]\nnromal = [0, -1, 0]"),
+              "test.toml:2: unknown field 'cut.nromal' (did you mean 'cut.normal'?)");
 }
 
 TEST(StyleToml, SyntaxErrorsGiveLineAndColumn) {
@@ -494,6 +833,146 @@ TEST(StyleToml, InvalidInputsNameFileLineAndField) {
          "not used by a normal distribution"},
         {"[color]\nwisp_hue = -1", 2, "color.wisp_hue", "must be ≥ 0"},
         {"[color]\nwisp_value = 2", 2, "color.wisp_value", "must be ≤ 1"},
+        // [solve]
+        {"[solve]\nenabled = 1", 2, "solve.enabled", "must be true or false, got 1"},
+        {"[solve]\nstiffness = -1", 2, "solve.stiffness", "must be ≥ 0"},
+        {"[solve]\nstiffness = 2000", 2, "solve.stiffness", "must be ≤ 1000"},
+        {"[solve]\nthreshold = 0", 2, "solve.threshold", "must be > 0"},
+        {"[solve]\nthreshold = 1.5", 2, "solve.threshold", "must be ≤ 1"},
+        {"[solve]\nthreshold = nan", 2, "solve.threshold", "must be a finite number"},
+        {"[solve]\ncell = 0.1", 2, "solve.cell", "must be ≥ 0.2"},
+        {"[solve]\ncell = 11", 2, "solve.cell", "must be ≤ 10"},
+        {"[solve]\nfull_density = 0", 2, "solve.full_density", "must be > 0"},
+        {"[solve]\nbend_step = 0", 2, "solve.bend_step", "must be > 0"},
+        {"[solve]\nbend_step = 50", 2, "solve.bend_step", "must be ≤ 45"},
+        {"[solve]\nmax_tries = -1", 2, "solve.max_tries", "must be ≥ 0"},
+        {"[solve]\nmax_tries = 1001", 2, "solve.max_tries", "must be ≤ 1000"},
+        {"[solve]\nmax_tries = 2.5", 2, "solve.max_tries", "must be an integer"},
+        {"[solve]\norder = \"depth-frist\"", 2, "solve.order", "(did you mean \"depth-first\"?)"},
+        {"[solve]\nhead_margin = -0.1", 2, "solve.head_margin", "must be ≥ 0"},
+        {"[solve]\nfield = \"gravity\"", 2, "solve.field", "must be an array of tables"},
+        {"[solve.field]\nkind = \"gravity\"", 1, "solve.field", "write [[solve.field]]"},
+        {"[[solve.field]]\nweight = 1", 1, "solve.field[0].kind", "required"},
+        {"[[solve.field]]\nkind = \"gravty\"", 2, "solve.field[0].kind",
+         "(did you mean \"gravity\"?)"},
+        {"[[solve.field]]\nkind = \"gravity\"\nweight = inf", 3, "solve.field[0].weight",
+         "must be a finite number"},
+        {"[[solve.field]]\nkind = \"wind\"\ndirection = [0, 0, 0]", 3, "solve.field[0].direction",
+         "must be a non-zero direction"},
+        {"[[solve.field]]\nkind = \"wind\"\ndirection = [1, 0]", 3, "solve.field[0].direction",
+         "must be a direction [x, y, z]"},
+        {"[[solve.field]]\nkind = \"wind\"\ndirection = [1, nan, 0]", 3,
+         "solve.field[0].direction[1]", "must be a finite number"},
+        {"[[solve.field]]\nkind = \"gravity\"\ndirection = [1, 0, 0]", 3,
+         "solve.field[0].direction", "only used with kind = \"wind\""},
+        {"[[solve.field]]\nkind = \"wind\"\nside = \"left\"", 3, "solve.field[0].side",
+         "only used with kind = \"side-part\""},
+        {"[[solve.field]]\nkind = \"side-part\"\nside = \"middle\"", 3, "solve.field[0].side",
+         "must be one of \"left\", \"right\""},
+        {"[[solve.field]]\nkind = \"file\"", 1, "solve.field[0].file", "required by kind"},
+        {"[[solve.field]]\nkind = \"file\"\nfile = \"\"", 3, "solve.field[0].file",
+         "must not be empty"},
+        {"[[solve.field]]\nkind = \"gravity\"\n[[solve.field]]\nkind = \"wind\"\nfile = \"f\"", 5,
+         "solve.field[1].file", "only used with kind = \"file\""},
+        // [cut]
+        {"[cut]\nnormal = [0, 0, 0]", 2, "cut.normal", "must be a non-zero direction"},
+        {"[cut]\noffset = \"low\"", 2, "cut.offset", "must be a number"},
+        {"[cut]\noffset = nan", 2, "cut.offset", "must be a finite number"},
+        {"[cut]\nhead_relative = \"yes\"", 2, "cut.head_relative", "must be true or false"},
+        // selections
+        {"[[group]]\nregion = \"bangz\"\n[[group.constraint]]\nkind = \"point\"\npoint = [0,0,0]",
+         2, "group[0].region", "did you mean \"bangs\""},
+        {"[[tie]]\nregion = \"back\"\nmask = \"m.png\"", 3, "tie[0].mask",
+         "cannot be combined with 'region'"},
+        {"[[tie]]\nselect = \"some\"", 2, "tie[0].select", "must be one of \"all\""},
+        {"[[tie]]\nmask = \"\"", 2, "tie[0].mask", "must not be empty"},
+        {"[[tie]]\nbox = [0, 1]", 2, "tie[0].box", "must be a table { min"},
+        {"[[tie]]\nbox = { min = [0, 0, 0] }", 2, "tie[0].box.max", "required"},
+        {"[[tie]]\nbox = { min = [0, 0, 0], max = [1, -1, 1] }", 2, "tie[0].box.max",
+         "must be ≥ min in every coordinate, got max[1] = -1"},
+        {"[[tie]]\nhalf_space = { offset = 1 }", 2, "tie[0].half_space.normal", "required"},
+        {"[[tie]]\nhalf_space = { normal = [0, 0, 0] }", 2, "tie[0].half_space.normal",
+         "must be a non-zero direction"},
+        {"[[tie]]\nwisps = []", 2, "tie[0].wisps", "must hold 1 to roots.wisps (2000) ids"},
+        {"[[tie]]\nwisps = 3", 2, "tie[0].wisps", "must be an array of wisp ids"},
+        {"[[tie]]\nwisps = [1, -2]", 2, "tie[0].wisps[1]", "must be ≥ 0"},
+        {"[[tie]]\nwisps = [1, 2.5]", 2, "tie[0].wisps[1]", "must be an integer"},
+        {"[[tie]]\nwisps = [3, 3]", 2, "tie[0].wisps[1]", "lists wisp 3 twice"},
+        {"[[tie]]\nwisps = [0, 2000]", 2, "tie[0].wisps[1]",
+         "must be < roots.wisps (2000), got 2000"},
+        {"[[tie]]\nwisps = [0, 150]\n[roots]\nwisps = 100\nstrands = 1000", 2, "tie[0].wisps[1]",
+         "must be < roots.wisps (100)"},
+        {"[[tie]]\nparts = 0\npart = 0", 2, "tie[0].parts", "must be ≥ 1"},
+        {"[[tie]]\nparts = 3\npart = 3", 3, "tie[0].part", "must be < parts (3), got 3"},
+        {"[[tie]]\npart = -1", 2, "tie[0].part", "must be ≥ 0"},
+        {"[[tie]]\npart = 1", 2, "tie[0].part", "must be < parts (1)"},
+        {"[[tie]]\nparts = 2", 2, "tie[0].part", "required with 'parts'"},
+        {"[[tie]]\nhead_relative = 1", 2, "tie[0].head_relative", "must be true or false"},
+        // [[group]] and its constraints
+        {"group = 3", 1, "group", "must be an array of tables ([[group]])"},
+        {"[group]\nname = \"a\"", 1, "group", "write [[group]] for each"},
+        {"[[group]]\nname = \"a\"", 1, "group[0].constraint", "at least one [[group.constraint]]"},
+        {"[[group]]\nname = \"\"", 2, "group[0].name", "must not be empty"},
+        {"[[group]]\n[[group.constraint]]\npoint = [0, 0, 0]", 2, "group[0].constraint[0].kind",
+         "required"},
+        {"[[group]]\n[[group.constraint]]\nkind = \"pull\"", 3, "group[0].constraint[0].kind",
+         "must be one of \"point\", \"trajectory\", \"direction\""},
+        {"[[group]]\n[[group.constraint]]\nkind = \"point\"", 2, "group[0].constraint[0].point",
+         "required by kind = \"point\""},
+        {"[[group]]\n[[group.constraint]]\nkind = \"point\"\npoint = [0, 1]", 4,
+         "group[0].constraint[0].point", "must be a point [x, y, z]"},
+        {"[[group]]\n[[group.constraint]]\nkind = \"point\"\npoint = [0, 0, inf]", 4,
+         "group[0].constraint[0].point[2]", "must be a finite number"},
+        {"[[group]]\n[[group.constraint]]\nkind = \"point\"\npoint = [0, 0, 0]\nradius = 0", 5,
+         "group[0].constraint[0].radius", "must be > 0"},
+        {"[[group]]\n[[group.constraint]]\nkind = \"point\"\npoint = [0, 0, 0]\nweight = 1.5", 5,
+         "group[0].constraint[0].weight", "must be ≤ 1"},
+        {"[[group]]\n[[group.constraint]]\nkind = \"point\"\npoint = [0, 0, 0]\nweight = -0.5", 5,
+         "group[0].constraint[0].weight", "must be ≥ 0"},
+        {"[[group]]\n[[group.constraint]]\nkind = \"point\"\npoint = [0, 0, 0]\nsmooth = true", 5,
+         "group[0].constraint[0].smooth", "only used with kind = \"trajectory\""},
+        {"[[group]]\n[[group.constraint]]\nkind = \"trajectory\"", 2,
+         "group[0].constraint[0].trajectory", "required by kind = \"trajectory\""},
+        {"[[group]]\n[[group.constraint]]\nkind = \"direction\"\ntrajectory = [[0, 0, 0]]", 4,
+         "group[0].constraint[0].trajectory", "must hold 2 to"},
+        {"[[group]]\n[[group.constraint]]\nkind = \"trajectory\"\ntrajectory = [[0, 0, 0], [0, "
+         "0, 0]]",
+         4, "group[0].constraint[0].trajectory[1]", "repeats the previous point"},
+        {"[[group]]\n[[group.constraint]]\nkind = \"trajectory\"\ntrajectory = [0, 1, 2]", 4,
+         "group[0].constraint[0].trajectory[0]", "must be a point [x, y, z]"},
+        {"[[group]]\n[[group.constraint]]\nkind = \"trajectory\"\ntrajectory = [[0, 0, 0], [0, "
+         "1, 0]]\npoint = [0, 0, 0]",
+         5, "group[0].constraint[0].point", "only used with kind = \"point\""},
+        // [[tie]], [[braid]], [[updo]], [[comb]]
+        {"[[tie]]\nradius = 0", 2, "tie[0].radius", "must be > 0"},
+        {"[[tie]]\nweight = 2", 2, "tie[0].weight", "must be ≤ 1"},
+        {"[[tie]]\npoint = [0, 0.1]", 2, "tie[0].point", "must be a point [x, y, z]"},
+        {"[[braid]]\nstrands = 2", 2, "braid[0].strands", "must be ≥ 3, got 2"},
+        {"[[braid]]\nstrands = 17", 2, "braid[0].strands", "must be ≤ 16"},
+        {"[[braid]]\npart = 0", 2, "braid[0].part", "is set by the braid"},
+        {"[[braid]]\nparts = 3", 2, "braid[0].parts", "is set by the braid"},
+        {"[[braid]]\naxis = [0, 0, 0]", 2, "braid[0].axis", "must be a non-zero direction"},
+        {"[[braid]]\nside = [0, 0, 0]", 2, "braid[0].side", "must be a non-zero direction"},
+        {"[[braid]]\naxis = [0, -1, 0]\nside = [0, 2, 0]", 3, "braid[0].side", "(nearly) parallel"},
+        {"[[braid]]\nlength = 0", 2, "braid[0].length", "must be > 0"},
+        {"[[braid]]\nwidth = -1", 2, "braid[0].width", "must be > 0"},
+        {"[[braid]]\nperiod = 0", 2, "braid[0].period", "must be > 0"},
+        {"[[braid]]\nperiod = 0.0001", 2, "braid[0].period", "length / period must be ≤ 1000"},
+        {"[[braid]]\nradius = nan", 2, "braid[0].radius", "must be a finite number"},
+        {"[[braid]]\nweight = -1", 2, "braid[0].weight", "must be ≥ 0"},
+        {"[[updo]]\nfacing = [0, 0, 0]", 2, "updo[0].facing", "must be a non-zero direction"},
+        {"[[updo]]\nbun_radius = 0", 2, "updo[0].bun_radius", "must be > 0"},
+        {"[[updo]]\nturns = 0", 2, "updo[0].turns", "must be > 0"},
+        {"[[updo]]\nturns = 100", 2, "updo[0].turns", "must be ≤ 50"},
+        {"[[comb]]\nregion = \"front\"", 1, "comb[0].trajectory", "required"},
+        {"[[comb]]\ntrajectory = [[0, 1, 1]]", 2, "comb[0].trajectory", "must hold 2 to"},
+        {"[[comb]]\ntrajectory = [[0, 1, 1], [0, 1, 0]]\nsmooth = \"yes\"", 3, "comb[0].smooth",
+         "must be true or false"},
+        {"[[comb]]\ntrajectory = [[0, 1, 1], [0, 1, 0]]\nweight = 1.1", 3, "comb[0].weight",
+         "must be ≤ 1"},
+        {"[[comb]]\ntrajectory = [[0, 1, 1], [0, 1, 0]]\nname = 5", 3, "comb[0].name",
+         "must be a string"},
+        {"tie = [{ point = [0, 0, -1] }, 3]", 1, "tie[1]", "must be a table, got 3"},
     };
     for (const auto& c : cases) {
         SCOPED_TRACE(c.text);
