@@ -16,6 +16,7 @@
 #include "groom/generate.hpp"
 #include "groom/style_toml.hpp"
 #include "io/hair_io.hpp"
+#include "solve/pipeline.hpp"
 
 namespace wisp {
 namespace {
@@ -72,7 +73,7 @@ int run_generate(const GenerateArgs& args) {
     info(args.quiet,
          cat("wisp: ", style.wisps, " wisps, ", style.strands, " strands on the ", head.source,
              " (scalp ", static_cast<int>(head.scalp->area()), " cm²), seed ", style.seed));
-    GenerateResult result = generate(style, head);
+    HairstyleResult result = generate_hairstyle(style, head);
     times.insert(times.end(), result.times.begin(), result.times.end());
 
     HairWriteOptions options;
@@ -96,6 +97,22 @@ int run_generate(const GenerateArgs& args) {
         j["time_ms"] = stage_stats(times);
         j["time_ms"]["wall"] = total.ms();
         j["version"] = kVersion;
+        const SolveStats& solve = result.solve;
+        j["solver"] = {{"enabled", style.solve.enabled},
+                       {"order", style.solve.depth_first ? "depth-first" : "breadth-first"},
+                       {"joints", solve.joints},
+                       {"collision_iterations", solve.bends},
+                       {"colliding_joints", solve.collisions},
+                       {"unresolved_joints", solve.unresolved},
+                       {"projected_joints", solve.projected},
+                       {"constrained_joints", solve.constrained},
+                       {"group_progress", solve.group_progress}};
+        for (const auto& [stage, ms] : result.times)
+            if (stage == "solve") j["solver"]["time_ms"] = ms;
+        j["points_pushed_out_of_head"] = result.points_pushed;
+        j["points_inside_head"] = result.points_inside_head;
+        j["strands_cut"] = result.strands_cut;
+        j["strands_removed_by_cut"] = result.strands_removed;
         write_json(args.stats, j);
         info(args.quiet, cat("wisp: wrote ", args.stats));
     }

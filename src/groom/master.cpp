@@ -28,7 +28,7 @@ void update_master(Masters& m, size_t w) {
         Vec3f t = m.outline[base + s + 1] - m.outline[base + s];
         const float len = t.norm();
         t = len > 0.f ? Vec3f(t / len) : f.t;
-        if (i > 0 && s == i) f = transport(f, t);
+        if (s == i) f = transport(f, t);  // i = 0 turns the root frame onto the first segment
         m.frames[base + i] = f;
         m.control[base + i] = m.outline[base + i] + f.to_world(m.details[base + i]);
     }

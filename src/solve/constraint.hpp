@@ -1,0 +1,53 @@
+#pragma once
+// Styling constraints (Choe & Ko §4, Fig. 10, eq. (7)) and wisp selection.
+#include <cstdint>
+#include <vector>
+
+#include "geometry/scalp.hpp"
+#include "groom/style.hpp"
+#include "solve/styling_field.hpp"
+
+namespace wisp {
+
+// A constraint with its positions resolved to centimetres in head space.
+struct Constraint {
+    ConstraintSpec::Kind kind = ConstraintSpec::Kind::kPoint;
+    Vec3f point = Vec3f::Zero();
+    std::vector<Vec3f> path;  // #≥2 dense polyline of the trajectory (Catmull-Rom sampled
+                              // when smooth)
+    std::vector<float> arc;   // #path cumulative arc length, cm
+    float radius = 1.f;       // cm
+    float weight = 1.f;
+};
+
+Constraint resolve_constraint(const ConstraintSpec& spec, const HeadFrame& head);
+
+// Nearest point of the constraint's path to x: its position, unit tangent and parameter in
+// [0, 1] by arc length.
+struct PathPoint {
+    Vec3f position, tangent;
+    float t = 0.f;
+};
+PathPoint nearest_on_path(const Constraint& c, const Vec3f& x);
+
+// Ψ(x) of §4: point: the unit vector toward the attraction point; trajectory: toward the
+// nearest point of the trajectory outside the tolerance radius, along its tangent inside;
+// direction: along the tangent inside the influence radius, zero outside.
+Vec3f constraint_force(const Constraint& c, const Vec3f& x);
+
+// Whether a wisp whose segment ends at x meets the constraint: point: inside the tolerance
+// sphere; trajectory: within tolerance at the trajectory's end; direction: at the end of the
+// trajectory, or outside the influence radius (the comb no longer holds it).
+bool constraint_met(const Constraint& c, const Vec3f& x);
+
+// Eq. (7): Φ' = (1 − w)Φ + wΨ.
+inline Vec3f constrained_field(const Vec3f& phi, const Vec3f& psi, float w) {
+    return (1.f - w) * phi + w * psi;
+}
+
+// The wisps a selection holds, ascending. roots  #W master roots.
+std::vector<uint32_t> select_wisps(const Selection& selection,
+                                   const std::vector<SurfacePoint>& roots, const Scalp& scalp,
+                                   const HeadFrame& head);
+
+}  // namespace wisp

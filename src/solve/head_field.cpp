@@ -1,0 +1,118 @@
+#include "solve/head_field.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "core/parallel.hpp"
+#include "geometry/mesh_distance.hpp"
+
+namespace wisp {
+
+HeadField::HeadField(const Mesh& mesh, float cell) {
+    const Box3 b = mesh.bounds();
+    const Vec3f pad = Vec3f::Constant(3.f * cell);
+    const Vec3f lo = b.lo - pad;
+    const Vec3f size = b.size() + 2.f * pad;
+    Vec3i dims;
+    for (int a = 0; a < 3; ++a)
+        dims[a] = std::max(2, static_cast<int>(std::ceil(size[a] / cell)) + 1);
+    grid_ = Grid3<float>(lo, cell, dims, 0.f);
+    box_.lo = lo;
+    box_.hi = lo + cell * Vec3f(dims.x() - 1, dims.y() - 1, dims.z() - 1);
+
+    const MeshDistance distance(mesh);
+    const float band = 1.5f * cell;
+    const size_t n = grid_.size();
+    std::vector<float>& d = grid_.data();
+    // 1. Unsigned distance capped at the band; exact sign inside the band. Blocks of 4³
+    // nodes whose centre is further than the band plus the block's half-diagonal are far as
+    // a whole, which spares most queries.
+    std::fill(d.begin(), d.end(), NAN);  // NaN: far, sign unknown
+    constexpr int kBlock = 4;
+    const Vec3i blocks((dims.x() + kBlock - 1) / kBlock, (dims.y() + kBlock - 1) / kBlock,
+                       (dims.z() + kBlock - 1) / kBlock);
+    const size_t block_count = static_cast<size_t>(blocks.x()) * blocks.y() * blocks.z();
+    const float half_diag = 0.5f * std::sqrt(3.f) * cell * (kBlock - 1);
+    parallel_for(
+        block_count,
+        [&](size_t b) {
+            const int bx = static_cast<int>(b % blocks.x());
+            const int by = static_cast<int>((b / blocks.x()) % blocks.y());
+            const int bz = static_cast<int>(b / (static_cast<size_t>(blocks.x()) * blocks.y()));
+            const Vec3f centre =
+                lo + cell * (kBlock * Vec3f(bx, by, bz) + Vec3f::Constant(0.5f * (kBlock - 1)));
+            if (distance.unsigned_distance(centre, band + half_diag + cell) >= band + half_diag)
+                return;
+            for (int z = bz * kBlock; z < std::min((bz + 1) * kBlock, dims.z()); ++z)
+                for (int y = by * kBlock; y < std::min((by + 1) * kBlock, dims.y()); ++y)
+                    for (int x = bx * kBlock; x < std::min((bx + 1) * kBlock, dims.x()); ++x) {
+                        const Vec3f p = grid_.node(x, y, z);
+                        if (distance.unsigned_distance(p, band) >= band) continue;
+                        uint32_t face = 0;
+                        const Vec3f c = distance.closest_point(p, &face);
+                        const Vec3f v = p - c;
+                        const float u = v.norm();
+                        // The face normal decides when p lies squarely in front of or behind the
+                        // closest face; near edges and vertices the winding number does.
+                        const float facing = u > 0.f ? v.dot(mesh.face_normal(face)) / u : 0.f;
+                        const bool in = std::abs(facing) > 0.5f ? facing < 0.f : distance.inside(p);
+                        d[grid_.index(x, y, z)] = in ? -u : u;
+                    }
+        },
+        4);
+    // 2. Far nodes: connected regions (6-neighbourhood) share a sign.
+    std::vector<int32_t> region(n, -1);
+    std::vector<size_t> stack;
+    auto idx = [&](int x, int y, int z) { return grid_.index(x, y, z); };
+    for (size_t seed = 0; seed < n; ++seed) {
+        if (!std::isnan(d[seed]) || region[seed] >= 0) continue;
+        const int x0 = static_cast<int>(seed % dims.x());
+        const int y0 = static_cast<int>((seed / dims.x()) % dims.y());
+        const int z0 = static_cast<int>(seed / (static_cast<size_t>(dims.x()) * dims.y()));
+        const float sign = distance.inside(grid_.node(x0, y0, z0)) ? -1.f : 1.f;
+        region[seed] = 1;
+        stack.assign(1, seed);
+        while (!stack.empty()) {
+            const size_t i = stack.back();
+            stack.pop_back();
+            d[i] = sign * band;
+            const int x = static_cast<int>(i % dims.x());
+            const int y = static_cast<int>((i / dims.x()) % dims.y());
+            const int z = static_cast<int>(i / (static_cast<size_t>(dims.x()) * dims.y()));
+            const int nb[6][3] = {{x - 1, y, z}, {x + 1, y, z}, {x, y - 1, z},
+                                  {x, y + 1, z}, {x, y, z - 1}, {x, y, z + 1}};
+            for (const auto& q : nb) {
+                if (q[0] < 0 || q[1] < 0 || q[2] < 0 || q[0] >= dims.x() || q[1] >= dims.y() ||
+                    q[2] >= dims.z())
+                    continue;
+                const size_t j = idx(q[0], q[1], q[2]);
+                if (std::isnan(d[j]) && region[j] < 0) {
+                    region[j] = 1;
+                    stack.push_back(j);
+                }
+            }
+        }
+    }
+}
+
+float HeadField::sdf(const Vec3f& p) const {
+    if (grid_.size() == 0) return 1e6f;
+    for (int a = 0; a < 3; ++a)
+        if (p[a] < box_.lo[a] || p[a] > box_.hi[a]) return 1e6f;
+    return grid_.trilinear(p);
+}
+
+Vec3f HeadField::gradient(const Vec3f& p) const {
+    const float h = 0.5f * grid_.cell();
+    Vec3f g;
+    for (int a = 0; a < 3; ++a) {
+        Vec3f e = Vec3f::Zero();
+        e[a] = h;
+        const float f1 = sdf(p + e), f0 = sdf(p - e);
+        g[a] = (f1 > 1e5f || f0 > 1e5f) ? 0.f : (f1 - f0) / (2.f * h);
+    }
+    return g;
+}
+
+}  // namespace wisp

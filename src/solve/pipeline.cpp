@@ -1,0 +1,233 @@
+#include "solve/pipeline.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+
+#include "core/parallel.hpp"
+#include "groom/color.hpp"
+
+namespace wisp {
+
+HeadFrame head_frame(const Scalp& scalp) {
+    HeadFrame f;
+    f.center = scalp.center();
+    f.radius = std::max((scalp.crown() - scalp.center()).norm(), 1e-3f);
+    return f;
+}
+
+float head_field_cell(const SolveSpec& spec) {
+    return std::min(0.75f, 0.75f * spec.cell);
+}
+
+size_t cut_hair(Hair& hair, const Vec3f& normal, float offset, size_t* removed) {
+    const size_t s_count = hair.strand_count();
+    std::vector<uint32_t> keep(s_count, 0);  // points kept per strand (0: removed)
+    std::vector<uint8_t> cut(s_count, 0);
+    std::vector<Vec3f> tip(s_count);
+    std::vector<float> tip_width(s_count);
+    parallel_for(
+        s_count,
+        [&](size_t i) {
+            const auto s = hair.strand(i);
+            if (normal.dot(s[0]) > offset) return;
+            size_t k = 1;
+            while (k < s.size() && normal.dot(s[k]) <= offset)
+                ++k;
+            keep[i] = static_cast<uint32_t>(k);
+            if (k < s.size()) {
+                const float a = normal.dot(s[k - 1]) - offset, b = normal.dot(s[k]) - offset;
+                const float f = std::clamp(a / (a - b), 0.f, 1.f);
+                tip[i] = s[k - 1] + f * (s[k] - s[k - 1]);
+                const size_t o = hair.offsets[i];
+                tip_width[i] = hair.widths.empty()
+                                   ? hair.default_width
+                                   : hair.widths[o + k - 1] +
+                                         f * (hair.widths[o + k] - hair.widths[o + k - 1]);
+                cut[i] = 1;
+            }
+        },
+        1024);
+    Hair out;
+    out.default_width = hair.default_width;
+    out.default_color = hair.default_color;
+    size_t shortened = 0, gone = 0;
+    for (size_t i = 0; i < s_count; ++i) {
+        if (keep[i] == 0) {
+            ++gone;
+            continue;
+        }
+        const size_t o = hair.offsets[i];
+        const size_t n = keep[i];
+        out.points.insert(out.points.end(), hair.points.begin() + o, hair.points.begin() + o + n);
+        if (!hair.widths.empty())
+            out.widths.insert(out.widths.end(), hair.widths.begin() + o,
+                              hair.widths.begin() + o + n);
+        if (cut[i]) {
+            ++shortened;
+            out.points.push_back(tip[i]);
+            if (!hair.widths.empty()) out.widths.push_back(tip_width[i]);
+        }
+        out.offsets.push_back(static_cast<uint32_t>(out.points.size()));
+        if (!hair.colors.empty()) out.colors.push_back(hair.colors[i]);
+        if (!hair.wisp.empty()) out.wisp.push_back(hair.wisp[i]);
+    }
+    hair = std::move(out);
+    if (removed) *removed = gone;
+    return shortened;
+}
+
+size_t push_out_of_head(Hair& hair, const HeadField& head, float clearance,
+                        const std::vector<uint8_t>* near, int n, size_t* inside) {
+    std::atomic<size_t> moved{0}, still_inside{0};
+    parallel_for(
+        hair.strand_count(),
+        [&](size_t i) {
+            size_t local = 0, local_inside = 0;
+            auto s = hair.strand(i);
+            const uint8_t* flags = near && !hair.wisp.empty()
+                                       ? near->data() + static_cast<size_t>(hair.wisp[i]) * n
+                                       : nullptr;
+            for (size_t k = 1; k < s.size(); ++k) {
+                if (flags && !flags[std::min<size_t>(k, n - 1)] && !flags[k - 1]) continue;
+                const float d = head.sdf(s[k]);
+                if (d >= clearance) continue;
+                Vec3f g = head.gradient(s[k]);
+                if (!(g.norm() > 1e-6f)) continue;
+                g.normalize();
+                // Two steps: the gradient of a trilinear field is only piecewise exact.
+                for (int it = 0; it < 3; ++it) {
+                    const float di = head.sdf(s[k]);
+                    if (di >= clearance) break;
+                    s[k] += (clearance - di + 1e-3f) * g;
+                    const Vec3f g2 = head.gradient(s[k]);
+                    if (g2.norm() > 1e-6f) g = g2.normalized();
+                }
+                ++local;
+                local_inside += head.sdf(s[k]) < 0.f;
+            }
+            moved += local;
+            still_inside += local_inside;
+        },
+        256);
+    if (inside) *inside = still_inside;
+    return moved;
+}
+
+size_t count_inside_head(const Hair& hair, const HeadField& head) {
+    std::atomic<size_t> inside{0};
+    parallel_for(
+        hair.strand_count(),
+        [&](size_t i) {
+            size_t local = 0;
+            const auto s = hair.strand(i);
+            for (size_t k = 1; k < s.size(); ++k)
+                local += head.sdf(s[k]) < 0.f;
+            inside += local;
+        },
+        256);
+    return inside;
+}
+
+HairstyleResult generate_hairstyle(const Style& style, const Head& head,
+                                   const HeadField* head_field) {
+    HairstyleResult r;
+    Stopwatch watch;
+    auto lap = [&](const char* stage) {
+        r.times.emplace_back(stage, watch.ms());
+        watch = Stopwatch();
+    };
+    const Roots roots = grow_roots(style, head);
+    lap("roots");
+    r.masters = synthesize_masters(style, head, roots);
+    lap("masters");
+
+    HeadField own;
+    if (!head_field) {
+        own = HeadField(*head.mesh, head_field_cell(style.solve));
+        head_field = &own;
+        lap("head field");
+    }
+    const HeadFrame frame = head_frame(*head.scalp);
+    if (style.solve.enabled) {
+        // The grid spans everywhere the hair can reach: the head, grown by the longest master.
+        float longest = 0.f;
+        for (size_t w = 0; w < r.masters.count(); ++w)
+            longest = std::max(longest, r.masters.segment[w] * (r.masters.points - 1));
+        Box3 bounds = head.mesh->bounds();
+        Box3 reach;
+        for (const SurfacePoint& p : roots.masters)
+            reach.extend(p.position);
+        reach.lo -= Vec3f::Constant(longest);
+        reach.hi += Vec3f::Constant(longest);
+        bounds.extend(reach);
+        const StylingField field(style.solve.field, frame, bounds, style.solve.cell);
+        Grid3<float> density(field.grid().origin(), field.grid().cell(), field.grid().dims());
+        lap("field");
+
+        SolveInput in;
+        in.field = &field;
+        in.head = head_field;
+        for (const GroupSpec& g : style.groups) {
+            SolverGroup sg;
+            sg.wisps = select_wisps(g.selection, roots.masters, *head.scalp, frame);
+            for (const ConstraintSpec& c : g.queue)
+                sg.queue.push_back(resolve_constraint(c, frame));
+            in.groups.push_back(std::move(sg));
+        }
+        const size_t w_count = r.masters.count();
+        in.wisp_strands.resize(w_count);
+        for (size_t w = 0; w < w_count; ++w)
+            in.wisp_strands[w] =
+                static_cast<int>(roots.wisp_offsets[w + 1] - roots.wisp_offsets[w]);
+        in.wisp_radius = roots.wisp_radius;
+        const int n = r.masters.points;
+        in.radius_profile.resize(n);
+        const float r0 = deviation_radius(style.wisp.deviation_radius, 0.f);
+        for (int k = 0; k < n; ++k)
+            in.radius_profile[k] =
+                deviation_radius(style.wisp.deviation_radius, static_cast<float>(k) / (n - 1)) / r0;
+        r.solve = solve_masters(r.masters, in, style.solve, density);
+        lap("solve");
+    }
+    r.hair = grow_members(style, r.masters, roots);
+    lap("members");
+    if (style.cut.enabled && style.cut.normal.norm() > 0.f) {
+        const Vec3f n = style.cut.normal.normalized();
+        const float offset = style.cut.head_relative
+                                 ? n.dot(frame.center) + style.cut.offset * frame.radius
+                                 : style.cut.offset;
+        r.strands_cut = cut_hair(r.hair, n, offset, &r.strands_removed);
+        lap("cut");
+    }
+    {
+        // A member point lies within its wisp's radius of the master point of the same index,
+        // so only joints closer to the head than that radius (plus slack for the grid) can
+        // bring members inside.
+        const int n = r.masters.points;
+        const float r0 = deviation_radius(style.wisp.deviation_radius, 0.f);
+        std::vector<uint8_t> near(r.masters.count() * n);
+        parallel_for(
+            r.masters.count(),
+            [&](size_t w) {
+                for (int k = 0; k < n; ++k) {
+                    const float reach = roots.wisp_radius[w] *
+                                            deviation_radius(style.wisp.deviation_radius,
+                                                             static_cast<float>(k) / (n - 1)) /
+                                            r0 +
+                                        0.05f + head_field->grid().cell();
+                    near[w * n + k] = head_field->sdf(r.masters.control[w * n + k]) < reach;
+                }
+            },
+            16);
+        r.points_pushed =
+            push_out_of_head(r.hair, *head_field, 0.05f, &near, n, &r.points_inside_head);
+    }
+    lap("collide");
+    r.hair.colors.resize(r.hair.strand_count());
+    color_strands(style.color, style.seed, r.hair.wisp, r.hair.colors);
+    lap("color");
+    return r;
+}
+
+}  // namespace wisp

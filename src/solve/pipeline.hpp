@@ -1,0 +1,54 @@
+#pragma once
+// The whole grooming pipeline of DESIGN.md with the solver in place:
+// roots → masters → head field → styling field → solve → members → cut → collide → color.
+#include <cstddef>
+
+#include "core/hair.hpp"
+#include "core/timer.hpp"
+#include "groom/generate.hpp"
+#include "solve/head_field.hpp"
+#include "solve/solver.hpp"
+
+namespace wisp {
+
+struct HairstyleResult {
+    Hair hair;
+    Masters masters;
+    StageTimes times;  // one entry per stage, in order
+    SolveStats solve;
+    size_t points_pushed = 0;       // member points moved out of the head (collide stage)
+    size_t points_inside_head = 0;  // after the collide stage: must be 0
+    size_t strands_cut = 0;         // strands shortened by the cut plane
+    size_t strands_removed = 0;     // strands whose root lay beyond the cut plane
+};
+
+// The centre and radius of the head (the scalp's fitted sphere).
+HeadFrame head_frame(const Scalp& scalp);
+
+// Shortens every strand at the plane n·p = offset (n unit): points beyond it go, and the
+// strand ends on the plane. Strands whose root is beyond are removed. Returns the number of
+// strands shortened; `removed` receives the number removed.
+size_t cut_hair(Hair& hair, const Vec3f& normal, float offset, size_t* removed);
+
+// Moves every non-root point whose head distance is below `clearance` cm out along the
+// head's gradient to that clearance. Returns the number of points moved. With `near`
+// (#W·n flags, n = points per master) only points k of strands of wisp w with
+// near[w·n + k] (or near[w·n + k − 1]) are examined: wisps far from the head are skipped.
+// `inside` receives the number of examined points still inside afterwards (0 unless the
+// head field cannot resolve them).
+size_t push_out_of_head(Hair& hair, const HeadField& head, float clearance,
+                        const std::vector<uint8_t>* near = nullptr, int n = 0,
+                        size_t* inside = nullptr);
+
+// Non-root points with a negative head distance.
+size_t count_inside_head(const Hair& hair, const HeadField& head);
+
+// Runs every stage. The head field is built here unless `head_field` is given (callers
+// that solve repeatedly on one head, like the editor and benchmarks, keep it).
+HairstyleResult generate_hairstyle(const Style& style, const Head& head,
+                                   const HeadField* head_field = nullptr);
+
+// The head field's cell for a head (3/4 of the solver cell, at most 0.75 cm).
+float head_field_cell(const SolveSpec& spec);
+
+}  // namespace wisp

@@ -1,0 +1,235 @@
+#include "solve/solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace wisp {
+namespace {
+
+struct Splat {
+    int i[3];
+    float f[3];
+    bool inside = false;
+};
+
+Splat locate(const Grid3<float>& g, const Vec3f& p) {
+    Splat s;
+    const Vec3f x = (p - g.origin()) / g.cell();
+    s.inside = true;
+    for (int a = 0; a < 3; ++a) {
+        if (!(x[a] >= 0.f) || x[a] > static_cast<float>(g.dims()[a] - 1)) s.inside = false;
+        const float c = std::clamp(x[a], 0.f, static_cast<float>(g.dims()[a] - 1));
+        s.i[a] = std::min(static_cast<int>(c), g.dims()[a] - 2);
+        s.f[a] = c - static_cast<float>(s.i[a]);
+    }
+    return s;
+}
+
+// Adds `amount` at p with trilinear weights (the density a wisp segment creates).
+void deposit(Grid3<float>& g, const Vec3f& p, float amount) {
+    const Splat s = locate(g, p);
+    if (!s.inside) return;
+    for (int dz = 0; dz < 2; ++dz)
+        for (int dy = 0; dy < 2; ++dy)
+            for (int dx = 0; dx < 2; ++dx) {
+                const float w = (dx ? s.f[0] : 1 - s.f[0]) * (dy ? s.f[1] : 1 - s.f[1]) *
+                                (dz ? s.f[2] : 1 - s.f[2]);
+                g.at(s.i[0] + dx, s.i[1] + dy, s.i[2] + dz) += w * amount;
+            }
+}
+
+class Solver {
+  public:
+    Solver(Masters& m, const SolveInput& in, const SolveSpec& spec, Grid3<float>& density)
+        : m_(m), in_(in), spec_(spec), rho_(density) {
+        const size_t w_count = m.count();
+        dir_ = m.direction;
+        group_of_.assign(w_count, -1);
+        for (size_t g = 0; g < in.groups.size(); ++g)
+            for (uint32_t w : in.groups[g].wisps)
+                if (group_of_[w] < 0) group_of_[w] = static_cast<int>(g);
+        active_.assign(in.groups.size(), 0);
+        met_.assign(w_count, 0);
+        wisp_stage_.assign(w_count, 0);
+        bend_ = spec.bend_step * kPi / 180.f;
+        inv_cell3_ = 1.f / (rho_.cell() * rho_.cell() * rho_.cell());
+        std::fill(rho_.data().begin(), rho_.data().end(), 0.f);
+        stats_.group_progress.assign(in.groups.size(), 0);
+    }
+
+    SolveStats run() {
+        const int n = m_.points;
+        const size_t w_count = m_.count();
+        if (spec_.depth_first) {
+            for (size_t w = 0; w < w_count; ++w)
+                for (int j = 0; j + 1 < n; ++j)
+                    place(w, j, /*per_wisp_queue=*/true);
+        } else {
+            for (int j = 0; j + 1 < n; ++j) {
+                for (size_t w = 0; w < w_count; ++w)
+                    place(w, j, false);
+                advance_groups();
+            }
+        }
+        for (size_t w = 0; w < w_count; ++w)
+            update_master(m_, w);
+        for (size_t g = 0; g < in_.groups.size(); ++g)
+            stats_.group_progress[g] = active_[g];
+        return stats_;
+    }
+
+  private:
+    float hair_density(const Vec3f& p) const {
+        const Splat s = locate(rho_, p);
+        if (!s.inside) return 0.f;
+        return rho_.trilinear(p);
+    }
+    float total_density(const Vec3f& p) const {
+        return hair_density(p) + in_.head->density(p, spec_.head_margin);
+    }
+    // Gradient of the total density by central differences.
+    Vec3f density_gradient(const Vec3f& p) const {
+        const float h = 0.25f * std::min(rho_.cell(), in_.head->grid().cell());
+        Vec3f g;
+        for (int a = 0; a < 3; ++a) {
+            Vec3f e = Vec3f::Zero();
+            e[a] = h;
+            g[a] = (total_density(p + e) - total_density(p - e)) / (2.f * h);
+        }
+        return g;
+    }
+
+    // The constraint that currently acts on wisp w, or null.
+    const Constraint* active_constraint(size_t w, bool per_wisp_queue) const {
+        const int g = group_of_[w];
+        if (g < 0 || met_[w]) return nullptr;
+        const auto& queue = in_.groups[g].queue;
+        const size_t k = per_wisp_queue ? wisp_stage_[w] : static_cast<size_t>(active_[g]);
+        return k < queue.size() ? &queue[k] : nullptr;
+    }
+
+    void place(size_t w, int j, bool per_wisp_queue) {
+        const int n = m_.points;
+        const size_t base = w * static_cast<size_t>(n);
+        const Vec3f x = m_.outline[base + j];
+        const float s = m_.segment[w];
+        const Vec3f q0 = dir_[w];  // zero joint angle: continue the previous segment
+
+        Vec3f phi = (*in_.field)(x);
+        const Constraint* c = active_constraint(w, per_wisp_queue);
+        if (c) {
+            phi = constrained_field(phi, constraint_force(*c, x), c->weight);
+            ++stats_.constrained;
+        }
+        Vec3f q = best_direction(phi, q0, spec_.stiffness);
+
+        // Eq. (6) with the segment's own density ρ_Δ: its strands over its cross-section.
+        const float r = std::max(in_.wisp_radius[w] * in_.radius_profile[j], 0.25f * rho_.cell());
+        const float rho_delta =
+            static_cast<float>(in_.wisp_strands[w]) / (kPi * r * r * spec_.full_density);
+        int tries = 0;
+        bool collided = false;
+        Vec3f best_q = q;
+        float best_density = INFINITY;
+        for (;;) {
+            const Vec3f end = x + s * q, mid = x + 0.5f * s * q;
+            const float d_end = total_density(end), d_mid = total_density(mid);
+            const float worst = std::max(d_end, d_mid);
+            if (worst < best_density) {
+                best_density = worst;
+                best_q = q;
+            }
+            if (worst + rho_delta <= spec_.threshold) break;
+            collided = true;
+            if (tries >= spec_.max_tries) {
+                // Still colliding: keep the least dense direction tried.
+                ++stats_.unresolved;
+                q = best_q;
+                break;
+            }
+            const Vec3f g = density_gradient(d_end >= d_mid ? end : mid);
+            const float gn = g.norm();
+            if (!(gn > 1e-8f)) break;
+            const Vec3f away = -g / gn;
+            Vec3f axis = q.cross(away);
+            if (axis.norm() < 1e-6f) {
+                if (q.dot(away) > 0.f) break;  // already heading down the gradient
+                axis = any_perpendicular(q);
+            }
+            q = (Eigen::AngleAxisf(bend_, axis.normalized()) * q).normalized();
+            ++tries;
+            ++stats_.bends;
+        }
+        if (collided) ++stats_.collisions;
+        // Whatever the density says, a joint never ends inside the head.
+        const float clearance = 0.5f * spec_.head_margin;
+        const Vec3f end = x + s * q;
+        const float d = in_.head->sdf(end);
+        if (d < clearance) {
+            const Vec3f g = in_.head->gradient(end);
+            if (g.norm() > 1e-6f) {
+                const Vec3f target = end + (clearance - d) * g.normalized();
+                const Vec3f v = target - x;
+                if (v.norm() > 1e-6f) {
+                    q = v.normalized();
+                    ++stats_.projected;
+                }
+            }
+        }
+
+        m_.outline[base + j + 1] = x + s * q;
+        dir_[w] = q;
+        ++stats_.joints;
+        // Algorithm 1: updateDensityField() with this segment's strands.
+        deposit(rho_, x + 0.5f * s * q,
+                static_cast<float>(in_.wisp_strands[w]) * s / spec_.full_density * inv_cell3_);
+
+        if (c && constraint_met(*c, m_.outline[base + j + 1])) {
+            if (per_wisp_queue) {
+                ++wisp_stage_[w];
+            } else {
+                met_[w] = 1;
+            }
+        }
+    }
+
+    // §4: a group moves to its next constraint once all its wisps meet the active one.
+    void advance_groups() {
+        for (size_t g = 0; g < in_.groups.size(); ++g) {
+            const SolverGroup& group = in_.groups[g];
+            if (active_[g] >= static_cast<int>(group.queue.size())) continue;
+            bool all = true;
+            for (uint32_t w : group.wisps)
+                if (group_of_[w] == static_cast<int>(g) && !met_[w]) {
+                    all = false;
+                    break;
+                }
+            if (!all) continue;
+            ++active_[g];
+            for (uint32_t w : group.wisps)
+                if (group_of_[w] == static_cast<int>(g)) met_[w] = 0;
+        }
+    }
+
+    Masters& m_;
+    const SolveInput& in_;
+    const SolveSpec& spec_;
+    Grid3<float>& rho_;
+    std::vector<Vec3f> dir_;
+    std::vector<int> group_of_;
+    std::vector<int> active_;
+    std::vector<uint8_t> met_;
+    std::vector<uint32_t> wisp_stage_;
+    float bend_ = 0.f, inv_cell3_ = 1.f;
+    SolveStats stats_;
+};
+
+}  // namespace
+
+SolveStats solve_masters(Masters& masters, const SolveInput& in, const SolveSpec& spec,
+                         Grid3<float>& density) {
+    Solver solver(masters, in, spec, density);
+    return solver.run();
+}
+
+}  // namespace wisp

@@ -1,0 +1,58 @@
+#pragma once
+// The pseudophysical deformation solver (Choe & Ko §3, Algorithm 1) with the
+// constraint-based styler (§4): finds every master's joint angles under the styling force
+// field, bending stiffness and density-field collisions.
+#include <cstddef>
+#include <vector>
+
+#include "core/grid.hpp"
+#include "groom/master.hpp"
+#include "groom/roots.hpp"
+#include "groom/style.hpp"
+#include "solve/constraint.hpp"
+#include "solve/head_field.hpp"
+#include "solve/styling_field.hpp"
+
+namespace wisp {
+
+// Eq. (5): the unit direction q* maximizing E = Φ·q + κ q0·q over unit q, which is
+// (Φ + κ q0) normalized (q0 when that sum vanishes).
+inline Vec3f best_direction(const Vec3f& phi, const Vec3f& q0, float kappa) {
+    const Vec3f v = phi + kappa * q0;
+    const float n = v.norm();
+    return n > 1e-8f ? Vec3f(v / n) : q0;
+}
+
+// A constraint group resolved for the solver.
+struct SolverGroup {
+    std::vector<uint32_t> wisps;
+    std::vector<Constraint> queue;
+};
+
+struct SolveStats {
+    size_t joints = 0;                // joint placements (wisps × segments)
+    size_t bends = 0;                 // Δθ bends taken by collision handling (eq. (6) iterations)
+    size_t collisions = 0;            // joints that collided at least once
+    size_t unresolved = 0;            // joints still colliding after max_tries bends
+    size_t projected = 0;             // joints pushed back out of the head after that
+    size_t constrained = 0;           // joints placed under a constraint field
+    std::vector<int> group_progress;  // per group: constraints completed (all wisps met)
+};
+
+// Everything the solver reads.
+struct SolveInput {
+    const StylingField* field = nullptr;
+    const HeadField* head = nullptr;
+    std::vector<SolverGroup> groups;
+    std::vector<int> wisp_strands;      // #W strands carried by each wisp
+    std::vector<float> wisp_radius;     // #W root radius of each wisp, cm
+    std::vector<float> radius_profile;  // #n r(s_j)/r(0) at each joint
+};
+
+// Algorithm 1. Masters' outlines are rebuilt joint by joint from their roots; details ride on
+// the rotated frames (update_master). `density` is the hair density grid, cleared first.
+// Deterministic: wisps are visited in id order.
+SolveStats solve_masters(Masters& masters, const SolveInput& in, const SolveSpec& spec,
+                         Grid3<float>& density);
+
+}  // namespace wisp

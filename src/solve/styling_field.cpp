@@ -1,0 +1,148 @@
+#include "solve/styling_field.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "core/parallel.hpp"
+
+namespace wisp {
+namespace {
+
+float smoothstep(float e0, float e1, float x) {
+    const float t = std::clamp((x - e0) / (e1 - e0), 0.f, 1.f);
+    return t * t * (3.f - 2.f * t);
+}
+
+// How much of a styled (swept) direction applies at height p: 1 over the top of the head,
+// 0 from the ears down, where gravity takes over.
+float top_weight(const HeadFrame& head, const Vec3f& p) {
+    const float h = (p.y() - head.center.y()) / head.radius;
+    return smoothstep(-0.45f, 0.1f, h);
+}
+
+}  // namespace
+
+Vec3f field_term(const FieldTerm& term, const HeadFrame& head, const Vec3f& p) {
+    const Vec3f down(0.f, -1.f, 0.f);
+    switch (term.kind) {
+        case FieldTerm::Kind::kGravity:
+            return down;
+        case FieldTerm::Kind::kPulledBack: {
+            const float t = top_weight(head, p);
+            return ((1.f - t) * down + t * Vec3f(0.f, -0.25f, -1.f).normalized()).normalized();
+        }
+        case FieldTerm::Kind::kSidePart: {
+            const float t = top_weight(head, p);
+            const Vec3f swept = Vec3f(-term.side, -0.35f, 0.f).normalized();
+            return ((1.f - t) * down + t * swept).normalized();
+        }
+        case FieldTerm::Kind::kWind:
+            return term.direction.norm() > 0.f ? Vec3f(term.direction.normalized()) : Vec3f::Zero();
+        case FieldTerm::Kind::kFile:
+            return Vec3f::Zero();  // sampled from its grid by StylingField
+    }
+    return Vec3f::Zero();
+}
+
+Grid3<Vec3f> read_field_file(const std::filesystem::path& path) {
+    const std::string text = read_file(path);
+    const std::string name = path.string();
+    size_t pos = 0;
+    int line = 0;
+    auto next_line = [&](std::string_view& out) {
+        while (pos < text.size()) {
+            const size_t end = std::min(text.find('\n', pos), text.size());
+            out = std::string_view(text).substr(pos, end - pos);
+            pos = end + 1;
+            ++line;
+            const size_t hash = out.find('#');
+            if (hash != std::string_view::npos) out = out.substr(0, hash);
+            while (!out.empty() && std::isspace(static_cast<unsigned char>(out.back())))
+                out.remove_suffix(1);
+            while (!out.empty() && std::isspace(static_cast<unsigned char>(out.front())))
+                out.remove_prefix(1);
+            if (!out.empty()) return true;
+        }
+        return false;
+    };
+    auto numbers = [&](std::string_view s, float* out, int count) {
+        const char* p = s.data();
+        const char* end = s.data() + s.size();
+        for (int i = 0; i < count; ++i) {
+            while (p < end && *p == ' ')
+                ++p;
+            const auto [q, ec] = std::from_chars(p, end, out[i]);
+            if (ec != std::errc() || !std::isfinite(out[i]))
+                fail(name, ":", line, ": expected ", count, " finite numbers, got '", s, "'");
+            p = q;
+        }
+        while (p < end && *p == ' ')
+            ++p;
+        if (p != end)
+            fail(name, ":", line, ": unexpected text after ", count, " numbers: '", s, "'");
+    };
+    auto keyword = [&](std::string_view key, float* out, int count) {
+        std::string_view l;
+        if (!next_line(l)) fail(name, ": truncated: expected '", key, "'");
+        if (l.substr(0, key.size()) != key)
+            fail(name, ":", line, ": expected '", key, "', got '", l, "'");
+        numbers(l.substr(key.size()), out, count);
+    };
+    std::string_view l;
+    if (!next_line(l) || l != "wisp-field 1")
+        fail(name, ":", line, ": not a wisp field file (the first line must be 'wisp-field 1')");
+    float dims_f[3], origin[3], cell;
+    keyword("dims", dims_f, 3);
+    for (float v : dims_f)
+        if (v < 2 || v > 512 || v != std::floor(v))
+            fail(name, ":", line, ": dims must be whole numbers in [2, 512]");
+    keyword("origin", origin, 3);
+    keyword("cell", &cell, 1);
+    if (!(cell > 0.f)) fail(name, ":", line, ": cell must be > 0");
+    const Vec3i dims(static_cast<int>(dims_f[0]), static_cast<int>(dims_f[1]),
+                     static_cast<int>(dims_f[2]));
+    Grid3<Vec3f> grid(Vec3f(origin[0], origin[1], origin[2]), cell, dims, Vec3f::Zero());
+    for (size_t i = 0; i < grid.size(); ++i) {
+        if (!next_line(l)) fail(name, ": truncated: expected ", grid.size(), " vectors, got ", i);
+        float v[3];
+        numbers(l, v, 3);
+        grid.data()[i] = Vec3f(v[0], v[1], v[2]);
+    }
+    if (next_line(l)) fail(name, ":", line, ": more vectors than dims give (", grid.size(), ")");
+    return grid;
+}
+
+StylingField::StylingField(std::span<const FieldTerm> terms, const HeadFrame& head,
+                           const Box3& bounds, float cell) {
+    Vec3i dims;
+    for (int a = 0; a < 3; ++a)
+        dims[a] = std::max(2, static_cast<int>(std::ceil(bounds.size()[a] / cell)) + 1);
+    grid_ = Grid3<Vec3f>(bounds.lo, cell, dims, Vec3f::Zero());
+    std::vector<std::unique_ptr<Grid3<Vec3f>>> files(terms.size());
+    for (size_t t = 0; t < terms.size(); ++t)
+        if (terms[t].kind == FieldTerm::Kind::kFile)
+            files[t] = std::make_unique<Grid3<Vec3f>>(read_field_file(terms[t].file));
+    parallel_for(
+        grid_.size(),
+        [&](size_t i) {
+            const int x = static_cast<int>(i % dims.x());
+            const int y = static_cast<int>((i / dims.x()) % dims.y());
+            const int z = static_cast<int>(i / (static_cast<size_t>(dims.x()) * dims.y()));
+            const Vec3f p = grid_.node(x, y, z);
+            Vec3f phi = Vec3f::Zero();
+            for (size_t t = 0; t < terms.size(); ++t) {
+                const Vec3f v = files[t] ? files[t]->trilinear(p) : field_term(terms[t], head, p);
+                phi += terms[t].weight * v;
+            }
+            grid_.data()[i] = phi;
+        },
+        4096);
+}
+
+}  // namespace wisp

@@ -1,0 +1,50 @@
+#pragma once
+// The styling force field Φ (Choe & Ko §3.1, §6.1): the desired flow direction and
+// intensity of hair at every point, on a 3D grid read by trilinear interpolation (§3.3).
+#include <filesystem>
+#include <span>
+
+#include "core/grid.hpp"
+#include "groom/style.hpp"
+
+namespace wisp {
+
+// Where the head is, for position-dependent fields: the centre and radius of the scalp's
+// sphere (head units, ConstraintSpec::head_relative).
+struct HeadFrame {
+    Vec3f center = Vec3f::Zero();
+    float radius = 10.f;
+    Vec3f to_space(const Vec3f& head_units) const { return center + radius * head_units; }
+};
+
+// The value of one predefined term at p (before its weight):
+//   gravity      (0, −1, 0)
+//   pulled-back  hair swept to the back of the head: −Z over the top of the head, turning
+//                to gravity below the ears
+//   side-part    hair swept to one side: toward −side·X over the top, gravity below
+//   wind         the term's direction, normalized
+Vec3f field_term(const FieldTerm& term, const HeadFrame& head, const Vec3f& p);
+
+// Reads a field file (the format of docs/style.md "Field files"):
+//   wisp-field 1
+//   dims NX NY NZ
+//   origin X Y Z          (cm, head space)
+//   cell C                (cm)
+//   NX·NY·NZ lines "FX FY FZ", x fastest, then y, then z
+// Throws wisp::Error naming the file and line on any malformed or truncated content.
+Grid3<Vec3f> read_field_file(const std::filesystem::path& path);
+
+class StylingField {
+  public:
+    StylingField() = default;
+    // Samples Σ weight·term over `bounds` with the given cell size.
+    StylingField(std::span<const FieldTerm> terms, const HeadFrame& head, const Box3& bounds,
+                 float cell);
+    Vec3f operator()(const Vec3f& p) const { return grid_.trilinear(p); }
+    const Grid3<Vec3f>& grid() const { return grid_; }
+
+  private:
+    Grid3<Vec3f> grid_;
+};
+
+}  // namespace wisp
