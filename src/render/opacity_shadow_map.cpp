@@ -32,32 +32,37 @@ uint32_t spread_bits(uint32_t x) {
 
 }  // namespace
 
-std::vector<uint32_t> light_space_order(const Hair& hair, const LightFrame& light) {
-    const size_t n = hair.strand_count();
-    std::vector<Vec2f> mid(n);
+std::vector<uint32_t> morton_order(std::span<const Vec2f> points) {
+    const size_t n = points.size();
     Box3 box;
-    for (size_t s = 0; s < n; ++s) {
-        const std::span<const Vec3f> p = hair.strand(s);
-        const Vec3f q = p.empty() ? Vec3f::Zero() : light.to_light_space(p[p.size() / 2]);
-        mid[s] = Vec2f(q.x(), q.y());
+    for (const Vec2f& q : points)
         box.extend(Vec3f(q.x(), q.y(), 0.f));
-    }
-    std::vector<uint64_t> keyed(n);
     const Vec3f size =
         box.empty() ? Vec3f(Vec3f::Ones()) : Vec3f(box.size().cwiseMax(Vec3f::Constant(1e-6f)));
-    for (size_t s = 0; s < n; ++s) {
-        const auto quantize = [](float t) {
-            return static_cast<uint32_t>(std::clamp(t, 0.f, 1.f) * 65535.f);
-        };
-        const uint32_t code = spread_bits(quantize((mid[s].x() - box.lo.x()) / size.x())) |
-                              (spread_bits(quantize((mid[s].y() - box.lo.y()) / size.y())) << 1);
-        keyed[s] = (static_cast<uint64_t>(code) << 32) | s;
+    const auto quantize = [](float t) {
+        return static_cast<uint32_t>(std::clamp(t, 0.f, 1.f) * 65535.f);
+    };
+    std::vector<uint64_t> keyed(n);
+    for (size_t i = 0; i < n; ++i) {
+        const uint32_t code = spread_bits(quantize((points[i].x() - box.lo.x()) / size.x())) |
+                              (spread_bits(quantize((points[i].y() - box.lo.y()) / size.y())) << 1);
+        keyed[i] = (static_cast<uint64_t>(code) << 32) | i;
     }
     std::sort(keyed.begin(), keyed.end());
     std::vector<uint32_t> order(n);
-    for (size_t s = 0; s < n; ++s)
-        order[s] = static_cast<uint32_t>(keyed[s]);
+    for (size_t i = 0; i < n; ++i)
+        order[i] = static_cast<uint32_t>(keyed[i]);
     return order;
+}
+
+std::vector<uint32_t> light_space_order(const Hair& hair, const LightFrame& light) {
+    std::vector<Vec2f> mid(hair.strand_count());
+    for (size_t s = 0; s < mid.size(); ++s) {
+        const std::span<const Vec3f> p = hair.strand(s);
+        const Vec3f q = p.empty() ? Vec3f::Zero() : light.to_light_space(p[p.size() / 2]);
+        mid[s] = Vec2f(q.x(), q.y());
+    }
+    return morton_order(mid);
 }
 
 namespace {

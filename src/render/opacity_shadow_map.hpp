@@ -32,6 +32,10 @@ struct LightFrame {
 // order gives the same results; this one only makes them faster.
 std::vector<uint32_t> light_space_order(const Hair& hair, const LightFrame& light);
 
+// The indices of points (#n) sorted by the Z-order (Morton) code of the points in their
+// bounding box (16 bits per axis), ties by index.
+std::vector<uint32_t> morton_order(std::span<const Vec2f> points);
+
 struct OpacityShadowMapOptions {
     int resolution = 256;         // texels along u and along v
     int slices = 64;              // slabs along the light

@@ -154,7 +154,7 @@ struct Scene {
     Lights lights;
     std::unique_ptr<OpacityShadowMap> osm;
     std::unique_ptr<ShadowDepthMap> head_shadow;
-    std::vector<uint32_t> strand_order;  // light_space_order() with shadows, else empty
+    std::vector<uint32_t> strand_order;  // strands in Z-order of their projected middles
     float specular_floor = 0.f;          // cone cosine below which the specular term is < 1/4096
     Box3 hair_box;
 
@@ -185,7 +185,9 @@ Vec3f shade_hair(const Scene& scene, const Vec3f& p, const Vec3f& t, const Vec3f
            l.fill_color.cwiseProduct(light(l.fill_dir));
 }
 
-// Pass 3: strand pieces. Returns the vertices and, per strand, the index of its first one.
+// Pass 3: strand pieces. Strands are laid out in scene.strand_order (neighbours on screen
+// next to each other in memory, so that a tile's pieces are gathered from a few runs):
+// strand strand_order[k] owns vertices [first_vertex[k], first_vertex[k + 1]).
 void tessellate_strands(const Scene& scene, std::vector<HairVertex>& vertices,
                         std::vector<uint32_t>& first_vertex) {
     const Hair& hair = *scene.hair;
@@ -240,19 +242,18 @@ void tessellate_strands(const Scene& scene, std::vector<HairVertex>& vertices,
         },
         256);
     first_vertex.assign(strands + 1, 0);
-    for (size_t s = 0; s < strands; ++s)
-        first_vertex[s + 1] = first_vertex[s] + counts[s + 1];
+    for (size_t k = 0; k < strands; ++k)
+        first_vertex[k + 1] = first_vertex[k] + counts[scene.strand_order[k] + 1];
     vertices.resize(first_vertex[strands]);
     const float tip = hair.widths.empty() ? o.tip_width : 1.f;
-    // With shadows, strands are visited in the shadow map's spatial order so that the lookups
-    // of neighbouring strands hit the same cache lines; the output is the same in any order.
     parallel_for(
         strands,
         [&](size_t k_order) {
-            const size_t s = scene.strand_order.empty() ? k_order : scene.strand_order[k_order];
+            const size_t s = scene.strand_order[k_order];
             const Vec3f color = hair.color_of(s);
             const std::span<const Vec3f> p = hair.strand(s);
-            uint32_t k = first_vertex[s];
+            const uint32_t first = first_vertex[k_order];
+            uint32_t k = first;
             const uint8_t* m = &pieces[hair.offsets[s]];
             // Shadows change slowly along a strand: looked up at the control points and
             // interpolated in between.
@@ -279,7 +280,7 @@ void tessellate_strands(const Scene& scene, std::vector<HairVertex>& vertices,
                     v.w = sample.width * cam.focal_pixels / q.z();
                     v.rgb = pack_color(shade_hair(scene, sample.p, sample.t, color, shadow));
                 });
-            if (k > first_vertex[s]) vertices[k - 1].rgb |= kLastOfStrand;
+            if (k > first) vertices[k - 1].rgb |= kLastOfStrand;
         },
         64);
 }
@@ -574,23 +575,33 @@ RgbImage render(const Hair& hair, const Mesh* head, const RenderOptions& o, Rend
         if (scene.head) all.extend(scene.head->bounds());
         const LightFrame frame = LightFrame::towards(scene.lights.key_dir);
         if (hair.point_count() > 0) {
-            scene.strand_order = light_space_order(hair, frame);
             OpacityShadowMapOptions so;
             so.resolution = o.shadow_resolution;
             so.slices = o.shadow_slices;
             so.strand_opacity = o.shadow_opacity;
             so.width_scale = o.width_scale;
             so.tip_width = hair.widths.empty() ? o.tip_width : 1.f;
-            scene.osm = std::make_unique<OpacityShadowMap>(hair, frame, scene.hair_box, so,
-                                                           scene.strand_order);
+            scene.osm = std::make_unique<OpacityShadowMap>(hair, frame, scene.hair_box, so);
         }
         if (scene.head)
-            scene.head_shadow = std::make_unique<ShadowDepthMap>(*scene.head, frame, all, 768);
+            scene.head_shadow = std::make_unique<ShadowDepthMap>(*scene.head, frame, all, 512);
     }
     lap("shadows");
 
     std::vector<HairVertex> vertices;
     std::vector<uint32_t> first_vertex;
+    {
+        std::vector<Vec2f> middle(hair.strand_count());
+        parallel_for(
+            middle.size(),
+            [&](size_t s) {
+                const std::span<const Vec3f> p = hair.strand(s);
+                const Vec3f q = p.empty() ? Vec3f::Zero() : scene.camera.project(p[p.size() / 2]);
+                middle[s] = Vec2f(q.x(), q.y());
+            },
+            4096);
+        scene.strand_order = morton_order(middle);
+    }
     tessellate_strands(scene, vertices, first_vertex);
     HeadGeometry head_geometry;
     if (scene.head) head_geometry = prepare_head(scene);

@@ -69,8 +69,8 @@ struct RenderOptions {
 
     // Shadows from the key light.
     bool shadows = true;
-    int shadow_resolution = 256;  // opacity shadow map texels per side
-    int shadow_slices = 64;       // opacity shadow map slabs along the light
+    int shadow_resolution = 192;  // opacity shadow map texels per side
+    int shadow_slices = 48;       // opacity shadow map slabs along the light
     float shadow_opacity = 0.4f;  // light blocked by one strand fully covering a texel
 };
 
