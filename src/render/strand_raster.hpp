@@ -39,8 +39,27 @@ void rasterize_strand_piece(float x0, float y0, float w0, float x1, float y1, fl
         const float b = b0 + db * t;
         const float h = (w0 + (w1 - w0) * t) * stretch;
         if (!(h > 0.f)) continue;
-        const float half = 0.5f * std::max(h, 1.f);
-        const float gain = std::min(h, 1.f);
+        if (h <= 1.f) {  // the common case: two rows weighted by a tent, as below
+            const float c = b - 0.5f;
+            const float floor_c = std::floor(c);
+            const int j = static_cast<int>(floor_c);
+            const float f = c - floor_c;
+            if (j >= lo_b && j < hi_b && f < 1.f) {
+                if (x_major)
+                    fragment(i, j, t, (1.f - f) * h);
+                else
+                    fragment(j, i, t, (1.f - f) * h);
+            }
+            if (j + 1 >= lo_b && j + 1 < hi_b && f > 0.f) {
+                if (x_major)
+                    fragment(i, j + 1, t, f * h);
+                else
+                    fragment(j + 1, i, t, f * h);
+            }
+            continue;
+        }
+        const float half = 0.5f * h;
+        const float gain = 1.f;
         const float lo = b - half, hi = b + half;
         const int j0 = std::max(lo_b, static_cast<int>(std::floor(lo)));
         const int j1 = std::min(hi_b - 1, static_cast<int>(std::floor(hi)));
