@@ -622,7 +622,8 @@ TEST(StyleToml, LoadStyleReadsFileAndNamesItFromTheStem) {
 TEST(StyleToml, EveryPresetParses) {
     const auto names = preset_names();
     EXPECT_TRUE(std::is_sorted(names.begin(), names.end()));
-    for (const char* required : {"default", "long-straight", "wavy-bob", "curly", "short"})
+    for (const char* required : {"default", "long-straight", "wavy-bob", "curly", "short", "bangs",
+                                 "ponytail", "braid", "updo", "combed-back", "side-swept"})
         EXPECT_NE(std::find(names.begin(), names.end(), required), names.end()) << required;
     for (const auto& name : names) {
         SCOPED_TRACE(name);
@@ -652,6 +653,65 @@ TEST(StyleToml, PresetsLookLikeTheirNames) {
     EXPECT_EQ(curly.prototype.kind, PrototypeSpec::Kind::kCurly);
     EXPECT_GE(curly.prototype.amplitude, 0.8f);
     EXPECT_LE(curly.prototype.period, 3.f);
+}
+
+TEST(StyleToml, HairdressingPresetsShowTheirOperation) {
+    using CK = ConstraintSpec::Kind;
+    const auto only_kinds = [](const Style& s) {
+        std::vector<std::vector<CK>> kinds;
+        for (const GroupSpec& g : s.groups) {
+            kinds.emplace_back();
+            for (const ConstraintSpec& c : g.queue)
+                kinds.back().push_back(c.kind);
+        }
+        return kinds;
+    };
+    // The tying presets comb their front half back over the head first (a group of its own),
+    // then apply the operation, which is the last section.
+    const Style ponytail = load_preset("ponytail");
+    ASSERT_FALSE(ponytail.groups.empty());
+    EXPECT_EQ(only_kinds(ponytail).back(), (std::vector<CK>{CK::kPoint}));
+    EXPECT_FLOAT_EQ(ponytail.groups.back().queue[0].weight, 1.f);  // §6.2: tying uses w = 1
+    EXPECT_LT(ponytail.groups.back().queue[0].point.z(), -1.f);    // behind the head
+
+    const Style braid = load_preset("braid");
+    std::vector<const GroupSpec*> strands;
+    for (const GroupSpec& g : braid.groups)
+        if (g.selection.parts == 3) strands.push_back(&g);
+    ASSERT_EQ(strands.size(), 3u);
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_EQ(strands[i]->selection.part, i);
+        ASSERT_EQ(strands[i]->queue.size(), 2u);
+        EXPECT_EQ(strands[i]->queue[0].kind, CK::kPoint);
+        EXPECT_EQ(strands[i]->queue[1].kind, CK::kTrajectory);
+    }
+    EXPECT_GE(braid.points_per_strand, 48);
+
+    const Style updo = load_preset("updo");
+    ASSERT_FALSE(updo.groups.empty());
+    EXPECT_EQ(only_kinds(updo).back(), (std::vector<CK>{CK::kPoint, CK::kTrajectory}));
+
+    const Style combed = load_preset("combed-back");
+    EXPECT_EQ(only_kinds(combed), (std::vector<std::vector<CK>>{{CK::kDirection}}));
+    ASSERT_FALSE(combed.solve.field.empty());
+    EXPECT_EQ(combed.solve.field[0].kind, FieldTerm::Kind::kPulledBack);
+
+    const Style swept = load_preset("side-swept");
+    ASSERT_FALSE(swept.solve.field.empty());
+    EXPECT_EQ(swept.solve.field[0].kind, FieldTerm::Kind::kSidePart);
+
+    // Every preset places its constraints near the head, in head units.
+    for (const auto& name : preset_names()) {
+        const Style s = load_preset(name);
+        for (const GroupSpec& g : s.groups) {
+            for (const ConstraintSpec& c : g.queue) {
+                EXPECT_TRUE(c.head_relative) << name;
+                EXPECT_LT(c.point.norm(), 4.f) << name;
+                for (const Vec3f& p : c.trajectory)
+                    EXPECT_LT(p.norm(), 4.f) << name;
+            }
+        }
+    }
 }
 
 TEST(StyleToml, UnknownPresetListsTheNames) {
