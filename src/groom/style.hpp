@@ -130,7 +130,7 @@ struct SolveSpec {
     float stiffness = 1.f;        // κ of eq. (5), ≥ 0
     float threshold = 0.5f;       // τ of eq. (6), in (0, 1]
     float cell = 1.f;             // density/field grid cell, cm, in [0.2, 10]
-    float full_density = 2500.f;  // strand·cm per cm³ that counts as density 1, > 0
+    float full_density = 1000.f;  // strand·cm per cm³ that counts as density 1, > 0
     float bend_step = 4.f;        // Δθ of Algorithm 1, degrees, in (0, 45]
     int max_tries = 12;           // bound on the bends per joint, ≥ 0
     bool depth_first = false;     // Algorithm 1 is breadth-first; true compares depth-first

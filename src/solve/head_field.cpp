@@ -61,38 +61,66 @@ HeadField::HeadField(const Mesh& mesh, float cell) {
                     }
         },
         4);
-    // 2. Far nodes: connected regions (6-neighbourhood) share a sign.
+    // 2. Far nodes: connected regions (6-neighbourhood) share a sign, classified once by
+    // the winding number of their first node; their distance grows by one cell per step of
+    // a breadth-first walk away from the band, so the gradient points out of the head
+    // everywhere.
     std::vector<int32_t> region(n, -1);
-    std::vector<size_t> stack;
-    auto idx = [&](int x, int y, int z) { return grid_.index(x, y, z); };
+    std::vector<float> sign_of;
+    std::vector<size_t> frontier, next;
+    auto decode = [&](size_t i, int& x, int& y, int& z) {
+        x = static_cast<int>(i % dims.x());
+        y = static_cast<int>((i / dims.x()) % dims.y());
+        z = static_cast<int>(i / (static_cast<size_t>(dims.x()) * dims.y()));
+    };
+    auto for_neighbours = [&](size_t i, auto&& f) {
+        int x, y, z;
+        decode(i, x, y, z);
+        if (x > 0) f(grid_.index(x - 1, y, z));
+        if (x + 1 < dims.x()) f(grid_.index(x + 1, y, z));
+        if (y > 0) f(grid_.index(x, y - 1, z));
+        if (y + 1 < dims.y()) f(grid_.index(x, y + 1, z));
+        if (z > 0) f(grid_.index(x, y, z - 1));
+        if (z + 1 < dims.z()) f(grid_.index(x, y, z + 1));
+    };
     for (size_t seed = 0; seed < n; ++seed) {
         if (!std::isnan(d[seed]) || region[seed] >= 0) continue;
-        const int x0 = static_cast<int>(seed % dims.x());
-        const int y0 = static_cast<int>((seed / dims.x()) % dims.y());
-        const int z0 = static_cast<int>(seed / (static_cast<size_t>(dims.x()) * dims.y()));
-        const float sign = distance.inside(grid_.node(x0, y0, z0)) ? -1.f : 1.f;
-        region[seed] = 1;
-        stack.assign(1, seed);
+        int x0, y0, z0;
+        decode(seed, x0, y0, z0);
+        const int id = static_cast<int32_t>(sign_of.size());
+        sign_of.push_back(distance.inside(grid_.node(x0, y0, z0)) ? -1.f : 1.f);
+        region[seed] = id;
+        std::vector<size_t> stack{seed};
         while (!stack.empty()) {
             const size_t i = stack.back();
             stack.pop_back();
-            d[i] = sign * band;
-            const int x = static_cast<int>(i % dims.x());
-            const int y = static_cast<int>((i / dims.x()) % dims.y());
-            const int z = static_cast<int>(i / (static_cast<size_t>(dims.x()) * dims.y()));
-            const int nb[6][3] = {{x - 1, y, z}, {x + 1, y, z}, {x, y - 1, z},
-                                  {x, y + 1, z}, {x, y, z - 1}, {x, y, z + 1}};
-            for (const auto& q : nb) {
-                if (q[0] < 0 || q[1] < 0 || q[2] < 0 || q[0] >= dims.x() || q[1] >= dims.y() ||
-                    q[2] >= dims.z())
-                    continue;
-                const size_t j = idx(q[0], q[1], q[2]);
+            for_neighbours(i, [&](size_t j) {
                 if (std::isnan(d[j]) && region[j] < 0) {
-                    region[j] = 1;
+                    region[j] = id;
                     stack.push_back(j);
                 }
-            }
+            });
         }
+    }
+    // Breadth-first distance from the band, in steps.
+    for (size_t i = 0; i < n; ++i) {
+        if (!std::isnan(d[i])) continue;
+        bool touches = false;
+        for_neighbours(i, [&](size_t j) { touches |= !std::isnan(d[j]); });
+        if (touches) frontier.push_back(i);
+    }
+    for (size_t i : frontier)
+        d[i] = sign_of[region[i]] * band;
+    for (float step = 1.f; !frontier.empty(); step += 1.f) {
+        next.clear();
+        for (size_t i : frontier)
+            for_neighbours(i, [&](size_t j) {
+                if (std::isnan(d[j])) {
+                    d[j] = sign_of[region[j]] * (band + step * cell);
+                    next.push_back(j);
+                }
+            });
+        frontier.swap(next);
     }
 }
 

@@ -8,6 +8,13 @@
 #include "groom/color.hpp"
 
 namespace wisp {
+namespace {
+
+// How far member points keep off the head (cm): more than the head field's interpolation
+// error near curved skin, so that the exact surface is never crossed.
+constexpr float kClearance = 0.2f;
+
+}  // namespace
 
 HeadFrame head_frame(const Scalp& scalp) {
     HeadFrame f;
@@ -215,13 +222,13 @@ HairstyleResult generate_hairstyle(const Style& style, const Head& head,
                                             deviation_radius(style.wisp.deviation_radius,
                                                              static_cast<float>(k) / (n - 1)) /
                                             r0 +
-                                        0.05f + head_field->grid().cell();
+                                        kClearance + head_field->grid().cell();
                     near[w * n + k] = head_field->sdf(r.masters.control[w * n + k]) < reach;
                 }
             },
             16);
         r.points_pushed =
-            push_out_of_head(r.hair, *head_field, 0.05f, &near, n, &r.points_inside_head);
+            push_out_of_head(r.hair, *head_field, kClearance, &near, n, &r.points_inside_head);
     }
     lap("collide");
     r.hair.colors.resize(r.hair.strand_count());

@@ -44,6 +44,17 @@ class Solver {
         : m_(m), in_(in), spec_(spec), rho_(density) {
         const size_t w_count = m.count();
         dir_ = m.direction;
+        // The hair leaves the scalp at its protrusion angle, flowing the way the styling
+        // field flows along the scalp there (away from the crown where the field runs into
+        // or out of the scalp, as gravity does on top of the head).
+        for (size_t w = 0; w < w_count; ++w) {
+            const Vec3f& n = m.roots[w].normal;
+            const Vec3f phi = (*in.field)(m.roots[w].position);
+            const Vec3f along = phi - phi.dot(n) * n;
+            if (along.norm() < 0.3f * phi.norm() || along.norm() < 1e-4f) continue;
+            const float up = std::clamp(dir_[w].dot(n), -1.f, 1.f);
+            dir_[w] = (std::sqrt(1.f - up * up) * along.normalized() + up * n).normalized();
+        }
         group_of_.assign(w_count, -1);
         for (size_t g = 0; g < in.groups.size(); ++g)
             for (uint32_t w : in.groups[g].wisps)
@@ -85,7 +96,17 @@ class Solver {
         return rho_.trilinear(p);
     }
     float total_density(const Vec3f& p) const {
-        return hair_density(p) + in_.head->density(p, spec_.head_margin);
+        const float head = in_.head->density(p, spec_.head_margin);
+        return squeeze_ && inside_tie(*squeeze_, p) ? head : hair_density(p) + head;
+    }
+    // A tie or a braid squeezes hair together: inside a point constraint's tolerance sphere,
+    // or a trajectory constraint's tolerance tube, hair does not collide with hair (it still
+    // collides with the head).
+    static bool inside_tie(const Constraint& c, const Vec3f& p) {
+        if (c.kind == ConstraintSpec::Kind::kPoint) return (p - c.point).norm() <= c.radius;
+        if (c.kind == ConstraintSpec::Kind::kTrajectory)
+            return (nearest_on_path(c, p).position - p).norm() <= c.radius;
+        return false;
     }
     // Gradient of the total density by central differences.
     Vec3f density_gradient(const Vec3f& p) const {
@@ -122,6 +143,7 @@ class Solver {
             ++stats_.constrained;
         }
         Vec3f q = best_direction(phi, q0, spec_.stiffness);
+        squeeze_ = c;
 
         // Eq. (6) with the segment's own density ρ_Δ: its strands over its cross-section.
         const float r = std::max(in_.wisp_radius[w] * in_.radius_profile[j], 0.25f * rho_.cell());
@@ -160,6 +182,7 @@ class Solver {
             ++tries;
             ++stats_.bends;
         }
+        squeeze_ = nullptr;
         if (collided) ++stats_.collisions;
         // Whatever the density says, a joint never ends inside the head.
         const float clearance = 0.5f * spec_.head_margin;
@@ -193,19 +216,29 @@ class Solver {
         }
     }
 
-    // §4: a group moves to its next constraint once all its wisps meet the active one.
+    // §4: a group moves to its next constraint once all its wisps meet the active one. A
+    // few wisps that collisions keep from ever meeting it must not hold the rest forever:
+    // the group also moves on when 95% have met it and no more did over the last 3 joints.
     void advance_groups() {
+        stalled_.resize(in_.groups.size(), 0);
+        last_met_.resize(in_.groups.size(), 0);
         for (size_t g = 0; g < in_.groups.size(); ++g) {
             const SolverGroup& group = in_.groups[g];
             if (active_[g] >= static_cast<int>(group.queue.size())) continue;
-            bool all = true;
+            size_t members = 0, met = 0;
             for (uint32_t w : group.wisps)
-                if (group_of_[w] == static_cast<int>(g) && !met_[w]) {
-                    all = false;
-                    break;
+                if (group_of_[w] == static_cast<int>(g)) {
+                    ++members;
+                    met += met_[w];
                 }
-            if (!all) continue;
+            stalled_[g] = met == last_met_[g] ? stalled_[g] + 1 : 0;
+            last_met_[g] = met;
+            const bool all = met == members;
+            const bool enough = met >= 0.95 * static_cast<double>(members) && stalled_[g] >= 3;
+            if (!all && !enough) continue;
             ++active_[g];
+            stalled_[g] = 0;
+            last_met_[g] = 0;
             for (uint32_t w : group.wisps)
                 if (group_of_[w] == static_cast<int>(g)) met_[w] = 0;
         }
@@ -220,6 +253,9 @@ class Solver {
     std::vector<int> active_;
     std::vector<uint8_t> met_;
     std::vector<uint32_t> wisp_stage_;
+    std::vector<int> stalled_;
+    const Constraint* squeeze_ = nullptr;
+    std::vector<size_t> last_met_;
     float bend_ = 0.f, inv_cell3_ = 1.f;
     SolveStats stats_;
 };

@@ -1,0 +1,285 @@
+#include "solve/solver.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/parallel.hpp"
+#include "core/rng.hpp"
+#include "geometry/mesh_distance.hpp"
+#include "solve/pipeline.hpp"
+
+namespace wisp {
+namespace {
+
+Style small_style() {
+    Style s;
+    s.wisps = 200;
+    s.strands = 4000;
+    s.points_per_strand = 24;
+    s.length = ScalarMap{ScalarMap::Kind::kConstant, 30.f};
+    s.seed = 3;
+    return s;
+}
+
+const Head& builtin() {
+    static const Head head = load_head(HeadSpec{});
+    return head;
+}
+
+const HeadField& builtin_field() {
+    static const HeadField field(*builtin().mesh, head_field_cell(SolveSpec{}));
+    return field;
+}
+
+// Σ over masters and joints of the angle between consecutive segments (the first against
+// the protrusion direction): the total bending.
+double total_joint_angle(const Masters& m) {
+    double sum = 0;
+    for (size_t w = 0; w < m.count(); ++w) {
+        Vec3f prev = m.direction[w];
+        for (int j = 0; j + 1 < m.points; ++j) {
+            const Vec3f q =
+                (m.outline[w * m.points + j + 1] - m.outline[w * m.points + j]).normalized();
+            sum += std::acos(std::clamp(prev.dot(q), -1.f, 1.f));
+            prev = q;
+        }
+    }
+    return sum;
+}
+
+// The hair's volume around the head: the mean horizontal distance of master joints above
+// the chin from the head's vertical axis.
+double hair_radius(const Masters& m) {
+    const HeadFrame f = head_frame(*builtin().scalp);
+    double sum = 0;
+    size_t count = 0;
+    for (const Vec3f& p : m.outline) {
+        if (p.y() < f.center.y() - f.radius) continue;
+        sum += std::hypot(p.x() - f.center.x(), p.z() - f.center.z());
+        ++count;
+    }
+    return sum / std::max<size_t>(count, 1);
+}
+
+}  // namespace
+
+TEST(Solver, BestDirectionMaximizesEquationFive) {
+    Rng rng(1);
+    for (int t = 0; t < 200; ++t) {
+        const Vec3f phi = rng.unit_vector() * rng.uniform(0.f, 3.f);
+        const Vec3f q0 = rng.unit_vector();
+        const float kappa = rng.uniform(0.f, 4.f);
+        const Vec3f best = best_direction(phi, q0, kappa);
+        EXPECT_NEAR(best.norm(), 1.f, 1e-5f);
+        const float e_best = phi.dot(best) + kappa * q0.dot(best);
+        for (int k = 0; k < 100; ++k) {
+            const Vec3f q = rng.unit_vector();
+            EXPECT_LE(phi.dot(q) + kappa * q0.dot(q), e_best + 1e-5f);
+        }
+    }
+}
+
+TEST(Solver, StifferHairBendsLess) {
+    // Fig. 9a/b: κ = 2.5 bends the hair less than κ = 0.5.
+    Style soft = small_style(), stiff = small_style();
+    soft.solve.stiffness = 0.5f;
+    stiff.solve.stiffness = 2.5f;
+    const double a_soft =
+        total_joint_angle(generate_hairstyle(soft, builtin(), &builtin_field()).masters);
+    const double a_stiff =
+        total_joint_angle(generate_hairstyle(stiff, builtin(), &builtin_field()).masters);
+    EXPECT_LT(a_stiff, 0.8 * a_soft);
+}
+
+TEST(Solver, LowerThresholdGivesMoreVolume) {
+    // Fig. 9a/c: τ = 0.1 makes the hair occupy a larger volume than τ = 0.9.
+    Style flat = small_style(), full = small_style();
+    flat.wisps = full.wisps = 1000;
+    flat.strands = full.strands = 40000;  // enough hair to fill space
+    flat.solve.threshold = 0.9f;
+    full.solve.threshold = 0.1f;
+    const double v_flat =
+        hair_radius(generate_hairstyle(flat, builtin(), &builtin_field()).masters);
+    const double v_full =
+        hair_radius(generate_hairstyle(full, builtin(), &builtin_field()).masters);
+    EXPECT_GT(v_full, 1.15 * v_flat);
+}
+
+TEST(Solver, GravityPullsHairDown) {
+    Style style = small_style();
+    const HairstyleResult r = generate_hairstyle(style, builtin(), &builtin_field());
+    double tip_y = 0, root_y = 0;
+    for (size_t w = 0; w < r.masters.count(); ++w) {
+        root_y += r.masters.outline[w * r.masters.points].y();
+        tip_y += r.masters.outline[(w + 1) * r.masters.points - 1].y();
+    }
+    EXPECT_LT(tip_y, root_y - 15.0 * r.masters.count());  // 30 cm hair ends well below
+}
+
+TEST(Solver, NoHairPointInsideTheHead) {
+    const Style style = small_style();
+    const HairstyleResult r = generate_hairstyle(style, builtin(), &builtin_field());
+    EXPECT_EQ(r.points_inside_head, 0u);
+    // Exact check against the mesh itself (roots lie on the surface and are skipped).
+    const MeshDistance exact(*builtin().mesh);
+    std::atomic<size_t> inside{0};
+    parallel_for(
+        r.hair.strand_count(),
+        [&](size_t i) {
+            const auto s = r.hair.strand(i);
+            for (size_t k = 1; k < s.size(); ++k)
+                inside += exact.inside(s[k]);
+        },
+        64);
+    EXPECT_EQ(inside.load(), 0u);
+}
+
+TEST(Solver, SameSeedSameHairAtAnyThreadCount) {
+    const Style style = small_style();
+    Hair a, b;
+    {
+        const ThreadLimit one(1);
+        a = generate_hairstyle(style, builtin()).hair;
+    }
+    {
+        const ThreadLimit two(2);
+        b = generate_hairstyle(style, builtin()).hair;
+    }
+    ASSERT_EQ(a.points.size(), b.points.size());
+    for (size_t i = 0; i < a.points.size(); ++i)
+        ASSERT_EQ(a.points[i], b.points[i]) << i;
+    EXPECT_EQ(a.colors.size(), b.colors.size());
+}
+
+TEST(Solver, DepthFirstIsAnOptionAndDiffers) {
+    Style bf = small_style(), df = small_style();
+    df.solve.depth_first = true;
+    const Masters a = generate_hairstyle(bf, builtin(), &builtin_field()).masters;
+    const Masters b = generate_hairstyle(df, builtin(), &builtin_field()).masters;
+    double diff = 0;
+    for (size_t i = 0; i < a.outline.size(); ++i)
+        diff += (a.outline[i] - b.outline[i]).norm();
+    EXPECT_GT(diff, 0.0);
+}
+
+TEST(Solver, TiedGroupPassesThroughItsTolerance) {
+    // Tying (§6.2): a point constraint with w = 1; every wisp of the group comes within the
+    // tolerance radius of the tie point.
+    Style style = small_style();
+    GroupSpec tie;
+    tie.selection.kind = Selection::Kind::kHalfSpace;  // the back half, as a half ponytail
+    tie.selection.normal = Vec3f(0, 0, -1);
+    tie.selection.offset = 0.f;
+    ConstraintSpec point;
+    point.kind = ConstraintSpec::Kind::kPoint;
+    point.point = Vec3f(0.f, 0.1f, -1.2f);  // behind the head, head units
+    point.radius = 0.1f;
+    point.weight = 1.f;
+    tie.queue.push_back(point);
+    style.groups.push_back(tie);
+    const Head& head = builtin();
+    const HairstyleResult r = generate_hairstyle(style, head, &builtin_field());
+    const HeadFrame frame = head_frame(*head.scalp);
+    const Vec3f target = frame.to_space(point.point);
+    const float tolerance = point.radius * frame.radius;
+    const std::vector<uint32_t> group =
+        select_wisps(tie.selection, r.masters.roots, *head.scalp, frame);
+    ASSERT_GT(group.size(), 50u);
+    size_t missed = 0;
+    for (uint32_t w : group) {
+        float best = INFINITY;
+        for (int j = 0; j < r.masters.points; ++j)
+            best = std::min(best, (r.masters.outline[w * r.masters.points + j] - target).norm());
+        missed += best > tolerance * 1.001f;
+    }
+    EXPECT_EQ(missed, 0u);
+    EXPECT_EQ(r.solve.group_progress.at(0), 1);  // the group completed its queue
+}
+
+TEST(Solver, BraidGroupFollowsItsTrajectory) {
+    Style style = small_style();
+    style.points_per_strand = 40;
+    style.length = ScalarMap{ScalarMap::Kind::kConstant, 45.f};
+    GroupSpec g;
+    g.selection.kind = Selection::Kind::kHalfSpace;
+    g.selection.normal = Vec3f(0, 0, -1);
+    g.selection.offset = 0.3f;  // the back of the head
+    ConstraintSpec gather;
+    gather.kind = ConstraintSpec::Kind::kPoint;
+    gather.point = Vec3f(0.f, -0.3f, -1.15f);
+    gather.radius = 0.12f;
+    ConstraintSpec follow;
+    follow.kind = ConstraintSpec::Kind::kTrajectory;
+    follow.radius = 0.08f;
+    for (int i = 0; i <= 12; ++i) {
+        const float t = i / 12.f;
+        follow.trajectory.push_back(
+            Vec3f(0.2f * std::sin(6.f * t), -0.3f - 2.f * t, -1.15f - 0.2f * t));
+    }
+    follow.smooth = true;
+    g.queue = {gather, follow};
+    style.groups.push_back(g);
+    const Head& head = builtin();
+    const HeadFrame frame = head_frame(*head.scalp);
+    const HairstyleResult r = generate_hairstyle(style, head, &builtin_field());
+    const Constraint path = resolve_constraint(follow, frame);
+    const std::vector<uint32_t> wisps =
+        select_wisps(g.selection, r.masters.roots, *head.scalp, frame);
+    ASSERT_GT(wisps.size(), 10u);
+    // Once under the trajectory constraint, the joints stay close to the trajectory.
+    double sum = 0;
+    size_t count = 0;
+    for (uint32_t w : wisps) {
+        for (int j = r.masters.points / 2; j < r.masters.points; ++j) {
+            const Vec3f p = r.masters.outline[w * r.masters.points + j];
+            const PathPoint q = nearest_on_path(path, p);
+            if (q.t > 0.05f && q.t < 0.95f) {
+                sum += (q.position - p).norm();
+                ++count;
+            }
+        }
+    }
+    ASSERT_GT(count, 0u);
+    EXPECT_LT(sum / count, 3.f * path.radius);
+}
+
+TEST(Constraint, ForcesFollowSectionFour) {
+    const HeadFrame frame;  // centre 0, radius 10
+    ConstraintSpec spec;
+    spec.kind = ConstraintSpec::Kind::kTrajectory;
+    spec.head_relative = false;
+    spec.trajectory = {Vec3f(0, 0, 0), Vec3f(10, 0, 0)};
+    spec.radius = 1.f;
+    const Constraint traj = resolve_constraint(spec, frame);
+    // Outside the tolerance: toward the nearest point; inside: along the tangent.
+    EXPECT_LT((constraint_force(traj, Vec3f(5, 3, 0)) - Vec3f(0, -1, 0)).norm(), 1e-5f);
+    EXPECT_LT((constraint_force(traj, Vec3f(5, 0.5f, 0)) - Vec3f(1, 0, 0)).norm(), 1e-5f);
+    EXPECT_FALSE(constraint_met(traj, Vec3f(5, 0.5f, 0)));
+    EXPECT_TRUE(constraint_met(traj, Vec3f(10.2f, 0.3f, 0)));
+    spec.kind = ConstraintSpec::Kind::kDirection;
+    const Constraint dir = resolve_constraint(spec, frame);
+    EXPECT_EQ(constraint_force(dir, Vec3f(5, 3, 0)), Vec3f::Zero());
+    EXPECT_LT((constraint_force(dir, Vec3f(5, 0.5f, 0)) - Vec3f(1, 0, 0)).norm(), 1e-5f);
+    spec.kind = ConstraintSpec::Kind::kPoint;
+    spec.point = Vec3f(0, 0, 4);
+    const Constraint pt = resolve_constraint(spec, frame);
+    EXPECT_LT((constraint_force(pt, Vec3f(0, 0, 0)) - Vec3f(0, 0, 1)).norm(), 1e-5f);
+    EXPECT_TRUE(constraint_met(pt, Vec3f(0, 0.5f, 4)));
+    // Eq. (7).
+    EXPECT_EQ(constrained_field(Vec3f(0, -1, 0), Vec3f(1, 0, 0), 0.25f), Vec3f(0.25f, -0.75f, 0));
+}
+
+TEST(Cut, PlaneShortensAndRemoves) {
+    Hair hair;
+    hair.add_strand(std::vector<Vec3f>{{0, 0, 0}, {0, -2, 0}, {0, -4, 0}});
+    hair.add_strand(std::vector<Vec3f>{{0, -5, 0}, {0, -6, 0}});
+    size_t removed = 0;
+    const size_t cut = cut_hair(hair, Vec3f(0, -1, 0), 3.f, &removed);  // keep y ≥ -3
+    EXPECT_EQ(cut, 1u);
+    EXPECT_EQ(removed, 1u);
+    ASSERT_EQ(hair.strand_count(), 1u);
+    EXPECT_LT((hair.strand(0).back() - Vec3f(0, -3, 0)).norm(), 1e-6f);
+}
+
+}  // namespace wisp
