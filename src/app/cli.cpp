@@ -16,6 +16,7 @@
 #include "groom/generate.hpp"
 #include "groom/style_toml.hpp"
 #include "io/hair_io.hpp"
+#include "render/render.hpp"
 #include "solve/pipeline.hpp"
 
 namespace wisp {
@@ -32,7 +33,65 @@ struct GenerateArgs {
     std::string stats;
     bool obj_segments = false;
     bool quiet = false;
+    std::string png;
+    std::string views;
+    std::string size = "1024x1024";
 };
+
+// "WxH" → (W, H), each in [16, 16384].
+std::pair<int, int> parse_size(const std::string& text) {
+    const size_t x = text.find('x');
+    int w = 0, h = 0;
+    if (x != std::string::npos) {
+        const char* b = text.data();
+        const auto r1 = std::from_chars(b, b + x, w);
+        const auto r2 = std::from_chars(b + x + 1, b + text.size(), h);
+        if (r1.ec == std::errc() && r1.ptr == b + x && r2.ec == std::errc() &&
+            r2.ptr == b + text.size() && w >= 16 && h >= 16 && w <= 16384 && h <= 16384)
+            return {w, h};
+    }
+    throw CLI::ValidationError("--size",
+                               "expects WxH with each side in [16, 16384], got '" + text + "'");
+}
+
+std::vector<std::string> split_views(const std::string& text) {
+    std::vector<std::string> out;
+    size_t start = 0;
+    while (start <= text.size()) {
+        const size_t comma = std::min(text.find(',', start), text.size());
+        if (comma > start) out.push_back(text.substr(start, comma - start));
+        start = comma + 1;
+    }
+    return out;
+}
+
+// Renders hair (and the head) to a PNG: one view, or a contact sheet of several.
+void render_png(const std::string& path, const Hair& hair, const Mesh& head,
+                const std::string& views, const std::string& size) {
+    RenderOptions options;
+    std::tie(options.width, options.height) = parse_size(size);
+    const std::vector<std::string> list = split_views(views.empty() ? "three-quarter" : views);
+    if (list.size() == 1) {
+        options.view = list[0];
+        write_png(path, render(hair, &head, options));
+    } else {
+        write_png(path, contact_sheet(hair, &head, list, options));
+    }
+}
+
+// The camera that .rib and .pbrt scenes get: the renderer's three-quarter view.
+ExportCamera export_camera(const Hair& hair, const Mesh& head) {
+    RenderOptions options;
+    const Camera c = render_camera(hair, &head, options);
+    ExportCamera e;
+    e.eye = c.eye;
+    e.target = c.eye + c.forward;
+    e.up = c.up;
+    e.fov_y_degrees = c.fov_y_degrees;
+    e.width = c.width;
+    e.height = c.height;
+    return e;
+}
 
 Style resolve_style(const std::string& path, const std::string& preset) {
     if (!path.empty() && !preset.empty())
@@ -78,11 +137,18 @@ int run_generate(const GenerateArgs& args) {
 
     HairWriteOptions options;
     options.obj_segments = args.obj_segments;
+    options.camera = export_camera(result.hair, *head.mesh);
     for (const std::string& out : args.outputs) {
         watch = Stopwatch();
         write_hair(out, result.hair, options);
         times.emplace_back("write " + out, watch.ms());
         info(args.quiet, cat("wisp: wrote ", out));
+    }
+    if (!args.png.empty()) {
+        watch = Stopwatch();
+        render_png(args.png, result.hair, *head.mesh, args.views, args.size);
+        times.emplace_back("render " + args.png, watch.ms());
+        info(args.quiet, cat("wisp: wrote ", args.png));
     }
     if (!args.stats.empty()) {
         nlohmann::json j = hair_stats(result.hair);
@@ -135,10 +201,14 @@ int run_cli(int argc, char** argv) {
     generate_cmd->add_option("style", gen.style_path, "Style file (TOML); see docs/style.md")
         ->check(CLI::ExistingFile);
     generate_cmd->add_option("--preset", gen.preset, "A shipped preset (see `wisp presets`)");
-    generate_cmd
-        ->add_option("-o,--output", gen.outputs,
-                     "Output file(s); the format follows the extension: .usda .hair .obj .ply")
-        ->required();
+    generate_cmd->add_option(
+        "-o,--output", gen.outputs,
+        "Output file(s); the format follows the extension: .usda .hair .obj .ply");
+    generate_cmd->add_option("--png", gen.png, "Also render the hairstyle to this PNG");
+    generate_cmd->add_option("--views", gen.views,
+                             "Views for --png, comma-separated (front, back, left, right, "
+                             "three-quarter, top); several make a contact sheet");
+    generate_cmd->add_option("--size", gen.size, "Image size WxH for --png")->capture_default_str();
     generate_cmd->add_option("--seed", gen.seed,
                              "Random seed (overrides the style's), or 'random'");
     generate_cmd->add_option("--threads", gen.threads, "Worker threads (0 = all cores)")
@@ -150,6 +220,7 @@ int run_cli(int argc, char** argv) {
     generate_cmd->add_flag("-q,--quiet", gen.quiet, "Print nothing but errors");
 
     std::string head_out = "head.obj";
+    float head_scale = 1.f;
     CLI::App* head_cmd =
         app.add_subcommand("head", "Write the built-in head (scalp faces in group 'scalp')");
     head_cmd->add_option("-o,--output", head_out, "Output OBJ")->capture_default_str();
@@ -169,6 +240,21 @@ int run_cli(int argc, char** argv) {
 
     app.add_subcommand("presets", "List the shipped style presets");
 
+    std::string render_in, render_out, render_head, render_view = "three-quarter",
+                                                    render_size = "1024x1024";
+    CLI::App* render_cmd = app.add_subcommand("render", "Render a hair file to PNG");
+    render_cmd->add_option("hair", render_in, "A .hair, .usda, .obj, .ply or .data file")
+        ->required();
+    render_cmd->add_option("-o,--output", render_out, "Output PNG")->required();
+    render_cmd->add_option("--head", render_head, "Head OBJ (default: the built-in head)");
+    render_cmd->add_option("--head-scale", head_scale, "Scale of --head to centimetres");
+    render_cmd
+        ->add_option("--view", render_view,
+                     "front, back, left, right, three-quarter, top, or several "
+                     "comma-separated for a contact sheet")
+        ->capture_default_str();
+    render_cmd->add_option("--size", render_size, "Image size WxH")->capture_default_str();
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -176,7 +262,19 @@ int run_cli(int argc, char** argv) {
     }
 
     try {
-        if (*generate_cmd) return run_generate(gen);
+        if (*generate_cmd) {
+            if (gen.outputs.empty() && gen.png.empty())
+                throw CLI::ValidationError("generate", "give at least one -o FILE or --png FILE");
+            return run_generate(gen);
+        }
+        if (*render_cmd) {
+            const Hair hair = read_hair(render_in);
+            const Mesh head =
+                render_head.empty() ? builtin_head_mesh() : read_obj_mesh(render_head, head_scale);
+            render_png(render_out, hair, head, render_view, render_size);
+            std::cerr << "wisp: wrote " << render_out << '\n';
+            return 0;
+        }
         if (*head_cmd) {
             write_obj_mesh(head_out, builtin_head_mesh());
             std::cerr << "wisp: wrote " << head_out << '\n';
@@ -219,6 +317,7 @@ int run_cli(int argc, char** argv) {
             const Hair hair = read_hair(convert_in);
             HairWriteOptions options;
             options.obj_segments = convert_segments;
+            options.camera = export_camera(hair, builtin_head_mesh());
             write_hair(convert_out, hair, options);
             std::cerr << "wisp: wrote " << convert_out << " (" << hair.strand_count()
                       << " strands)\n";

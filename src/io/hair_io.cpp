@@ -1,5 +1,8 @@
 #include "io/hair_io.hpp"
 
+#include "io/pbrt.hpp"
+#include "io/rib.hpp"
+
 #include <algorithm>
 #include <sstream>
 
@@ -25,6 +28,10 @@ const char* hair_format_name(HairFormat format) {
             return "ply";
         case HairFormat::kData:
             return "data";
+        case HairFormat::kRib:
+            return "rib";
+        case HairFormat::kPbrt:
+            return "pbrt";
     }
     return "?";
 }
@@ -36,8 +43,10 @@ HairFormat hair_format_from_path(const std::filesystem::path& path) {
     if (ext == ".obj") return HairFormat::kObj;
     if (ext == ".ply") return HairFormat::kPly;
     if (ext == ".data") return HairFormat::kData;
+    if (ext == ".rib") return HairFormat::kRib;
+    if (ext == ".pbrt") return HairFormat::kPbrt;
     fail(path.string(), ": unknown hair file extension \"", path.extension().string(),
-         "\" (supported: .usda, .hair, .obj, .ply, .data)");
+         "\" (supported: .usda, .hair, .obj, .ply, .data; written only: .rib, .pbrt)");
 }
 
 Hair read_hair(const std::filesystem::path& path) {
@@ -52,6 +61,9 @@ Hair read_hair(const std::filesystem::path& path) {
             return read_ply(path);
         case HairFormat::kData:
             return read_hairsalon(path);
+        case HairFormat::kRib:
+        case HairFormat::kPbrt:
+            fail(path.string(), ": .rib and .pbrt are scenes wisp writes but does not read");
     }
     fail(path.string(), ": unreachable");
 }
@@ -70,6 +82,10 @@ void write_hair(const std::filesystem::path& path, const Hair& hair,
         case HairFormat::kData:
             fail(path.string(),
                  ": .data (USC-HairSalon) is read-only; write .usda, .hair, .obj or .ply");
+        case HairFormat::kRib:
+            return write_rib(path, hair, options.camera);
+        case HairFormat::kPbrt:
+            return write_pbrt(path, hair, options.camera);
     }
 }
 

@@ -12,12 +12,14 @@
 
 #include "core/hair.hpp"
 #include "core/math.hpp"
+#include "io/export_camera.hpp"
 
 namespace wisp {
 
-enum class HairFormat { kUsda, kHair, kObj, kPly, kData };
+enum class HairFormat { kUsda, kHair, kObj, kPly, kData, kRib, kPbrt };
 
-// "usda", "hair", "obj", "ply", "data".
+// "usda", "hair", "obj", "ply", "data", "rib", "pbrt" (the last two are write-only scenes for
+// RenderMan and pbrt-v4).
 const char* hair_format_name(HairFormat format);
 
 // The format of path's extension (case-insensitive): .usda, .hair, .obj, .ply, .data.
@@ -29,6 +31,7 @@ Hair read_hair(const std::filesystem::path& path);
 
 struct HairWriteOptions {
     bool obj_segments = false;  // .obj: one `l a b` per segment instead of one `l` per strand
+    ExportCamera camera;        // .rib, .pbrt: the scene's camera
 };
 
 // Writes .usda, .hair, .obj or .ply; .data is read-only (throws).
