@@ -2,32 +2,17 @@
 // built-in head in under 0.25 s with 2 threads. Run: build/release/bin/wisp_bench
 #include <benchmark/benchmark.h>
 
+#include "bench_common.hpp"
 #include "core/parallel.hpp"
 #include "groom/generate.hpp"
 
 namespace wisp {
 namespace {
 
-Style bench_style() {
-    Style style;
-    style.wisps = 2000;
-    style.strands = 100000;
-    style.points_per_strand = 32;
-    // Full-length members, so that every strand has exactly 32 control points.
-    style.wisp.length = Distribution{Distribution::Kind::kConstant, 1.f};
-    style.prototype.kind = PrototypeSpec::Kind::kWavy;
-    return style;
-}
-
-const Head& builtin() {
-    static const Head head = load_head(HeadSpec{});
-    return head;
-}
-
 void BM_Generate100k(benchmark::State& state) {
     const ThreadLimit limit(static_cast<int>(state.range(0)));
     const Style style = bench_style();
-    const Head& head = builtin();
+    const Head& head = bench_head();
     size_t points = 0;
     for (auto _ : state) {
         GenerateResult r = generate(style, head);
@@ -44,7 +29,7 @@ BENCHMARK(BM_Generate100k)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRe
 void BM_Stage(benchmark::State& state) {
     const ThreadLimit limit(2);
     const Style style = bench_style();
-    const Head& head = builtin();
+    const Head& head = bench_head();
     const Roots roots = grow_roots(style, head);
     const Masters masters = synthesize_masters(style, head, roots);
     for (auto _ : state) {
