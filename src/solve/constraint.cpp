@@ -79,10 +79,14 @@ Vec3f constraint_force(const Constraint& c, const Vec3f& x) {
     return Vec3f::Zero();
 }
 
-bool constraint_met(const Constraint& c, const Vec3f& x) {
+bool constraint_met(const Constraint& c, const Vec3f& a, const Vec3f& x) {
     switch (c.kind) {
-        case ConstraintSpec::Kind::kPoint:
-            return (x - c.point).norm() <= c.radius;
+        case ConstraintSpec::Kind::kPoint: {
+            const Vec3f e = x - a;
+            const float len2 = e.squaredNorm();
+            const float f = len2 > 0.f ? std::clamp((c.point - a).dot(e) / len2, 0.f, 1.f) : 0.f;
+            return (a + f * e - c.point).norm() <= c.radius;
+        }
         case ConstraintSpec::Kind::kTrajectory: {
             const PathPoint p = nearest_on_path(c, x);
             return p.t >= 0.999f && (p.position - x).norm() <= c.radius;

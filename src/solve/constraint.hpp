@@ -35,10 +35,11 @@ PathPoint nearest_on_path(const Constraint& c, const Vec3f& x);
 // direction: along the tangent inside the influence radius, zero outside.
 Vec3f constraint_force(const Constraint& c, const Vec3f& x);
 
-// Whether a wisp whose segment ends at x meets the constraint: point: inside the tolerance
-// sphere; trajectory: within tolerance at the trajectory's end; direction: at the end of the
-// trajectory, or outside the influence radius (the comb no longer holds it).
-bool constraint_met(const Constraint& c, const Vec3f& x);
+// Whether a wisp whose segment runs from a to b meets the constraint: point: the segment
+// passes through the tolerance sphere (segments may be longer than the sphere is wide);
+// trajectory: b is within tolerance at the trajectory's end; direction: b is at the end of
+// the trajectory, or outside the influence radius (the comb no longer holds it).
+bool constraint_met(const Constraint& c, const Vec3f& a, const Vec3f& b);
 
 // Eq. (7): Φ' = (1 − w)Φ + wΨ.
 inline Vec3f constrained_field(const Vec3f& phi, const Vec3f& psi, float w) {

@@ -97,15 +97,16 @@ class Solver {
     }
     float total_density(const Vec3f& p) const {
         const float head = in_.head->density(p, spec_.head_margin);
-        return squeeze_ && inside_tie(*squeeze_, p) ? head : hair_density(p) + head;
+        return squeeze_ ? head : hair_density(p) + head;
     }
     // A tie or a braid squeezes hair together: inside a point constraint's tolerance sphere,
     // or a trajectory constraint's tolerance tube, hair does not collide with hair (it still
     // collides with the head).
-    static bool inside_tie(const Constraint& c, const Vec3f& p) {
-        if (c.kind == ConstraintSpec::Kind::kPoint) return (p - c.point).norm() <= c.radius;
+    // `reach` widens the region by what one segment can cover.
+    static bool inside_tie(const Constraint& c, const Vec3f& p, float reach) {
+        if (c.kind == ConstraintSpec::Kind::kPoint) return (p - c.point).norm() <= c.radius + reach;
         if (c.kind == ConstraintSpec::Kind::kTrajectory)
-            return (nearest_on_path(c, p).position - p).norm() <= c.radius;
+            return (nearest_on_path(c, p).position - p).norm() <= c.radius + reach;
         return false;
     }
     // Gradient of the total density by central differences.
@@ -143,7 +144,8 @@ class Solver {
             ++stats_.constrained;
         }
         Vec3f q = best_direction(phi, q0, spec_.stiffness);
-        squeeze_ = c;
+        // Decided once per joint, at the joint: nearest_on_path is not cheap.
+        squeeze_ = c && inside_tie(*c, x, s);
 
         // Eq. (6) with the segment's own density ρ_Δ: its strands over its cross-section.
         const float r = std::max(in_.wisp_radius[w] * in_.radius_profile[j], 0.25f * rho_.cell());
@@ -182,7 +184,7 @@ class Solver {
             ++tries;
             ++stats_.bends;
         }
-        squeeze_ = nullptr;
+        squeeze_ = false;
         if (collided) ++stats_.collisions;
         // Whatever the density says, a joint never ends inside the head.
         const float clearance = 0.5f * spec_.head_margin;
@@ -207,7 +209,7 @@ class Solver {
         deposit(rho_, x + 0.5f * s * q,
                 static_cast<float>(in_.wisp_strands[w]) * s / spec_.full_density * inv_cell3_);
 
-        if (c && constraint_met(*c, m_.outline[base + j + 1])) {
+        if (c && constraint_met(*c, x, m_.outline[base + j + 1])) {
             if (per_wisp_queue) {
                 ++wisp_stage_[w];
             } else {
@@ -218,7 +220,7 @@ class Solver {
 
     // §4: a group moves to its next constraint once all its wisps meet the active one. A
     // few wisps that collisions keep from ever meeting it must not hold the rest forever:
-    // the group also moves on when 95% have met it and no more did over the last 3 joints.
+    // the group also moves on when 80% have met it and no more did over the last 3 joints.
     void advance_groups() {
         stalled_.resize(in_.groups.size(), 0);
         last_met_.resize(in_.groups.size(), 0);
@@ -234,7 +236,7 @@ class Solver {
             stalled_[g] = met == last_met_[g] ? stalled_[g] + 1 : 0;
             last_met_[g] = met;
             const bool all = met == members;
-            const bool enough = met >= 0.95 * static_cast<double>(members) && stalled_[g] >= 3;
+            const bool enough = met >= 0.8 * static_cast<double>(members) && stalled_[g] >= 3;
             if (!all && !enough) continue;
             ++active_[g];
             stalled_[g] = 0;
@@ -254,7 +256,7 @@ class Solver {
     std::vector<uint8_t> met_;
     std::vector<uint32_t> wisp_stage_;
     std::vector<int> stalled_;
-    const Constraint* squeeze_ = nullptr;
+    bool squeeze_ = false;
     std::vector<size_t> last_met_;
     float bend_ = 0.f, inv_cell3_ = 1.f;
     SolveStats stats_;

@@ -188,9 +188,14 @@ TEST(Solver, TiedGroupPassesThroughItsTolerance) {
     ASSERT_GT(group.size(), 50u);
     size_t missed = 0;
     for (uint32_t w : group) {
+        // The closest approach of the outline's segments to the tie point.
         float best = INFINITY;
-        for (int j = 0; j < r.masters.points; ++j)
-            best = std::min(best, (r.masters.outline[w * r.masters.points + j] - target).norm());
+        for (int j = 0; j + 1 < r.masters.points; ++j) {
+            const Vec3f a = r.masters.outline[w * r.masters.points + j];
+            const Vec3f e = r.masters.outline[w * r.masters.points + j + 1] - a;
+            const float f = std::clamp((target - a).dot(e) / e.squaredNorm(), 0.f, 1.f);
+            best = std::min(best, (a + f * e - target).norm());
+        }
         missed += best > tolerance * 1.001f;
     }
     EXPECT_EQ(missed, 0u);
@@ -255,8 +260,8 @@ TEST(Constraint, ForcesFollowSectionFour) {
     // Outside the tolerance: toward the nearest point; inside: along the tangent.
     EXPECT_LT((constraint_force(traj, Vec3f(5, 3, 0)) - Vec3f(0, -1, 0)).norm(), 1e-5f);
     EXPECT_LT((constraint_force(traj, Vec3f(5, 0.5f, 0)) - Vec3f(1, 0, 0)).norm(), 1e-5f);
-    EXPECT_FALSE(constraint_met(traj, Vec3f(5, 0.5f, 0)));
-    EXPECT_TRUE(constraint_met(traj, Vec3f(10.2f, 0.3f, 0)));
+    EXPECT_FALSE(constraint_met(traj, Vec3f(4, 0.5f, 0), Vec3f(5, 0.5f, 0)));
+    EXPECT_TRUE(constraint_met(traj, Vec3f(9, 0.3f, 0), Vec3f(10.2f, 0.3f, 0)));
     spec.kind = ConstraintSpec::Kind::kDirection;
     const Constraint dir = resolve_constraint(spec, frame);
     EXPECT_EQ(constraint_force(dir, Vec3f(5, 3, 0)), Vec3f::Zero());
@@ -265,7 +270,10 @@ TEST(Constraint, ForcesFollowSectionFour) {
     spec.point = Vec3f(0, 0, 4);
     const Constraint pt = resolve_constraint(spec, frame);
     EXPECT_LT((constraint_force(pt, Vec3f(0, 0, 0)) - Vec3f(0, 0, 1)).norm(), 1e-5f);
-    EXPECT_TRUE(constraint_met(pt, Vec3f(0, 0.5f, 4)));
+    EXPECT_TRUE(constraint_met(pt, Vec3f(0, 0.5f, 3.5f), Vec3f(0, 0.5f, 4)));
+    // A segment that jumps across the sphere still passes through it.
+    EXPECT_TRUE(constraint_met(pt, Vec3f(0, 0.2f, 2), Vec3f(0, 0.2f, 6)));
+    EXPECT_FALSE(constraint_met(pt, Vec3f(0, 3, 2), Vec3f(0, 3, 6)));
     // Eq. (7).
     EXPECT_EQ(constrained_field(Vec3f(0, -1, 0), Vec3f(1, 0, 0), 0.25f), Vec3f(0.25f, -0.75f, 0));
 }
