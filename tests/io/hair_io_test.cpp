@@ -15,9 +15,12 @@ TEST(HairIo, FormatFromExtension) {
     EXPECT_EQ(hair_format_from_path("x.obj"), HairFormat::kObj);
     EXPECT_EQ(hair_format_from_path("x.ply"), HairFormat::kPly);
     EXPECT_EQ(hair_format_from_path("x.data"), HairFormat::kData);
-    expect_error(
-        [] { hair_format_from_path("x.abc"); },
-        "x.abc: unknown hair file extension \".abc\" (supported: .usda, .hair, .obj, .ply, .data)");
+    EXPECT_EQ(hair_format_from_path("x.rib"), HairFormat::kRib);
+    EXPECT_EQ(hair_format_from_path("x.pbrt"), HairFormat::kPbrt);
+    expect_error([] { hair_format_from_path("x.abc"); },
+                 "x.abc: unknown hair file extension \".abc\" (supported: .usda, .hair, .obj, "
+                 ".ply, .data; written only: .rib, .pbrt)");
+    expect_error([] { read_hair("x.rib"); }, "x.rib: .rib and .pbrt are scenes wisp writes");
 }
 
 TEST(HairIo, EveryWritableFormatRoundTrips) {
