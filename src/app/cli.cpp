@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <random>
@@ -24,6 +25,55 @@ namespace {
 
 constexpr const char* kVersion = "0.1.0";
 
+// "x,y,z" → a finite vector.
+Vec3f parse_vec3(const std::string& flag, const std::string& text) {
+    Vec3f v;
+    const char* p = text.data();
+    const char* end = text.data() + text.size();
+    for (int i = 0; i < 3; ++i) {
+        const auto r = std::from_chars(p, end, v[i]);
+        const bool sep_ok = i < 2 ? (r.ptr < end && *r.ptr == ',') : r.ptr == end;
+        if (r.ec != std::errc() || !sep_ok || !std::isfinite(v[i]))
+            throw CLI::ValidationError(flag, "expects three numbers x,y,z, got '" + text + "'");
+        p = r.ptr + 1;
+    }
+    return v;
+}
+
+// Look options shared by `render` and `generate --png`.
+struct LookArgs {
+    std::string eye, target, background;
+    float fov = 30.f;
+    float specular_exponent = 80.f, specular_strength = -1.f;
+    bool no_shadows = false;
+
+    void add_to(CLI::App* cmd) {
+        cmd->add_option("--eye", eye, "Camera position x,y,z in cm (with --target)");
+        cmd->add_option("--target", target, "Point the camera looks at, x,y,z in cm");
+        cmd->add_option("--fov", fov, "Vertical field of view, degrees")
+            ->check(CLI::Range(1.f, 170.f))
+            ->capture_default_str();
+        cmd->add_option("--background", background, "Background linear RGB r,g,b in [0,1]");
+        cmd->add_option("--specular-exponent", specular_exponent, "Kajiya-Kay specular exponent")
+            ->check(CLI::Range(1.f, 10000.f))
+            ->capture_default_str();
+        cmd->add_option("--specular", specular_strength, "Kajiya-Kay specular strength")
+            ->check(CLI::Range(0.f, 100.f));
+        cmd->add_flag("--no-shadows", no_shadows, "Render without self-shadowing");
+    }
+    void apply(RenderOptions& o) const {
+        if (eye.empty() != target.empty())
+            throw CLI::ValidationError("--eye", "--eye and --target go together");
+        if (!eye.empty())
+            o.look_at = LookAt{parse_vec3("--eye", eye), parse_vec3("--target", target)};
+        o.fov_y_degrees = fov;
+        if (!background.empty()) o.background = parse_vec3("--background", background);
+        o.specular_exponent = specular_exponent;
+        if (specular_strength >= 0.f) o.specular_strength = specular_strength;
+        o.shadows = !no_shadows;
+    }
+};
+
 struct GenerateArgs {
     std::string style_path;
     std::string preset;
@@ -36,6 +86,7 @@ struct GenerateArgs {
     std::string png;
     std::string views;
     std::string size = "1024x1024";
+    LookArgs look;
 };
 
 // "WxH" → (W, H), each in [16, 16384].
@@ -67,9 +118,10 @@ std::vector<std::string> split_views(const std::string& text) {
 
 // Renders hair (and the head) to a PNG: one view, or a contact sheet of several.
 void render_png(const std::string& path, const Hair& hair, const Mesh& head,
-                const std::string& views, const std::string& size) {
+                const std::string& views, const std::string& size, const LookArgs& look) {
     RenderOptions options;
     std::tie(options.width, options.height) = parse_size(size);
+    look.apply(options);
     const std::vector<std::string> list = split_views(views.empty() ? "three-quarter" : views);
     if (list.size() == 1) {
         options.view = list[0];
@@ -146,7 +198,7 @@ int run_generate(const GenerateArgs& args) {
     }
     if (!args.png.empty()) {
         watch = Stopwatch();
-        render_png(args.png, result.hair, *head.mesh, args.views, args.size);
+        render_png(args.png, result.hair, *head.mesh, args.views, args.size, args.look);
         times.emplace_back("render " + args.png, watch.ms());
         info(args.quiet, cat("wisp: wrote ", args.png));
     }
@@ -209,6 +261,7 @@ int run_cli(int argc, char** argv) {
                              "Views for --png, comma-separated (front, back, left, right, "
                              "three-quarter, top); several make a contact sheet");
     generate_cmd->add_option("--size", gen.size, "Image size WxH for --png")->capture_default_str();
+    gen.look.add_to(generate_cmd);
     generate_cmd->add_option("--seed", gen.seed,
                              "Random seed (overrides the style's), or 'random'");
     generate_cmd->add_option("--threads", gen.threads, "Worker threads (0 = all cores)")
@@ -254,6 +307,8 @@ int run_cli(int argc, char** argv) {
                      "comma-separated for a contact sheet")
         ->capture_default_str();
     render_cmd->add_option("--size", render_size, "Image size WxH")->capture_default_str();
+    LookArgs render_look;
+    render_look.add_to(render_cmd);
 
     try {
         app.parse(argc, argv);
@@ -271,7 +326,7 @@ int run_cli(int argc, char** argv) {
             const Hair hair = read_hair(render_in);
             const Mesh head =
                 render_head.empty() ? builtin_head_mesh() : read_obj_mesh(render_head, head_scale);
-            render_png(render_out, hair, head, render_view, render_size);
+            render_png(render_out, hair, head, render_view, render_size, render_look);
             std::cerr << "wisp: wrote " << render_out << '\n';
             return 0;
         }
