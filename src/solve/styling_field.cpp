@@ -19,11 +19,24 @@ float smoothstep(float e0, float e1, float x) {
     return t * t * (3.f - 2.f * t);
 }
 
-// How much of a styled (swept) direction applies at height p: 1 over the top of the head,
-// 0 from the ears down, where gravity takes over.
-float top_weight(const HeadFrame& head, const Vec3f& p) {
-    const float h = (p.y() - head.center.y()) / head.radius;
-    return smoothstep(-0.45f, 0.1f, h);
+// A field that sweeps hair over the head toward `pole` (a unit direction from the head's
+// centre): along the great circles of the head's sphere, turning to gravity as hair leaves
+// the head (beyond 1.6 radii) or passes the pole.
+Vec3f swept_toward(const HeadFrame& head, const Vec3f& p, const Vec3f& pole) {
+    const Vec3f down(0.f, -1.f, 0.f);
+    const Vec3f d = p - head.center;
+    const float dist = d.norm();
+    if (dist < 1e-4f) return down;
+    const Vec3f r = d / dist;
+    Vec3f along = pole - pole.dot(r) * r;
+    const float n = along.norm();
+    if (n < 1e-4f) return down;
+    along /= n;
+    // Weight of the sweep: 1 on the head, fading out with distance and past the pole.
+    const float near = 1.f - smoothstep(1.15f, 1.6f, dist / head.radius);
+    const float before = smoothstep(-0.2f, 0.35f, 1.f - r.dot(pole));
+    const float t = near * before;
+    return ((1.f - t) * down + t * along).normalized();
 }
 
 }  // namespace
@@ -33,15 +46,10 @@ Vec3f field_term(const FieldTerm& term, const HeadFrame& head, const Vec3f& p) {
     switch (term.kind) {
         case FieldTerm::Kind::kGravity:
             return down;
-        case FieldTerm::Kind::kPulledBack: {
-            const float t = top_weight(head, p);
-            return ((1.f - t) * down + t * Vec3f(0.f, -0.25f, -1.f).normalized()).normalized();
-        }
-        case FieldTerm::Kind::kSidePart: {
-            const float t = top_weight(head, p);
-            const Vec3f swept = Vec3f(-term.side, -0.35f, 0.f).normalized();
-            return ((1.f - t) * down + t * swept).normalized();
-        }
+        case FieldTerm::Kind::kPulledBack:
+            return swept_toward(head, p, Vec3f(0.f, -0.55f, -1.f).normalized());
+        case FieldTerm::Kind::kSidePart:
+            return swept_toward(head, p, Vec3f(-term.side, -0.45f, 0.15f).normalized());
         case FieldTerm::Kind::kWind:
             return term.direction.norm() > 0.f ? Vec3f(term.direction.normalized()) : Vec3f::Zero();
         case FieldTerm::Kind::kFile:

@@ -19,9 +19,9 @@ struct HeadFrame {
 
 // The value of one predefined term at p (before its weight):
 //   gravity      (0, −1, 0)
-//   pulled-back  hair swept to the back of the head: −Z over the top of the head, turning
-//                to gravity below the ears
-//   side-part    hair swept to one side: toward −side·X over the top, gravity below
+//   pulled-back  hair swept over the head toward the nape, along the great circles of the
+//                head's sphere, turning to gravity as it leaves the head
+//   side-part    the same toward the side −side·X (the part on the other side)
 //   wind         the term's direction, normalized
 Vec3f field_term(const FieldTerm& term, const HeadFrame& head, const Vec3f& p);
 
