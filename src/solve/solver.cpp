@@ -145,7 +145,9 @@ class Solver {
         }
         Vec3f q = best_direction(phi, q0, spec_.stiffness);
         // Decided once per joint, at the joint: nearest_on_path is not cheap.
-        squeeze_ = c && inside_tie(*c, x, s);
+        // A tie with w = 1 pulls hair in like a hand gathering it: while it acts, and within
+        // reach of a trajectory's tube, hair passes through hair.
+        squeeze_ = c && (c->weight >= 0.99f || inside_tie(*c, x, s));
 
         // Eq. (6) with the segment's own density ρ_Δ: its strands over its cross-section.
         const float r = std::max(in_.wisp_radius[w] * in_.radius_profile[j], 0.25f * rho_.cell());
