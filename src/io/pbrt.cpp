@@ -23,15 +23,9 @@ void append_vec(std::string& out, const Vec3f& v) {
 
 std::string encode_pbrt(const Hair& hair, const ExportCamera& camera,
                         const std::string& image_name) {
-    if (!((camera.target - camera.eye).norm() > 0))
-        fail("pbrt export: camera eye and target coincide");
-    if (!((camera.target - camera.eye).normalized().cross(camera.up).norm() > 1e-6f))
-        fail("pbrt export: camera up is parallel to the view");
-    // pbrt's "fov" spans the shorter image side.
-    const float half_y = 0.5f * camera.fov_y_degrees * kPi / 180.f;
-    float fov = camera.fov_y_degrees;
-    if (camera.width < camera.height)
-        fov = 2.f * std::atan(std::tan(half_y) * camera.width / camera.height) * 180.f / kPi;
+    Vec3f right, up, forward;  // pbrt takes LookAt itself; this only validates the camera
+    export_camera_basis(camera, "pbrt", right, up, forward);
+    const float fov = shorter_side_fov(camera);
 
     std::string out;
     out.reserve(1024 + hair.point_count() * 60);

@@ -26,17 +26,9 @@ constexpr size_t kCurvesPerCall = 10000;
 
 std::string encode_rib(const Hair& hair, const ExportCamera& camera,
                        const std::string& image_name) {
-    const Vec3f forward_raw = camera.target - camera.eye;
-    if (!(forward_raw.norm() > 0)) fail("RIB export: camera eye and target coincide");
-    const Vec3f f = forward_raw.normalized();
-    const Vec3f r_raw = f.cross(camera.up);
-    if (!(r_raw.norm() > 1e-6f)) fail("RIB export: camera up is parallel to the view");
-    const Vec3f r = r_raw.normalized(), u = r.cross(f);
-    // RenderMan's fov is that of the shorter side.
-    const float half_y = 0.5f * camera.fov_y_degrees * kPi / 180.f;
-    float fov = camera.fov_y_degrees;
-    if (camera.width < camera.height)
-        fov = 2.f * std::atan(std::tan(half_y) * camera.width / camera.height) * 180.f / kPi;
+    Vec3f r, u, f;
+    export_camera_basis(camera, "RIB", r, u, f);
+    const float fov = shorter_side_fov(camera);
 
     std::string out;
     out.reserve(64 + hair.point_count() * 40);
