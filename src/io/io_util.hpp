@@ -14,6 +14,7 @@
 #include <type_traits>
 
 #include "core/error.hpp"
+#include "core/math.hpp"
 
 namespace wisp::io_detail {
 
@@ -126,6 +127,15 @@ inline void append_number(std::string& out, I v) {
     char buf[24];
     const auto r = std::to_chars(buf, buf + sizeof buf, v);
     out.append(buf, r.ptr);
+}
+
+// Appends "x y z", each number in its shortest exact form.
+inline void append_vec(std::string& out, const Vec3f& v) {
+    append_number(out, v.x());
+    out += ' ';
+    append_number(out, v.y());
+    out += ' ';
+    append_number(out, v.z());
 }
 
 // Parses all of s as a number (a leading '+' is accepted); false if s is not one.

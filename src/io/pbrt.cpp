@@ -10,14 +10,7 @@ namespace wisp {
 namespace {
 
 using io_detail::append_number;
-
-void append_vec(std::string& out, const Vec3f& v) {
-    append_number(out, v.x());
-    out += ' ';
-    append_number(out, v.y());
-    out += ' ';
-    append_number(out, v.z());
-}
+using io_detail::append_vec;
 
 }  // namespace
 
