@@ -10,7 +10,4 @@ namespace wisp {
 // mean clamped into range); kTable is the histogram over [min, max].
 float sample(const Distribution& d, Rng& rng);
 
-// The mean of the distribution (of the truncated normal, numerically).
-float mean_of(const Distribution& d);
-
 }  // namespace wisp

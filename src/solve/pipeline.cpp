@@ -121,21 +121,6 @@ size_t push_out_of_head(Hair& hair, const HeadField& head, float clearance,
     return moved;
 }
 
-size_t count_inside_head(const Hair& hair, const HeadField& head) {
-    std::atomic<size_t> inside{0};
-    parallel_for(
-        hair.strand_count(),
-        [&](size_t i) {
-            size_t local = 0;
-            const auto s = hair.strand(i);
-            for (size_t k = 1; k < s.size(); ++k)
-                local += head.sdf(s[k]) < 0.f;
-            inside += local;
-        },
-        256);
-    return inside;
-}
-
 HairstyleResult generate_hairstyle(const Style& style, const Head& head,
                                    const HeadField* head_field) {
     HairstyleResult r;

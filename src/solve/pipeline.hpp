@@ -40,9 +40,6 @@ size_t push_out_of_head(Hair& hair, const HeadField& head, float clearance,
                         const std::vector<uint8_t>* near = nullptr, int n = 0,
                         size_t* inside = nullptr);
 
-// Non-root points with a negative head distance.
-size_t count_inside_head(const Hair& hair, const HeadField& head);
-
 // Runs every stage. The head field is built here unless `head_field` is given (callers
 // that solve repeatedly on one head, like the editor and benchmarks, keep it).
 HairstyleResult generate_hairstyle(const Style& style, const Head& head,
