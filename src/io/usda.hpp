@@ -17,6 +17,7 @@
 // anywhere (also inside arrays). Value of an attribute: the default value when one is
 // authored and not blocked, else the earliest time sample (else none).
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -92,5 +93,22 @@ std::string encode_usda_animation(const std::vector<Hair>& frames, double fps,
                                   const std::string& name = "hair");
 void write_usda_animation(const std::filesystem::path& path, const std::vector<Hair>& frames,
                           double fps);
+
+// The same file written frame by frame, so a long animation never holds every frame in
+// memory: add() each of the `frames` frames in order, then finish() commits the file (until
+// then it is a temporary beside the target; destroying the writer unfinished removes it).
+class UsdaAnimationWriter {
+  public:
+    UsdaAnimationWriter(const std::filesystem::path& path, const Hair& first, double fps,
+                        size_t frames);
+    ~UsdaAnimationWriter();
+    void add(const Hair& frame);
+    void finish();
+
+  private:
+    struct Impl;
+    std::filesystem::path path_;
+    std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace wisp

@@ -232,35 +232,51 @@ void check_frames(const std::vector<Hair>& frames, double fps, const std::string
     }
 }
 
-void write_animation(Out& out, const std::vector<Hair>& frames, double fps) {
-    const Hair& first = frames.front();
+std::string animation_metadata(size_t frames, double fps) {
     std::string meta;
     meta += "    endTimeCode = ";
-    append_number(meta, frames.size() - 1);
+    append_number(meta, frames - 1);
     meta += "\n    framesPerSecond = ";
     append_number(meta, fps);
     meta += "\n    startTimeCode = 0\n    timeCodesPerSecond = ";
     append_number(meta, fps);
     meta += "\n";
-    begin_layer(out, first, meta);
-    out.buf += "        float3[] extent.timeSamples = {\n";
-    for (size_t f = 0; f < frames.size(); ++f) {
+    return meta;
+}
+
+// The points' time samples come first and the extents after them (attribute order does
+// not matter in a layer), so frames can be written as they are made.
+void add_animation_frame(Out& out, const Hair& frame, size_t index) {
+    out.buf += "            ";
+    append_number(out.buf, index);
+    out.buf += ": [\n";
+    points_array(out, frame, "                ");
+    out.buf += "            ],\n";
+}
+
+void end_animation(Out& out, const Hair& first, const std::vector<Box3>& extents) {
+    out.buf += "        }\n        float3[] extent.timeSamples = {\n";
+    for (size_t f = 0; f < extents.size(); ++f) {
         out.buf += "            ";
         append_number(out.buf, f);
         out.buf += ": ";
-        append_extent(out.buf, extent_of(frames[f]));
+        append_extent(out.buf, extents[f]);
         out.buf += ",\n";
-    }
-    out.buf += "        }\n        point3f[] points.timeSamples = {\n";
-    for (size_t f = 0; f < frames.size(); ++f) {
-        out.buf += "            ";
-        append_number(out.buf, f);
-        out.buf += ": [\n";
-        points_array(out, frames[f], "                ");
-        out.buf += "            ],\n";
     }
     out.buf += "        }\n";
     end_layer(out, first);
+}
+
+void write_animation(Out& out, const std::vector<Hair>& frames, double fps) {
+    const Hair& first = frames.front();
+    begin_layer(out, first, animation_metadata(frames.size(), fps));
+    out.buf += "        point3f[] points.timeSamples = {\n";
+    std::vector<Box3> extents;
+    for (size_t f = 0; f < frames.size(); ++f) {
+        add_animation_frame(out, frames[f], f);
+        extents.push_back(extent_of(frames[f]));
+    }
+    end_animation(out, first, extents);
 }
 
 }  // namespace
@@ -298,6 +314,53 @@ void write_usda_animation(const std::filesystem::path& path, const std::vector<H
         out.stream = &os;
         write_animation(out, frames, fps);
     });
+}
+
+struct UsdaAnimationWriter::Impl {
+    AtomicFile file;
+    Out out;
+    Hair first;  // topology, widths, colors and wisp ids of frame 0
+    size_t frames, written = 0;
+    std::vector<Box3> extents;
+    explicit Impl(const std::filesystem::path& path) : file(path) {}
+};
+
+UsdaAnimationWriter::UsdaAnimationWriter(const std::filesystem::path& path, const Hair& first,
+                                         double fps, size_t frames)
+    : path_(path) {
+    if (frames == 0) fail(path.string(), ": an animation needs at least one frame");
+    if (!(fps > 0) || !std::isfinite(fps))
+        fail(path.string(), ": frames per second must be positive, not ", fps);
+    check_strands(first, path.string());
+    impl_ = std::make_unique<Impl>(path);
+    impl_->out.stream = &impl_->file.stream();
+    impl_->first = first;
+    impl_->frames = frames;
+    begin_layer(impl_->out, first, animation_metadata(frames, fps));
+    impl_->out.buf += "        point3f[] points.timeSamples = {\n";
+}
+
+UsdaAnimationWriter::~UsdaAnimationWriter() = default;
+
+void UsdaAnimationWriter::add(const Hair& frame) {
+    Impl& m = *impl_;
+    if (m.written == m.frames) fail(path_.string(), ": more frames than announced (", m.frames, ")");
+    frame.validate(cat(path_.string(), " frame ", m.written));
+    if (frame.offsets != m.first.offsets)
+        fail(path_.string(), ": frame ", m.written,
+             " has a different topology (strand point counts) than frame 0");
+    add_animation_frame(m.out, frame, m.written);
+    m.extents.push_back(extent_of(frame));
+    ++m.written;
+    m.out.flush();
+}
+
+void UsdaAnimationWriter::finish() {
+    Impl& m = *impl_;
+    if (m.written != m.frames)
+        fail(path_.string(), ": ", m.written, " frames written of ", m.frames, " announced");
+    end_animation(m.out, m.first, m.extents);
+    m.file.commit();
 }
 
 }  // namespace wisp

@@ -96,6 +96,33 @@ TEST(Usda, AnimationTimeSamples) {
                  "frame 1 has a different topology");
 }
 
+TEST(Usda, StreamedAnimationMatchesTheWholeOne) {
+    std::vector<Hair> frames;
+    for (int f = 0; f < 3; ++f) {
+        Hair h = test::random_hair(7, 12, 3);
+        for (Vec3f& p : h.points)
+            p.x() -= float(f);
+        frames.push_back(h);
+    }
+    test::TempPath p(".usda");
+    {
+        UsdaAnimationWriter writer(p, frames[0], 30.0, frames.size());
+        for (const Hair& f : frames)
+            writer.add(f);
+        writer.finish();
+    }
+    EXPECT_EQ(test::read_file_text(p), encode_usda_animation(frames, 30.0));
+    test::TempPath q(".usda");
+    {
+        UsdaAnimationWriter writer(q, frames[0], 30.0, 5);
+        writer.add(frames[0]);
+        expect_error([&] { writer.finish(); }, "1 frames written of 5 announced");
+        expect_error([&] { writer.add(test::random_hair(7, 12, 4)); },
+                     "frame 1 has a different topology");
+    }
+    EXPECT_FALSE(std::filesystem::exists(q.path()));  // never committed: nothing left behind
+}
+
 TEST(Usda, OpenUsdFilesLoad) {
     size_t files = 0;
     for (const auto& e : std::filesystem::directory_iterator(kUsdDir)) {
