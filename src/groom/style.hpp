@@ -146,6 +146,37 @@ struct CutSpec {
     bool head_relative = true;
 };
 
+// Animation with the Adaptive Wisp Tree (Bertails et al. 2003); docs/animate.md.
+struct DynamicsSpec {
+    enum class Links { kAuto, kRigid, kSoft };
+    // The hierarchy (§2.1): levels coarse to fine. 2: wisps, sub-wisps; 3: groups of wisps,
+    // wisps, sub-wisps; 4: adds sub-sub-wisps.
+    int levels = 3;             // in [2, 4]
+    int wisps_per_group = 6;    // wisps per top-level group, in [2, 64]
+    int sub_wisps = 3;          // sub-GCs per GC below the wisp level, in [2, 16]
+    int sections = 8;           // nodes (cross-sections) per GC along the hair, in [3, 64]
+    int strands_per_wisp = 50;  // imported hair without wisp ids: strands per wisp, ≥ 1
+    // Segments (§2.3): rigid links or soft springs; auto = soft for curly and kinky
+    // prototypes, rigid otherwise.
+    Links links = Links::kAuto;
+    float stiffness = 300.f;        // 1/s²: pull toward the styled shape relative to the parent
+    float stretch = 3000.f;         // 1/s²: soft links' length spring
+    float damping = 4.f;            // 1/s: damping of velocity relative to the parent node
+    float air_drag = 1.f;           // 1/s: drag toward the air's velocity (wind)
+    float split_threshold = 0.15f;  // §3.1: |a|·r over this splits, m²/s² (N·m/kg), > 0
+    float merge_velocity = 15.f;    // §3.2: relative speed under this may merge, cm/s, > 0
+    float friction = 20.f;          // α of k_f = α·m (§4.2 eq. 1), 1/s, α·dt < 1
+    float repulsion = 1500.f;       // k_r per unit of the lighter node's mass (eq. 2), 1/s²
+    float repulsion_angle = 30.f;   // degrees: repel only segments crossing at more
+    float voxel = 0.f;              // cm: hair–hair voxel grid cell; 0 = 2× the mean radius
+                                    // of the finest GCs
+    int iterations = 2;             // rigid links: constraint passes before the final one
+    bool hair_collisions = true;
+    bool body_collisions = true;
+    float dt = 0.01f;                // s: time step, in (0, 0.05]
+    float linear_density = 6.5e-5f;  // g per cm of one strand (node masses), > 0
+};
+
 struct Style {
     std::string name;  // from the file name or preset
     uint64_t seed = 1;
@@ -166,6 +197,7 @@ struct Style {
     std::vector<GroupSpec> groups;  // constraint groups, including those the hairdressing
                                     // sections (tie, braid, updo, comb) expand into
     CutSpec cut;
+    DynamicsSpec dynamics;
 };
 
 }  // namespace wisp

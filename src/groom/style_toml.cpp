@@ -47,7 +47,7 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& schema() {
     static const std::vector<std::pair<std::string, std::vector<std::string>>> sections = {
         {"",
          {"name", "seed", "head", "roots", "maps", "strand", "prototype", "wisp", "color", "solve",
-          "cut", "group", "tie", "braid", "updo", "comb"}},
+          "cut", "group", "tie", "braid", "updo", "comb", "dynamics"}},
         {"head", {"obj", "scale", "scalp"}},
         {"head.scalp", {"method", "group", "mask", "front", "side", "back"}},
         {"roots", {"wisps", "strands", "points_per_strand"}},
@@ -62,6 +62,12 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& schema() {
          {"enabled", "stiffness", "threshold", "cell", "full_density", "bend_step", "max_tries",
           "order", "head_margin", "field"}},
         {"cut", {"enabled", "normal", "offset", "head_relative"}},
+        {"dynamics", {"levels",           "wisps_per_group", "sub_wisps",       "sections",
+                      "strands_per_wisp", "links",           "stiffness",       "stretch",
+                      "damping",          "air_drag",        "split_threshold", "merge_velocity",
+                      "friction",         "repulsion",       "repulsion_angle", "voxel",
+                      "iterations",       "hair_collisions", "body_collisions", "dt",
+                      "linear_density"}},
     };
     return sections;
 }
@@ -275,6 +281,7 @@ class Parser {
     void read_color(const toml::table* root, Style& style) const;
     void read_solve(const toml::table* root, Style& style) const;
     void read_cut(const toml::table* root, Style& style) const;
+    void read_dynamics(const toml::table* root, Style& style) const;
     // [[group]], [[tie]], [[braid]], [[updo]] and [[comb]] in file order into style.groups.
     void read_groups(const toml::table* root, Style& style) const;
 
@@ -979,6 +986,43 @@ void Parser::read_cut(const toml::table* root, Style& style) const {
     opt_bool(cut, "cut", "head_relative", spec.head_relative);
 }
 
+void Parser::read_dynamics(const toml::table* root, Style& style) const {
+    const toml::table* dyn = section(root, "", "dynamics");
+    if (!dyn) return;
+    DynamicsSpec& spec = style.dynamics;
+    const std::string d = "dynamics";
+    opt_int(dyn, d, "levels", spec.levels, 2, 4);
+    opt_int(dyn, d, "wisps_per_group", spec.wisps_per_group, 2, 64);
+    opt_int(dyn, d, "sub_wisps", spec.sub_wisps, 2, 16);
+    opt_int(dyn, d, "sections", spec.sections, 3, 64);
+    opt_int(dyn, d, "strands_per_wisp", spec.strands_per_wisp, 1, kMaxStrands);
+    if (const toml::node* links = dyn->get("links"))
+        spec.links = choice<DynamicsSpec::Links>(*links, "dynamics.links",
+                                                 {{"auto", DynamicsSpec::Links::kAuto},
+                                                  {"rigid", DynamicsSpec::Links::kRigid},
+                                                  {"soft", DynamicsSpec::Links::kSoft}});
+    opt_real(dyn, d, "stiffness", spec.stiffness, Range{0, 1e5});
+    opt_real(dyn, d, "stretch", spec.stretch, Range{0, 1e6});
+    opt_real(dyn, d, "damping", spec.damping, Range{0, 1000});
+    opt_real(dyn, d, "air_drag", spec.air_drag, Range{0, 1000});
+    opt_real(dyn, d, "split_threshold", spec.split_threshold, Range{0, 1e3, true});
+    opt_real(dyn, d, "merge_velocity", spec.merge_velocity, Range{0, 1e5, true});
+    opt_real(dyn, d, "friction", spec.friction, Range{0, 1e4});
+    opt_real(dyn, d, "repulsion", spec.repulsion, Range{0, 1e6});
+    opt_real(dyn, d, "repulsion_angle", spec.repulsion_angle, Range{0, 90});
+    opt_real(dyn, d, "voxel", spec.voxel, Range{0, 100});
+    opt_int(dyn, d, "iterations", spec.iterations, 0, 100);
+    opt_bool(dyn, d, "hair_collisions", spec.hair_collisions);
+    opt_bool(dyn, d, "body_collisions", spec.body_collisions);
+    opt_real(dyn, d, "dt", spec.dt, Range{0, 0.05, true});
+    opt_real(dyn, d, "linear_density", spec.linear_density, Range{0, 1, true});
+    if (spec.friction * spec.dt >= 1)
+        error(*dyn, "dynamics.friction",
+              cat("friction · dt must be under 1 (§4.2: friction must not reverse the relative "
+                  "motion), got ",
+                  spec.friction, " · ", spec.dt, " = ", spec.friction * spec.dt));
+}
+
 Selection Parser::selection(const toml::table& table, const std::string& path, int wisps,
                             bool with_parts) const {
     Selection s;
@@ -1274,6 +1318,7 @@ Style Parser::parse(std::string_view text) {
     read_color(&root, style);
     read_solve(&root, style);
     read_cut(&root, style);
+    read_dynamics(&root, style);
     read_groups(&root, style);  // after [roots]: wisp ids are checked against roots.wisps
     return style;
 }

@@ -1,0 +1,56 @@
+#pragma once
+// Animating a hairstyle (Bertails et al. 2003): hierarchy → AWT simulation → render strands
+// moved with the nodes, frame after frame.
+#include <functional>
+#include <vector>
+
+#include "core/hair.hpp"
+#include "dynamics/awt.hpp"
+#include "dynamics/body.hpp"
+#include "dynamics/hierarchy.hpp"
+#include "dynamics/motion.hpp"
+#include "geometry/mesh.hpp"
+#include "groom/style.hpp"
+
+namespace wisp {
+
+struct AnimateSettings {
+    int frames = 48;  // ≥ 1; frame 0 is the rest pose at time 0
+    double fps = 24;  // > 0
+    bool single_level = false;
+};
+
+struct AnimationStats {
+    int levels = 0, sections = 0;
+    size_t gcs = 0, nodes = 0, finest_nodes = 0, spheres = 0;
+    std::vector<size_t> gcs_per_level;
+    bool rigid = true;
+    int steps_per_frame = 0;
+    double dt = 0;  // s, adjusted so whole steps fill each frame
+    size_t steps = 0;
+    double hierarchy_ms = 0, bodies_ms = 0, bind_ms = 0;
+    double step_ms_mean = 0, step_ms_max = 0;  // simulation only
+    double skin_ms_mean = 0;                   // moving the strands, per frame
+    uint64_t splits = 0, merges = 0;
+    uint64_t pair_tests = 0, hair_contacts = 0, body_contacts = 0;
+    double max_kinetic_energy = 0;  // g·cm²/s²
+    // Per frame.
+    std::vector<std::vector<uint32_t>> active_per_level;
+    std::vector<uint32_t> frame_splits, frame_merges;
+};
+
+// The hierarchy options of a style's [dynamics] section.
+HierarchyOptions hierarchy_options(const DynamicsSpec& spec);
+
+// Fits the body spheres (body.hpp) to `body` and clears them of the rest hierarchy's nodes.
+std::vector<Sphere> body_spheres_for(const Mesh& body, const HeadFrame& head,
+                                     const Hierarchy& hierarchy);
+
+// Runs the animation and calls frame(index, hair) for every frame with the moved strands
+// (the rest hair's topology, widths, colors and wisp ids). Deterministic.
+AnimationStats animate(const Hair& rest, const Mesh& body, const HeadFrame& head,
+                       const Motion& motion, const DynamicsSpec& spec,
+                       PrototypeSpec::Kind prototype, const AnimateSettings& settings,
+                       const std::function<void(int, const Hair&)>& frame);
+
+}  // namespace wisp

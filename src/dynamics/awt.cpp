@@ -1,0 +1,752 @@
+#include "dynamics/awt.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.hpp"
+
+namespace wisp {
+namespace {
+
+using Quat = Eigen::Quaternionf;
+
+constexpr uint8_t kActive = static_cast<uint8_t>(NodeState::kActive);
+constexpr uint8_t kSplit = static_cast<uint8_t>(NodeState::kSplit);
+constexpr uint8_t kMerged = static_cast<uint8_t>(NodeState::kMerged);
+
+// Relative speeds under this (cm/s) count as "the same velocity" (§4.1: no collision test).
+constexpr float kStill = 0.5f;
+
+// Merging asks |a|·r under this fraction of the split threshold.
+constexpr float kMergeHysteresis = 0.5f;
+
+// Seconds over which a link made by a split or merge relaxes to its rest length.
+constexpr float kLinkRelaxTime = 0.1f;
+
+// Seconds over which merged nodes settle back to their styled offsets.
+constexpr float kSettleTime = 0.5f;
+
+// Closest points of segments p1q1 and p2q2 (Ericson, Real-Time Collision Detection §5.1.9):
+// parameters s, t in [0, 1].
+void closest_points(const Vec3f& p1, const Vec3f& q1, const Vec3f& p2, const Vec3f& q2, float& s,
+                    float& t) {
+    const Vec3f d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
+    const float a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+    constexpr float eps = 1e-12f;
+    if (a <= eps && e <= eps) {
+        s = t = 0;
+        return;
+    }
+    if (a <= eps) {
+        s = 0;
+        t = std::clamp(f / e, 0.f, 1.f);
+        return;
+    }
+    const float c = d1.dot(r);
+    if (e <= eps) {
+        t = 0;
+        s = std::clamp(-c / a, 0.f, 1.f);
+        return;
+    }
+    const float b = d1.dot(d2), denom = a * e - b * b;
+    s = denom > eps ? std::clamp((b * f - c * e) / denom, 0.f, 1.f) : 0.f;
+    t = (b * s + f) / e;
+    if (t < 0) {
+        t = 0;
+        s = std::clamp(-c / a, 0.f, 1.f);
+    } else if (t > 1) {
+        t = 1;
+        s = std::clamp((b - c) / a, 0.f, 1.f);
+    }
+}
+
+uint64_t cell_key(int x, int y, int z) {
+    constexpr int64_t kOffset = 1 << 20;
+    const auto c = [](int v) {
+        return static_cast<uint64_t>(std::clamp<int64_t>(v + kOffset, 0, (1 << 21) - 1));
+    };
+    return (c(x) << 42) | (c(y) << 21) | c(z);
+}
+
+}  // namespace
+
+AwtParams awt_params(const DynamicsSpec& spec, PrototypeSpec::Kind prototype, bool single_level) {
+    AwtParams p;
+    switch (spec.links) {
+        case DynamicsSpec::Links::kRigid:
+            p.rigid = true;
+            break;
+        case DynamicsSpec::Links::kSoft:
+            p.rigid = false;
+            break;
+        case DynamicsSpec::Links::kAuto:
+            p.rigid = prototype != PrototypeSpec::Kind::kCurly &&
+                      prototype != PrototypeSpec::Kind::kKinky;
+            break;
+    }
+    p.single_level = single_level;
+    p.stiffness = spec.stiffness;
+    p.stretch = spec.stretch;
+    p.damping = spec.damping;
+    p.air_drag = spec.air_drag;
+    p.split_threshold = spec.split_threshold * 1e4f;  // m²/s² → cm²/s²
+    p.merge_velocity = spec.merge_velocity;
+    p.friction = spec.friction;
+    p.repulsion = spec.repulsion;
+    p.repulsion_angle = spec.repulsion_angle;
+    p.voxel = spec.voxel;
+    p.iterations = spec.iterations;
+    p.hair_collisions = spec.hair_collisions;
+    p.body_collisions = spec.body_collisions;
+    p.dt = spec.dt;
+    if (!(p.dt > 0) || p.dt > 0.05f) fail("dynamics: dt must be in (0, 0.05] s, got ", p.dt);
+    if (p.friction * p.dt >= 1)
+        fail("dynamics: friction · dt must be under 1 (§4.2), got ", p.friction, " · ", p.dt);
+    return p;
+}
+
+AwtSimulation::AwtSimulation(const Hierarchy& hierarchy, std::vector<Sphere> spheres,
+                             const Motion& motion, const AwtParams& params, double start)
+    : h_(&hierarchy),
+      spheres_(std::move(spheres)),
+      motion_(motion),
+      params_(params),
+      n_(hierarchy.sections),
+      time_(start) {
+    if (!(params_.dt > 0) || params_.friction * params_.dt >= 1)
+        fail("dynamics: friction · dt must be under 1 (§4.2)");
+    const Hierarchy& h = *h_;
+    const size_t nodes = h.node_count();
+    x_.resize(nodes);
+    v_.assign(nodes, Vec3f::Zero());
+    acc_.assign(nodes, Vec3f::Zero());
+    force_.assign(nodes, Vec3f::Zero());
+    drag_.assign(nodes, 0.f);
+    offset_.assign(nodes, Vec3f::Zero());
+    x_old_.resize(nodes);
+    v_old_.resize(nodes);
+    radius_ = h.radius;
+    state_.assign(nodes, kMerged);
+    collided_.assign(nodes, 0);
+    parent_.assign(nodes, 0);
+    link_length_.assign(nodes, -1.f);
+    rotation_.assign(nodes, Quat::Identity());
+    cos_repulsion_ = std::cos(params_.repulsion_angle * kPi / 180.f);
+
+    // Voxel: twice the mean finest radius (§4.1's grid; a segment meets its neighbours in
+    // its own or the adjacent cells).
+    if (params_.voxel > 0) {
+        voxel_ = params_.voxel;
+    } else {
+        double sum = 0;
+        size_t count = 0;
+        for (uint32_t g = h.finest_begin(); g < h.gc_count(); ++g)
+            for (int k = 1; k < n_; ++k, ++count)
+                sum += h.radius[h.node(g, k)];
+        voxel_ = std::max(0.25f, static_cast<float>(2 * sum / std::max<size_t>(1, count)));
+    }
+
+    head_ = motion_.head.at(time_);
+    body_ = motion_.body.at(time_);
+    head_rotation_ = Quat(head_.rotation).normalized();
+    rest_gravity_ = head_.rotation.transpose() * motion_.gravity;
+
+    const int top = params_.single_level ? h.levels - 1 : 0;
+    for (uint32_t g = 0; g < h.gc_count(); ++g)
+        for (int k = 0; k < n_; ++k) {
+            const uint32_t i = h.node(g, k);
+            x_[i] = head_.apply(h.rest[i]);
+            rotation_[i] = head_rotation_;
+            if (k == 0) continue;
+            const int level = h.level[g];
+            state_[i] = level == top ? kActive : level < top ? kSplit : kMerged;
+            if (h.super[g] >= 0)
+                offset_[i] = h.rest[i] - h.rest[h.node(static_cast<uint32_t>(h.super[g]), k)];
+        }
+    place_roots();
+    for (uint32_t g = 0; g < h.gc_count(); ++g)
+        for (int k = 1; k < n_; ++k)
+            v_[h.node(g, k)] = motion_.head.velocity(h.rest[h.node(g, k)], time_);
+    rebuild_active();
+}
+
+void AwtSimulation::place_roots() {
+    const Hierarchy& h = *h_;
+    for (uint32_t g = 0; g < h.gc_count(); ++g) {
+        const uint32_t i = h.node(g, 0);
+        x_[i] = head_.apply(h.rest[i]);
+        v_[i] = motion_.head.velocity(h.rest[i], time_);
+        rotation_[i] = head_rotation_;
+    }
+    world_spheres_ = spheres_;
+    for (Sphere& s : world_spheres_)
+        s.center = (s.head ? head_ : body_).apply(s.center);
+}
+
+std::vector<Sphere> AwtSimulation::world_spheres() const {
+    return world_spheres_;
+}
+
+Quat AwtSimulation::segment_rotation(uint32_t child, uint32_t parent_node,
+                                     const Vec3f& child_position) const {
+    const Vec3f rest = head_rotation_ * (h_->rest[child] - h_->rest[parent_node]);
+    const Vec3f now = child_position - x_[parent_node];
+    if (rest.squaredNorm() < 1e-12f || now.squaredNorm() < 1e-12f) return head_rotation_;
+    return (Quat::FromTwoVectors(rest, now) * head_rotation_).normalized();
+}
+
+uint32_t AwtSimulation::find_parent(uint32_t gc, int k) const {
+    const Hierarchy& h = *h_;
+    if (k == 1) return h.node(gc, 0);
+    uint32_t g = gc;
+    while (state_[h.node(g, k - 1)] == kMerged && h.super[g] >= 0)
+        g = static_cast<uint32_t>(h.super[g]);
+    return h.node(g, k - 1);
+}
+
+void AwtSimulation::rebuild_active() {
+    const Hierarchy& h = *h_;
+    active_.clear();
+    for (int k = 1; k < n_; ++k)
+        for (uint32_t g = 0; g < h.gc_count(); ++g) {
+            const uint32_t i = h.node(g, k);
+            if (state_[i] != kActive) continue;
+            active_.push_back(i);
+            const uint32_t p = find_parent(g, k);
+            // A new link starts at its current length and relaxes to its rest length, so a
+            // split or merge never snaps nodes (and never turns a snap into velocity).
+            if (p != parent_[i] || link_length_[i] < 0) link_length_[i] = (x_[i] - x_[p]).norm();
+            parent_[i] = p;
+        }
+}
+
+void AwtSimulation::step() {
+    const float dt = params_.dt;
+    last_ = AwtStepStats{};
+    events_.clear();
+    time_ += dt;
+    head_ = motion_.head.at(time_);
+    body_ = motion_.body.at(time_);
+    head_rotation_ = Quat(head_.rotation).normalized();
+
+    for (uint32_t i : active_) {
+        x_old_[i] = x_[i];
+        v_old_[i] = v_[i];
+    }
+    // Interactions are computed on the state at the start of the step.
+    if (params_.hair_collisions) interact();
+    place_roots();
+    integrate();
+    if (!params_.single_level) {
+        adapt();
+        settle_merged();
+    }
+}
+
+void AwtSimulation::settle_merged() {
+    // §3.2 freezes merged nodes relative to their super-node; wisp lets them settle back to
+    // their styled place over kSettleTime, so with the head still the hair rests at its
+    // styled shape once the tree has merged back (rather than keeping the deformation of the
+    // moment of the merge).
+    const Hierarchy& h = *h_;
+    const float relax = std::min(1.f, params_.dt / kSettleTime);
+    for (uint32_t g = h.level_begin[1]; g < h.gc_count(); ++g) {
+        const uint32_t up = static_cast<uint32_t>(h.super[g]);
+        for (int k = 1; k < n_; ++k) {
+            const uint32_t i = h.node(g, k);
+            if (state_[i] != kMerged) continue;
+            offset_[i] += relax * ((h.rest[i] - h.rest[h.node(up, k)]) - offset_[i]);
+        }
+    }
+}
+
+void AwtSimulation::interact() {
+    const Hierarchy& h = *h_;
+    for (uint32_t i : active_) {
+        force_[i].setZero();
+        drag_[i] = 0;
+    }
+    const size_t count = active_.size();
+    box_lo_.resize(count);
+    box_hi_.resize(count);
+    mean_velocity_.resize(count);
+    moving_.resize(count);
+    extent_.resize(count);
+    for (size_t s = 0; s < count; ++s) {
+        const uint32_t c = active_[s], p = parent_[c];
+        const float r = radius_[c];
+        box_lo_[s] = x_[c].cwiseMin(x_[p]) - Vec3f::Constant(r);
+        box_hi_[s] = x_[c].cwiseMax(x_[p]) + Vec3f::Constant(r);
+        extent_[s] = (box_hi_[s] - box_lo_[s]).maxCoeff();
+        mean_velocity_[s] = 0.5f * (v_[c] + v_[p]);
+        // §4.1: only pairs with relative motion are tested; two segments that both move
+        // slower than half the threshold cannot have it.
+        moving_[s] = mean_velocity_[s].squaredNorm() >= 0.25f * kStill * kStill;
+    }
+    // The voxel: the configured size, or the median segment box (so a typical segment
+    // meets its neighbours in at most 8 cells whatever the active level).
+    float cell = voxel_;
+    if (params_.voxel <= 0 && count > 0) {
+        scratch_ = extent_;
+        std::nth_element(scratch_.begin(), scratch_.begin() + count / 2, scratch_.end());
+        cell = std::max(cell, scratch_[count / 2]);
+    }
+    const float inv = 1.f / cell;
+    cells_.clear();
+    for (size_t s = 0; s < count; ++s) {
+        const Vec3i lo = (box_lo_[s] * inv).array().floor().cast<int>();
+        const Vec3i hi = (box_hi_[s] * inv).array().floor().cast<int>();
+        const Vec3i top = hi.cwiseMin(lo + Vec3i::Constant(7));  // bound very long segments
+        // Moving segments first in each cell: still–still pairs are never enumerated.
+        const uint32_t order = (moving_[s] ? 0u : 1u << 31) | static_cast<uint32_t>(s);
+        for (int z = lo.z(); z <= top.z(); ++z)
+            for (int y = lo.y(); y <= top.y(); ++y)
+                for (int x = lo.x(); x <= top.x(); ++x)
+                    cells_.emplace_back(cell_key(x, y, z), order);
+    }
+    std::sort(cells_.begin(), cells_.end());
+    const float alpha = params_.friction, kr = params_.repulsion;
+    auto apply = [&](uint32_t c, uint32_t p, float s, const Vec3f& f) {
+        // P = u·N_p + (1 − u)·N_c with u = 1 − s (s runs parent → child): eq. (3).
+        force_[c] += s * f;
+        if (h.section_of(p) != 0) force_[p] += (1 - s) * f;
+    };
+    auto friction = [&](uint32_t c, uint32_t p, float s, float k, const Vec3f& other) {
+        drag_[c] += s * k;
+        force_[c] += s * k * other;
+        if (h.section_of(p) == 0) return;
+        drag_[p] += (1 - s) * k;
+        force_[p] += (1 - s) * k * other;
+    };
+    constexpr uint32_t kIndex = (1u << 31) - 1;
+    for (size_t begin = 0; begin < cells_.size();) {
+        size_t end = begin + 1;
+        while (end < cells_.size() && cells_[end].first == cells_[begin].first)
+            ++end;
+        const uint64_t key = cells_[begin].first;
+        for (size_t a = begin; a < end && moving_[cells_[a].second & kIndex]; ++a)
+            for (size_t b = a + 1; b < end; ++b) {
+                const uint32_t sa = cells_[a].second & kIndex, sb = cells_[b].second & kIndex;
+                if ((mean_velocity_[sa] - mean_velocity_[sb]).squaredNorm() < kStill * kStill)
+                    continue;
+                const uint32_t ca = active_[sa], pa = parent_[ca];
+                const uint32_t cb = active_[sb], pb = parent_[cb];
+                if (pa == cb || pb == ca || pa == pb) continue;  // neighbours in the tree
+                // Test each pair once: in the cell holding the corner of their boxes' overlap.
+                const Vec3f lo = box_lo_[sa].cwiseMax(box_lo_[sb]);
+                const Vec3f hi = box_hi_[sa].cwiseMin(box_hi_[sb]);
+                if ((lo.array() > hi.array()).any()) continue;
+                const Vec3i corner = (lo * inv).array().floor().cast<int>();
+                if (cell_key(corner.x(), corner.y(), corner.z()) != key) continue;
+                ++last_.pair_tests;
+                float s, t;
+                closest_points(x_[pa], x_[ca], x_[pb], x_[cb], s, t);
+                const Vec3f p1 = x_[pa] + s * (x_[ca] - x_[pa]);
+                const Vec3f p2 = x_[pb] + t * (x_[cb] - x_[pb]);
+                const float r = radius_[ca] + radius_[cb];
+                const Vec3f d = p1 - p2;
+                const float dist2 = d.squaredNorm();
+                if (dist2 >= r * r) continue;
+                ++last_.hair_contacts;
+                const float m = std::min(h.mass[ca], h.mass[cb]);
+                const Vec3f v1 = v_[pa] + s * (v_[ca] - v_[pa]);
+                const Vec3f v2 = v_[pb] + t * (v_[cb] - v_[pb]);
+                // Eq. (1), k_f = α·m, split by eq. (3). It is integrated implicitly (each
+                // node is drawn toward the other segment's velocity), so many contacts on one
+                // node never reverse its relative motion.
+                friction(ca, pa, s, alpha * m, v2);
+                friction(cb, pb, t, alpha * m, v1);
+                const Vec3f ea = x_[ca] - x_[pa], eb = x_[cb] - x_[pb];
+                const float la = ea.norm(), lb = eb.norm();
+                const float dist = std::sqrt(dist2);
+                if (la > 0 && lb > 0 && dist > 1e-6f &&
+                    std::abs(ea.dot(eb)) < cos_repulsion_ * la * lb) {
+                    // Eq. (2), but never against the styled shape: segments that overlap at
+                    // rest (neighbouring sub-wisps, layers) repel only when closer than there.
+                    float rs, rt;
+                    closest_points(h.rest[pa], h.rest[ca], h.rest[pb], h.rest[cb], rs, rt);
+                    const float at_rest = ((h.rest[pa] + rs * (h.rest[ca] - h.rest[pa])) -
+                                           (h.rest[pb] + rt * (h.rest[cb] - h.rest[pb])))
+                                              .norm();
+                    const float reach = std::min(r, at_rest);
+                    if (dist < reach) {
+                        const Vec3f f = kr * m * (reach - dist) / dist * d;
+                        apply(ca, pa, s, f);
+                        apply(cb, pb, t, -f);
+                    }
+                }
+            }
+        begin = end;
+    }
+}
+
+void AwtSimulation::integrate() {
+    const Hierarchy& h = *h_;
+    const float dt = params_.dt;
+    const Vec3f gravity = motion_.gravity - head_rotation_ * rest_gravity_;
+    const Vec3f air = params_.air_drag * motion_.wind_at(time_);
+    const float ks = params_.rigid ? 0.f : params_.stretch;
+    const float kb = params_.stiffness;
+    const float kt = kb + ks;
+    const float denom = 1 + dt * (params_.damping + params_.air_drag) + dt * dt * kt;
+    const bool forces = params_.hair_collisions;  // interact() has set force_ and drag_
+    const float relax = std::min(1.f, dt / kLinkRelaxTime);
+    for (uint32_t c : active_)
+        link_length_[c] += relax * ((h.rest[c] - h.rest[parent_[c]]).norm() - link_length_[c]);
+    // The shape spring pulls each child toward x_p + R_h·(X_c − X_p) (its styled place
+    // relative to its parent, turned with the head) and pulls the parent back by as much
+    // (explicitly, from the start of the step), so it is a conservative spring between the
+    // two and the tree cannot pump energy into itself.
+    if (!forces)
+        for (uint32_t c : active_) {
+            force_[c].setZero();
+            drag_[c] = 0;
+        }
+    for (uint32_t c : active_) {
+        const uint32_t p = parent_[c];
+        if (h.section_of(p) == 0) continue;
+        const Vec3f target = x_old_[p] + head_rotation_ * (h.rest[c] - h.rest[p]);
+        force_[p] -= h.mass[c] * kb * (target - x_old_[c]);
+    }
+    // Root to tip: every parent is advanced before its children.
+    for (uint32_t c : active_) {
+        const uint32_t p = parent_[c];
+        const Vec3f rest = h.rest[c] - h.rest[p];
+        const Vec3f bend_target = x_[p] + head_rotation_ * rest;
+        Vec3f target = bend_target;
+        if (ks > 0) {
+            const Vec3f along = x_[c] - x_[p];
+            const float len = along.norm();
+            const Vec3f stretch_target =
+                len > 1e-6f ? Vec3f(x_[p] + link_length_[c] / len * along) : bend_target;
+            target = (kb * bend_target + ks * stretch_target) / kt;
+        }
+        Vec3f a = gravity + air + params_.damping * v_[p];
+        // force_ holds the shape springs' reactions, the repulsions and Σ k_f·v_other;
+        // drag_ holds Σ k_f (friction, implicit).
+        a += force_[c] / h.mass[c];
+        const float d = denom + dt * drag_[c] / h.mass[c];
+        const Vec3f v = (v_[c] + dt * (kt * (target - x_[c]) + a)) / d;
+        x_[c] += dt * v;
+        v_[c] = v;
+        rotation_[c] = segment_rotation(c, p, x_[c]);
+    }
+    if (params_.rigid) {
+        // van Overveld's iterative constraint method: mass-weighted passes over the links.
+        for (int it = 0; it < params_.iterations; ++it)
+            for (uint32_t c : active_) {
+                const uint32_t p = parent_[c];
+                const float rest = link_length_[c];
+                const Vec3f d = x_[c] - x_[p];
+                const float len = d.norm();
+                if (len < 1e-6f) continue;
+                const float wc = 1.f / h.mass[c];
+                const float wp = h.section_of(p) == 0 ? 0.f : 1.f / h.mass[p];
+                const Vec3f correction = (len - rest) / (len * (wc + wp)) * d;
+                x_[c] -= wc * correction;
+                x_[p] += wp * correction;
+            }
+    }
+    // Last pass, root to tip: exact lengths (rigid), then the body.
+    for (uint32_t c : active_) {
+        const uint32_t p = parent_[c];
+        collided_[c] = 0;
+        const float rest = link_length_[c];
+        // Alternate the link length and the body, ending with the body: the child slides
+        // over the obstacle at its link's length (rigid) instead of being shoved off it.
+        for (int round = 0; round < 4; ++round) {
+            if (params_.rigid) {
+                const Vec3f d = x_[c] - x_[p];
+                const float len = d.norm();
+                if (len > 1e-6f) x_[c] = x_[p] + rest / len * d;
+            }
+            if (!params_.body_collisions || !collide_body(c, p)) break;
+        }
+    }
+    const float inv_dt = 1.f / dt;
+    for (uint32_t c : active_) {
+        if (!collided_[c]) v_[c] = (x_[c] - x_old_[c]) * inv_dt;
+        acc_[c] = (v_[c] - v_old_[c]) * inv_dt;
+        rotation_[c] = segment_rotation(c, parent_[c], x_[c]);
+    }
+}
+
+bool AwtSimulation::collide_body(uint32_t c, uint32_t p) {
+    bool any = false;
+    // The child end must leave every sphere; so must the child half of the segment (the
+    // parent half is its own parent segment's business, and roots sit on the scalp). A few
+    // rounds: leaving one sphere may enter an overlapping one.
+    for (int round = 0; round < 4; ++round) {
+        bool moved = false;
+        for (const Sphere& sphere : world_spheres_) {
+            const Vec3f a = x_[p], b = x_[c];
+            const Vec3f ab = b - a;
+            const float len2 = ab.squaredNorm();
+            const float t =
+                len2 > 1e-12f ? std::clamp((sphere.center - a).dot(ab) / len2, 0.5f, 1.f) : 1.f;
+            const Vec3f d = a + t * ab - sphere.center;
+            const float dist = d.norm();
+            if (dist >= sphere.radius) continue;
+            // Moving the child by δ moves the point at t by t·δ.
+            Vec3f normal = dist > 1e-6f ? Vec3f(d / dist) : Vec3f(b - sphere.center);
+            if (normal.squaredNorm() < 1e-12f) normal = Vec3f::UnitY();
+            normal.normalize();
+            Vec3f to = b + (sphere.radius - dist) / t * normal;
+            const Vec3f e = to - sphere.center;
+            if (e.norm() < sphere.radius) to = sphere.center + sphere.radius * e.normalized();
+            x_[c] = to;
+            moved = any = true;
+            if (!collided_[c]) ++last_.body_contacts;
+            collided_[c] = 1;
+            // Static friction: the node takes the obstacle's velocity (§4.3).
+            const MotionTrack& track = sphere.head ? motion_.head : motion_.body;
+            const RigidTransform& pose = sphere.head ? head_ : body_;
+            const Vec3f local = pose.rotation.transpose() * (x_[c] - pose.translation);
+            v_[c] = track.velocity(local, time_);
+        }
+        if (!moved) break;
+    }
+    return any;
+}
+
+void AwtSimulation::adapt() {
+    const Hierarchy& h = *h_;
+    const float threshold = params_.split_threshold;
+    const uint32_t finest = h.finest_begin();
+    // Splits, tip to root: the active list is ordered by section.
+    size_t end = active_.size();
+    for (int k = n_ - 1; k >= 1; --k) {
+        size_t begin = end;
+        while (begin > 0 && h.section_of(active_[begin - 1]) == k)
+            --begin;
+        for (size_t i = begin; i < end; ++i) {
+            const uint32_t c = active_[i];
+            const uint32_t g = h.gc_of(c);
+            if (g >= finest || state_[c] != kActive) continue;
+            if (acc_[c].norm() * radius_[c] <= threshold) continue;
+            if (k < n_ - 1 && state_[h.node(g, k + 1)] != kSplit) continue;
+            split(c);
+        }
+        end = begin;
+    }
+    // Merges, root to tip; finer levels first so a merge can cascade up within a step.
+    for (int k = 1; k < n_; ++k)
+        for (int l = h.levels - 2; l >= 0; --l)
+            for (uint32_t g = h.level_begin[l]; g < h.level_begin[l + 1]; ++g)
+                if (state_[h.node(g, k)] == kSplit) try_merge(g, k);
+    if (last_.splits || last_.merges) rebuild_active();
+}
+
+void AwtSimulation::rebase_subtree(uint32_t node, const Quat& change) {
+    const Hierarchy& h = *h_;
+    const uint32_t g = h.gc_of(node);
+    const int k = h.section_of(node);
+    for (uint32_t s = h.child_begin[g]; s < h.child_begin[g] + h.child_count[g]; ++s) {
+        const uint32_t i = h.node(s, k);
+        offset_[i] = change * offset_[i];
+        rebase_subtree(i, change);
+    }
+}
+
+void AwtSimulation::split(uint32_t c) {
+    const Hierarchy& h = *h_;
+    const uint32_t g = h.gc_of(c);
+    const int k = h.section_of(c);
+    const uint32_t p = parent_[c];
+    const Quat q = rotation_[c];
+    state_[c] = kSplit;
+    for (uint32_t s = h.child_begin[g]; s < h.child_begin[g] + h.child_count[g]; ++s) {
+        const uint32_t i = h.node(s, k);
+        state_[i] = kActive;
+        x_[i] = x_[c] + q * offset_[i];
+        v_[i] = v_[c];
+        acc_[i] = acc_[c];
+        radius_[i] = h.radius[i];
+        parent_[i] = k == 1 ? h.node(s, 0) : p;
+        link_length_[i] = (x_[i] - x_[parent_[i]]).norm();
+        rotation_[i] = segment_rotation(i, parent_[i], x_[i]);
+        // Finer nodes keep their places: their offsets move to the new segment's frame.
+        rebase_subtree(i, rotation_[i].conjugate() * q);
+        if (params_.body_collisions) collide_body(i, p);
+    }
+    events_.push_back({AwtEvent::Kind::kSplit, c});
+    ++last_.splits;
+    ++total_splits_;
+}
+
+bool AwtSimulation::try_merge(uint32_t g, int k) {
+    const Hierarchy& h = *h_;
+    const uint32_t node = h.node(g, k);
+    // Same AWT parent: the node above must not be split (the active node there is g or an
+    // ancestor, shared by every sub-node).
+    if (k > 1 && state_[h.node(g, k - 1)] == kSplit) return false;
+    const uint32_t first = h.child_begin[g], last = first + h.child_count[g];
+    double m = 0;
+    Vec3d xs = Vec3d::Zero(), vs = Vec3d::Zero(), as = Vec3d::Zero();
+    for (uint32_t s = first; s < last; ++s) {
+        const uint32_t i = h.node(s, k);
+        if (state_[i] != kActive) return false;
+        const double mi = h.mass[i];
+        m += mi;
+        xs += mi * x_[i].cast<double>();
+        vs += mi * v_[i].cast<double>();
+        as += mi * acc_[i].cast<double>();
+    }
+    const Vec3f centre = (xs / m).cast<float>(), velocity = (vs / m).cast<float>();
+    const Vec3f acceleration = (as / m).cast<float>();
+    const float rest_radius = h.radius[node];
+    // The split test must be false (§3.2), with a margin so a merged node does not split
+    // again at the next step's noise.
+    if (acceleration.norm() * rest_radius > kMergeHysteresis * params_.split_threshold)
+        return false;
+    float fit = 0;
+    for (uint32_t s = first; s < last; ++s) {
+        const uint32_t i = h.node(s, k);
+        const float d = (x_[i] - centre).norm();
+        if (d > rest_radius) return false;
+        if ((v_[i] - velocity).norm() >= params_.merge_velocity) return false;
+        fit = std::max(fit, d + radius_[i]);
+    }
+    const uint32_t p = find_parent(g, k);
+    state_[node] = kActive;
+    x_[node] = centre;
+    v_[node] = velocity;
+    acc_[node] = acceleration;
+    radius_[node] = std::max(fit, 0.05f);
+    parent_[node] = p;
+    link_length_[node] = (centre - x_[p]).norm();
+    rotation_[node] = segment_rotation(node, p, centre);
+    const Quat inverse = rotation_[node].conjugate();
+    for (uint32_t s = first; s < last; ++s) {
+        const uint32_t i = h.node(s, k);
+        state_[i] = kMerged;
+        // Frozen relative to the super-node from now on (§3.2), in its segment's frame;
+        // finer nodes move from the sub-node's frame to it.
+        offset_[i] = inverse * (x_[i] - centre);
+        rebase_subtree(i, inverse * rotation_[i]);
+    }
+    if (params_.body_collisions) collide_body(node, p);
+    events_.push_back({AwtEvent::Kind::kMerge, node});
+    ++last_.merges;
+    ++total_merges_;
+    return true;
+}
+
+void AwtSimulation::sync() {
+    const Hierarchy& h = *h_;
+    // Merged nodes, coarse to fine: from their super-node through the governing rotation.
+    std::vector<uint32_t> governor(h.node_count());
+    for (uint32_t g = 0; g < h.gc_count(); ++g)
+        for (int k = 1; k < n_; ++k) {
+            const uint32_t i = h.node(g, k);
+            if (state_[i] == kActive) {
+                governor[i] = i;
+            } else if (state_[i] == kMerged) {
+                const uint32_t up = h.node(static_cast<uint32_t>(h.super[g]), k);
+                governor[i] = governor[up];
+                x_[i] = x_[up] + rotation_[governor[i]] * offset_[i];
+                v_[i] = v_[governor[i]];
+            }
+        }
+    // Split nodes, fine to coarse: their sub-nodes' centre of mass.
+    for (uint32_t g = static_cast<uint32_t>(h.gc_count()); g-- > 0;)
+        for (int k = 1; k < n_; ++k) {
+            const uint32_t i = h.node(g, k);
+            if (state_[i] != kSplit) continue;
+            Vec3f xs = Vec3f::Zero(), vs = Vec3f::Zero();
+            for (uint32_t s = h.child_begin[g]; s < h.child_begin[g] + h.child_count[g]; ++s) {
+                xs += h.mass[h.node(s, k)] * x_[h.node(s, k)];
+                vs += h.mass[h.node(s, k)] * v_[h.node(s, k)];
+            }
+            x_[i] = xs / h.mass[i];
+            v_[i] = vs / h.mass[i];
+        }
+}
+
+std::vector<uint32_t> AwtSimulation::active_per_level() const {
+    std::vector<uint32_t> counts(h_->levels, 0);
+    for (uint32_t i : active_)
+        ++counts[h_->level[h_->gc_of(i)]];
+    return counts;
+}
+
+double AwtSimulation::kinetic_energy() const {
+    double e = 0;
+    for (uint32_t i : active_)
+        e += 0.5 * h_->mass[i] * v_[i].squaredNorm();
+    return e;
+}
+
+double AwtSimulation::active_mass() const {
+    double m = 0;
+    for (uint32_t i : active_)
+        m += h_->mass[i];
+    return m;
+}
+
+void AwtSimulation::finest_rotations(std::vector<Mat3f>& out) const {
+    const Hierarchy& h = *h_;
+    const uint32_t first = h.finest_begin();
+    const size_t count = h.gc_count() - first;
+    out.resize(count * n_);
+    std::vector<Quat> segment(n_);
+    for (size_t f = 0; f < count; ++f) {
+        const uint32_t g = first + static_cast<uint32_t>(f);
+        segment[0] = head_rotation_;
+        for (int k = 1; k < n_; ++k) {
+            const uint32_t c = h.node(g, k), p = h.node(g, k - 1);
+            const Vec3f rest = head_rotation_ * (h.rest[c] - h.rest[p]);
+            const Vec3f now = x_[c] - x_[p];
+            segment[k] = rest.squaredNorm() > 1e-12f && now.squaredNorm() > 1e-12f
+                             ? (Quat::FromTwoVectors(rest, now) * head_rotation_).normalized()
+                             : head_rotation_;
+        }
+        out[f * n_] = head_rotation_.toRotationMatrix();
+        for (int k = 1; k < n_; ++k) {
+            Quat q = segment[k];
+            if (k + 1 < n_) {
+                Quat next = segment[k + 1];
+                if (q.dot(next) < 0) next.coeffs() = -next.coeffs();
+                q.coeffs() = q.coeffs() + next.coeffs();
+                q.normalize();
+            }
+            out[f * n_ + k] = q.toRotationMatrix();
+        }
+    }
+}
+
+std::string AwtSimulation::check_invariants() const {
+    const Hierarchy& h = *h_;
+    const uint32_t finest = h.finest_begin();
+    for (uint32_t f = finest; f < h.gc_count(); ++f) {
+        int previous_level = 0;
+        for (int k = 1; k < n_; ++k) {
+            // Walk up from the finest node: merged*, active, split*.
+            uint32_t g = f;
+            int active = 0, active_level = -1;
+            bool above_active = false;
+            while (true) {
+                const uint8_t s = state_[h.node(g, k)];
+                if (s == kActive) {
+                    ++active;
+                    active_level = h.level[g];
+                    above_active = true;
+                } else if (s == kMerged && above_active) {
+                    return cat("node ", h.node(g, k), " is merged above the active node");
+                } else if (s == kSplit && !above_active) {
+                    return cat("node ", h.node(g, k), " is split below the active node");
+                }
+                if (h.super[g] < 0) break;
+                g = static_cast<uint32_t>(h.super[g]);
+            }
+            if (active != 1)
+                return cat("finest GC ", f, " section ", k, " has ", active, " active nodes");
+            if (active_level < previous_level)
+                return cat("finest GC ", f, ": the active level decreases at section ", k);
+            previous_level = active_level;
+        }
+    }
+    return {};
+}
+
+}  // namespace wisp

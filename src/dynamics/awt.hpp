@@ -1,0 +1,185 @@
+#pragma once
+// The Adaptive Wisp Tree (Bertails et al. 2003 §2.2–§4): animation of a multiresolution
+// hierarchy whose nodes split and merge.
+//
+// State. Node k ≥ 1 of every GC is, at any time, one of
+//   active  it is simulated (position, velocity);
+//   split   its sub-nodes (or finer ones) govern its cross-section;
+//   merged  an active ancestor (super-node, super-super-node …) governs it; it follows that
+//           node through its offset vector, rotated with the governing segment (§3.3).
+// Partition invariant: along the super-node chain of every finest node k ≥ 1, exactly one
+// node is active, those below it are merged and those above are split. Tree invariant: the
+// level of the active node never decreases from root to tip (splits go tip to root, merges
+// root to tip, §2.2), so the active node at k−1 over an active node at k is itself or an
+// ancestor GC: its parent in the AWT. Node 0 (the roots) of every GC moves rigidly with the
+// head and is never simulated; the parent of an active node at k = 1 is its own GC's root.
+//
+// Step (dt), in order:
+//   1. roots follow the head's rigid motion (motion.hpp);
+//   2. hair–hair interactions (§4.1–§4.2) between active segments in one voxel with relative
+//      motion: viscous friction k_f = α·m (eq. 1) and, for segments crossing at more than the
+//      threshold angle, repulsion (eq. 2), split to the segment's two nodes by eq. (3);
+//   3. every active node, root to tip, is integrated implicitly (backward Euler in velocity,
+//      with its parent already advanced) under
+//        - a spring toward its rest position relative to its parent: x_p + Q_p·(X_c − X_p),
+//          where Q_p rotates the parent segment's rest direction onto its current one (the
+//          hairstyle keeps its shape: with the head still, hair stays at the styled shape);
+//        - soft links (curly hair): a second spring on the segment's length;
+//        - effective gravity g − R_h·R_h0ᵀ·g: the styled shape is the rest shape under the
+//          gravity of the first frame (sag-free), and the head's rotation since then turns it;
+//        - drag toward the air's velocity (wind), damping relative to the parent's velocity,
+//          the interaction forces;
+//   4. rigid links (straight hair): `iterations` mass-weighted Gauss–Seidel passes over the
+//      link lengths (van Overveld's iterative method), then a last pass root to tip that sets
+//      every length exactly;
+//   5. body (§4.3): a segment that penetrates a sphere is pushed out by moving its child
+//      node, whose velocity becomes the obstacle's;
+//   6. velocities from positions; accelerations a = Δv/dt;
+//   7. adaptation: splits tip to root (§3.1: |a|·r over the threshold and the child node
+//      already split; sub-nodes take the offsets and the velocity of the split node), then
+//      merges root to tip (§3.2: sub-nodes of one super-node with the same AWT parent, within
+//      its radius, relative speeds under the threshold, the split test false; the super-node
+//      takes the centre of mass, the mass-weighted velocity and a radius that fits them).
+// Single-level mode keeps every finest node active and never adapts (the paper's baseline).
+// Everything is sequential and deterministic.
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "dynamics/body.hpp"
+#include "dynamics/hierarchy.hpp"
+#include "dynamics/motion.hpp"
+#include "groom/style.hpp"
+
+namespace wisp {
+
+struct AwtParams {
+    bool rigid = true;
+    bool single_level = false;
+    float stiffness = 300.f;         // 1/s²
+    float stretch = 3000.f;          // 1/s², soft links
+    float damping = 4.f;             // 1/s
+    float air_drag = 1.f;            // 1/s
+    float split_threshold = 1500.f;  // |a|·r, cm²/s²
+    float merge_velocity = 15.f;     // cm/s
+    float friction = 20.f;           // α, 1/s
+    float repulsion = 1500.f;        // 1/s²
+    float repulsion_angle = 30.f;    // degrees
+    float voxel = 0.f;               // cm, 0 = automatic
+    int iterations = 2;
+    bool hair_collisions = true;
+    bool body_collisions = true;
+    float dt = 0.01f;  // s
+};
+
+// The parameters of a style's [dynamics] section (threshold converted from m²/s² to cm²/s²;
+// links auto = soft for curly and kinky prototypes). Throws wisp::Error when α·dt ≥ 1.
+AwtParams awt_params(const DynamicsSpec& spec, PrototypeSpec::Kind prototype, bool single_level);
+
+enum class NodeState : uint8_t { kActive, kSplit, kMerged };
+
+struct AwtEvent {
+    enum class Kind : uint8_t { kSplit, kMerge };
+    Kind kind;
+    uint32_t node;  // the split node, or the super-node that merged
+};
+
+struct AwtStepStats {
+    uint32_t splits = 0, merges = 0;
+    uint32_t pair_tests = 0;     // cylinder tests (pairs in a voxel with relative motion)
+    uint32_t hair_contacts = 0;  // pairs closer than their radii
+    uint32_t body_contacts = 0;  // child nodes pushed out of the body
+};
+
+class AwtSimulation {
+  public:
+    // `hierarchy` must outlive the simulation. `spheres` are in head space (body.hpp); the
+    // simulation starts at time `start` with the hair at rest in the pose of that time.
+    AwtSimulation(const Hierarchy& hierarchy, std::vector<Sphere> spheres, const Motion& motion,
+                  const AwtParams& params, double start = 0);
+
+    void step();
+    double time() const { return time_; }
+    const Hierarchy& hierarchy() const { return *h_; }
+    const AwtParams& params() const { return params_; }
+
+    // Positions of every node, world space. Active and root nodes are current after step();
+    // call sync() first for the others.
+    std::span<const Vec3f> positions() const { return x_; }
+    std::span<const Vec3f> velocities() const { return v_; }
+    // Places every non-active node (merged: through its offset; split: at its sub-nodes'
+    // centre of mass).
+    void sync();
+
+    NodeState state(uint32_t node) const { return static_cast<NodeState>(state_[node]); }
+    // Active nodes with k ≥ 1, root to tip (by section, then GC).
+    const std::vector<uint32_t>& active() const { return active_; }
+    uint32_t parent(uint32_t active_node) const { return parent_[active_node]; }
+    float radius(uint32_t node) const { return radius_[node]; }
+    // The length an active node's link holds: its rest length, except just after a split or
+    // merge made the link, when it starts at the current length and relaxes to the rest one.
+    float link_length(uint32_t node) const { return link_length_[node]; }
+    // Active nodes (k ≥ 1) per hierarchy level.
+    std::vector<uint32_t> active_per_level() const;
+    const AwtStepStats& last_step() const { return last_; }
+    const std::vector<AwtEvent>& last_events() const { return events_; }
+    uint64_t total_splits() const { return total_splits_; }
+    uint64_t total_merges() const { return total_merges_; }
+    // Σ ½·m·|v|² over active nodes, g·cm²/s².
+    double kinetic_energy() const;
+    double active_mass() const;
+    const RigidTransform& head_transform() const { return head_; }
+    // The spheres at the current time, world space.
+    std::vector<Sphere> world_spheres() const;
+    // Rotation of every finest node (#finest GCs × sections, row by GC): the rest frame to
+    // the current one, blended from the segments on either side (roots: the head's). After
+    // sync().
+    void finest_rotations(std::vector<Mat3f>& out) const;
+    // An empty string when the partition and tree invariants hold, else what is wrong.
+    std::string check_invariants() const;
+
+  private:
+    void place_roots();
+    void interact();
+    void integrate();
+    bool collide_body(uint32_t child, uint32_t parent_node);  // true when it moved the child
+    void adapt();
+    void split(uint32_t node);
+    bool try_merge(uint32_t gc, int k);
+    void rebuild_active();
+    uint32_t find_parent(uint32_t gc, int k) const;
+    Eigen::Quaternionf segment_rotation(uint32_t child, uint32_t parent_node,
+                                        const Vec3f& child_position) const;
+    void rebase_subtree(uint32_t node, const Eigen::Quaternionf& change);
+    void settle_merged();
+
+    const Hierarchy* h_;
+    std::vector<Sphere> spheres_;
+    Motion motion_;
+    AwtParams params_;
+    int n_;
+    double time_;
+    RigidTransform head_, body_;
+    Eigen::Quaternionf head_rotation_;
+    Vec3f rest_gravity_;  // gravity of the first frame, head space
+    float voxel_;
+    float cos_repulsion_;
+
+    std::vector<Vec3f> x_, v_, acc_, force_, offset_, x_old_, v_old_;
+    std::vector<float> radius_, drag_, link_length_;
+    std::vector<uint8_t> state_, collided_;
+    std::vector<uint32_t> parent_;
+    std::vector<Eigen::Quaternionf> rotation_;  // segment rotation of active nodes
+    std::vector<uint32_t> active_;
+    std::vector<Sphere> world_spheres_;
+    std::vector<std::pair<uint64_t, uint32_t>> cells_;  // hair–hair voxel entries
+    std::vector<Vec3f> box_lo_, box_hi_, mean_velocity_;
+    std::vector<float> extent_, scratch_;
+    std::vector<uint8_t> moving_;
+    std::vector<AwtEvent> events_;
+    AwtStepStats last_;
+    uint64_t total_splits_ = 0, total_merges_ = 0;
+};
+
+}  // namespace wisp

@@ -1,0 +1,35 @@
+#pragma once
+// Moving the render strands with the AWT (Bertails et al. 2003 §2.2: "each hair strand is
+// attached to one of the finest GCs ... and thus controlled by the set of active segments").
+//
+// At rest every strand point p with arc-length fraction t lies at u = t·(n−1) along its
+// finest GC's centre curve (node k = ⌊u⌋, f = u − k) and keeps the offset
+//   o = p − lerp(X_k, X_k+1, f)
+// in the rest frame. Animated, with node positions x and node rotations M (rest frame to
+// now, AwtSimulation::finest_rotations):
+//   p = (1 − f)·(x_k + M_k·o) + f·(x_k+1 + M_k+1·o)
+// so roots move rigidly with the head, strands keep their curls and offsets, and the
+// geometry is continuous whenever the nodes are (splits and merges never move a node).
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/hair.hpp"
+#include "dynamics/hierarchy.hpp"
+
+namespace wisp {
+
+struct StrandBinding {
+    std::vector<float> u;       // #P position along the finest GC, in [0, n−1]
+    std::vector<Vec3f> offset;  // #P rest offset from the GC's centre curve, cm
+};
+
+StrandBinding bind_strands(const Hair& rest, const Hierarchy& hierarchy);
+
+// Writes the animated points into `out.points` (out must have rest's topology). `positions`
+// holds every hierarchy node (AwtSimulation::positions after sync), `rotations` the finest
+// nodes' rotations. Parallel over strands; no allocation.
+void skin_strands(const Hierarchy& hierarchy, const StrandBinding& binding,
+                  std::span<const Vec3f> positions, std::span<const Mat3f> rotations, Hair& out);
+
+}  // namespace wisp

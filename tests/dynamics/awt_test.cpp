@@ -1,0 +1,291 @@
+// The Adaptive Wisp Tree (Bertails et al. 2003 §2.3–§4) on small solved hairstyles.
+#include "dynamics/awt.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/error.hpp"
+#include "dynamics/skin.hpp"
+#include "dynamics_fixture.hpp"
+
+namespace wisp {
+namespace {
+
+struct Scene {
+    test::Groomed groomed;
+    Hierarchy hierarchy;
+    std::vector<Sphere> spheres;
+};
+
+const Scene& scene(const std::string& preset) {
+    static std::map<std::string, std::unique_ptr<Scene>> cache;
+    auto& slot = cache[preset];
+    if (!slot) {
+        slot = std::make_unique<Scene>();
+        slot->groomed = test::groomed(preset);
+        slot->hierarchy =
+            build_hierarchy(slot->groomed.hair, hierarchy_options(slot->groomed.style.dynamics));
+        slot->spheres =
+            body_spheres_for(*test::builtin_head().mesh, slot->groomed.head, slot->hierarchy);
+    }
+    return *slot;
+}
+
+AwtParams params_of(const Scene& s, bool single_level = false) {
+    return awt_params(s.groomed.style.dynamics, s.groomed.style.prototype.kind, single_level);
+}
+
+// The mass of each cross-section's active nodes, summed over sections.
+double section_mass(const Hierarchy& h) {
+    double m = 0;
+    for (uint32_t g = 0; g < h.level_begin[1]; ++g)
+        for (int k = 1; k < h.sections; ++k)
+            m += h.mass[h.node(g, k)];
+    return m;
+}
+
+TEST(Awt, StartsCoarseAndTheHeadStillKeepsTheStyledShape) {
+    const Scene& s = scene("long-straight");
+    const Hierarchy& h = s.hierarchy;
+    AwtSimulation sim(h, s.spheres, motion_preset("still", s.groomed.head), params_of(s));
+    EXPECT_EQ(sim.active().size(), h.level_size(0) * (h.sections - 1));
+    for (int step = 0; step < 200; ++step)
+        sim.step();
+    EXPECT_EQ(sim.total_splits(), 0u);
+    EXPECT_EQ(sim.active_per_level()[0], h.level_size(0) * (h.sections - 1));
+    sim.sync();
+    float worst = 0;
+    for (uint32_t i = 0; i < h.node_count(); ++i)
+        worst = std::max(worst, (sim.positions()[i] - h.rest[i]).norm());
+    EXPECT_LT(worst, 0.01f) << "the hair sags or drifts with the head still";
+}
+
+TEST(Awt, MassPartitionAndOrderHoldThroughADrasticMotion) {
+    const Scene& s = scene("long-straight");
+    const Hierarchy& h = s.hierarchy;
+    AwtSimulation sim(h, s.spheres, motion_preset("shake", s.groomed.head), params_of(s));
+    const double total = section_mass(h);
+    std::vector<uint8_t> before(h.node_count());
+    uint64_t splits = 0, merges = 0;
+    for (int step = 0; step < 400; ++step) {
+        for (uint32_t i = 0; i < h.node_count(); ++i)
+            before[i] = static_cast<uint8_t>(sim.state(i));
+        sim.step();
+        ASSERT_EQ(sim.check_invariants(), "") << "step " << step;
+        ASSERT_NEAR(sim.active_mass(), total, 1e-4 * total) << "step " << step;
+        // Replay the step's events on the state before it: each split found its child node
+        // already split (tip to root), each merge its parent node unsplit (root to tip).
+        for (const AwtEvent& e : sim.last_events()) {
+            const uint32_t g = h.gc_of(e.node);
+            const int k = h.section_of(e.node);
+            const uint8_t split = static_cast<uint8_t>(NodeState::kSplit);
+            const uint8_t active = static_cast<uint8_t>(NodeState::kActive);
+            const uint8_t merged = static_cast<uint8_t>(NodeState::kMerged);
+            if (e.kind == AwtEvent::Kind::kSplit) {
+                ASSERT_EQ(before[e.node], active);
+                if (k + 1 < h.sections) {
+                    ASSERT_EQ(before[h.node(g, k + 1)], split);
+                }
+                before[e.node] = split;
+                for (uint32_t c = h.child_begin[g]; c < h.child_begin[g] + h.child_count[g]; ++c)
+                    before[h.node(c, k)] = active;
+                ++splits;
+            } else {
+                ASSERT_EQ(before[e.node], split);
+                if (k > 1) {
+                    ASSERT_NE(before[h.node(g, k - 1)], split);
+                }
+                before[e.node] = active;
+                for (uint32_t c = h.child_begin[g]; c < h.child_begin[g] + h.child_count[g]; ++c)
+                    before[h.node(c, k)] = merged;
+                ++merges;
+            }
+        }
+    }
+    EXPECT_GT(splits, 50u) << "a shake must split wisps";
+    EXPECT_GT(merges, 10u);
+}
+
+TEST(Awt, MergesBackToTheCoarsestLevelAndRestsAtTheStyledShape) {
+    const Scene& s = scene("long-straight");
+    const Hierarchy& h = s.hierarchy;
+    const size_t coarse = h.level_size(0) * (h.sections - 1);
+    const Motion shake = motion_preset("shake", s.groomed.head);
+    // Without collisions nothing can hold a wisp away from its styled place: the tree
+    // merges back entirely and the hair returns to its shape. With them, a wisp caught on a
+    // shoulder (static friction, §4.3) or crossing another (hair does not pass through hair)
+    // stays so; most of the tree merges back and the hair comes close.
+    for (bool collisions : {false, true}) {
+        AwtParams p = params_of(s);
+        p.hair_collisions = p.body_collisions = collisions;
+        AwtSimulation sim(h, s.spheres, shake, p);
+        size_t most_active = 0;
+        while (sim.time() < shake.duration + 6.0) {
+            sim.step();
+            most_active = std::max(most_active, sim.active().size());
+        }
+        EXPECT_GT(most_active, 3 * coarse) << "the shake splits the wisps";
+        const uint32_t merged = sim.active_per_level()[0];
+        sim.sync();
+        double sum = 0;
+        for (uint32_t i = 0; i < h.node_count(); ++i)
+            sum += (sim.positions()[i] - h.rest[i]).squaredNorm();
+        const double rms = std::sqrt(sum / h.node_count());
+        if (!collisions) {
+            EXPECT_EQ(merged, coarse);
+            EXPECT_LT(rms, 0.1);
+        } else {
+            EXPECT_GE(merged, 0.9 * coarse);
+            EXPECT_LT(rms, 1.5);
+        }
+    }
+}
+
+TEST(Awt, NoSegmentEndsInsideTheBody) {
+    const Scene& s = scene("long-straight");
+    const Hierarchy& h = s.hierarchy;
+    for (const char* motion : {"lean", "jump", "nod"}) {
+        AwtSimulation sim(h, s.spheres, motion_preset(motion, s.groomed.head), params_of(s));
+        for (int step = 0; step < 300; ++step) {
+            sim.step();
+            const std::vector<Sphere> spheres = sim.world_spheres();
+            for (uint32_t i : sim.active()) {
+                int nearest = -1;
+                ASSERT_GE(sphere_distance(spheres, sim.positions()[i], &nearest), -1e-3f)
+                    << motion << " step " << step << " node " << i;
+            }
+        }
+    }
+}
+
+TEST(Awt, RigidLinksKeepTheirLengthsSoftLinksStretch) {
+    for (const char* preset : {"long-straight", "curly"}) {
+        const Scene& s = scene(preset);
+        const Hierarchy& h = s.hierarchy;
+        AwtParams p = params_of(s);
+        EXPECT_EQ(p.rigid, std::string(preset) == "long-straight");
+        p.body_collisions = false;  // a push out of the body may bend a link a little
+        AwtSimulation sim(h, s.spheres, motion_preset("jump", s.groomed.head), p);
+        // Links made by a split or merge start at their current length and relax to the
+        // rest length; the others must hold it (rigid) or may stretch (soft).
+        std::vector<uint32_t> parent_before(h.node_count(), UINT32_MAX);
+        float stretch = 0;
+        for (int step = 0; step < 150; ++step) {
+            sim.step();
+            for (uint32_t c : sim.active()) {
+                const uint32_t q = sim.parent(c);
+                if (parent_before[c] == q) {
+                    const float length = sim.link_length(c);
+                    const float now = (sim.positions()[c] - sim.positions()[q]).norm();
+                    stretch = std::max(stretch, std::abs(now - length) / length);
+                }
+            }
+            std::fill(parent_before.begin(), parent_before.end(), UINT32_MAX);
+            if (sim.last_events().empty())
+                for (uint32_t c : sim.active())
+                    parent_before[c] = sim.parent(c);
+        }
+        if (p.rigid)
+            EXPECT_LT(stretch, 1e-3f);
+        else
+            EXPECT_GT(stretch, 0.02f) << "soft links stretch under a jump";
+    }
+}
+
+TEST(Awt, TenSecondsOfTheMostDrasticMotionStayFiniteAndBounded) {
+    for (const char* motion : {"shake", "run", "jump"}) {
+        const Scene& s = scene("long-straight");
+        AwtSimulation sim(s.hierarchy, s.spheres, motion_preset(motion, s.groomed.head),
+                          params_of(s));
+        // Kinetic energy bound: every node moving at 20 m/s.
+        double bound = 0;
+        for (uint32_t i = 0; i < s.hierarchy.level_begin[1] * s.hierarchy.sections; ++i)
+            bound += 0.5 * s.hierarchy.mass[i] * 2000.0 * 2000.0;
+        while (sim.time() < 10.0) {
+            sim.step();
+            const double e = sim.kinetic_energy();
+            ASSERT_TRUE(std::isfinite(e)) << motion << " t = " << sim.time();
+            ASSERT_LT(e, bound) << motion << " t = " << sim.time();
+        }
+        sim.sync();
+        const Vec3f head = sim.head_transform().translation;
+        for (const Vec3f& p : sim.positions())
+            ASSERT_LT((p - head).norm(), 200.f) << motion;
+    }
+}
+
+TEST(Awt, SameInputsSameFrames) {
+    const Scene& s = scene("long-straight");
+    auto run = [&] {
+        AwtSimulation sim(s.hierarchy, s.spheres, motion_preset("shake", s.groomed.head),
+                          params_of(s));
+        for (int step = 0; step < 120; ++step)
+            sim.step();
+        sim.sync();
+        return std::vector<Vec3f>(sim.positions().begin(), sim.positions().end());
+    };
+    const std::vector<Vec3f> a = run(), b = run();
+    ASSERT_EQ(a.size(), b.size());
+    for (size_t i = 0; i < a.size(); ++i)
+        ASSERT_EQ(a[i], b[i]) << i;
+}
+
+TEST(Awt, SingleLevelKeepsEveryFinestNodeActive) {
+    const Scene& s = scene("long-straight");
+    const Hierarchy& h = s.hierarchy;
+    AwtSimulation sim(h, s.spheres, motion_preset("shake", s.groomed.head), params_of(s, true));
+    for (int step = 0; step < 60; ++step) {
+        sim.step();
+        ASSERT_EQ(sim.check_invariants(), "");
+    }
+    EXPECT_EQ(sim.total_splits() + sim.total_merges(), 0u);
+    EXPECT_EQ(sim.active().size(), (h.gc_count() - h.finest_begin()) * (h.sections - 1));
+}
+
+TEST(Awt, ALowerSplitThresholdSplitsMore) {
+    // §5: "for smooth hair we chose a low value (more splitting)": the tree is finer on
+    // average over the same motion.
+    const Scene& s = scene("long-straight");
+    double previous = 0;
+    for (float threshold : {0.5f, 0.2f, 0.05f}) {
+        DynamicsSpec spec = s.groomed.style.dynamics;
+        spec.split_threshold = threshold;
+        AwtSimulation sim(s.hierarchy, s.spheres, motion_preset("lean", s.groomed.head),
+                          awt_params(spec, s.groomed.style.prototype.kind, false));
+        double active = 0;
+        for (int step = 0; step < 300; ++step) {
+            sim.step();
+            active += static_cast<double>(sim.active().size());
+        }
+        EXPECT_GT(active, previous) << "threshold " << threshold;
+        previous = active;
+    }
+}
+
+TEST(Awt, RootsMoveRigidlyWithTheHead) {
+    const Scene& s = scene("long-straight");
+    const Hierarchy& h = s.hierarchy;
+    AwtSimulation sim(h, s.spheres, motion_preset("nod", s.groomed.head), params_of(s));
+    const StrandBinding binding = bind_strands(s.groomed.hair, h);
+    Hair moved = s.groomed.hair;
+    std::vector<Mat3f> rotations;
+    for (int step = 0; step < 50; ++step)
+        sim.step();
+    sim.sync();
+    sim.finest_rotations(rotations);
+    skin_strands(h, binding, sim.positions(), rotations, moved);
+    const RigidTransform& head = sim.head_transform();
+    for (size_t i = 0; i < moved.strand_count(); ++i)
+        ASSERT_LT((moved.strand(i)[0] - head.apply(s.groomed.hair.strand(i)[0])).norm(), 1e-3f);
+}
+
+TEST(Awt, FrictionMustNotReverseRelativeMotion) {
+    DynamicsSpec spec;
+    spec.friction = 100;
+    spec.dt = 0.01f;
+    EXPECT_THROW(awt_params(spec, PrototypeSpec::Kind::kStraight, false), Error);
+}
+
+}  // namespace
+}  // namespace wisp

@@ -1,0 +1,35 @@
+#pragma once
+// Small solved hairstyles on the built-in head, shared by the dynamics tests.
+#include <string>
+
+#include "dynamics/animate.hpp"
+#include "groom/style_toml.hpp"
+#include "solve/pipeline.hpp"
+
+namespace wisp::test {
+
+struct Groomed {
+    Style style;
+    Hair hair;
+    HeadFrame head;
+};
+
+inline const Head& builtin_head() {
+    static const Head head = load_head(HeadSpec{});
+    return head;
+}
+
+// A preset at a small size (wisps, strands, points per strand).
+inline Groomed groomed(const std::string& preset, int wisps = 120, int strands = 1200,
+                       int points = 16) {
+    Groomed g;
+    g.style = load_preset(preset);
+    g.style.wisps = wisps;
+    g.style.strands = strands;
+    g.style.points_per_strand = points;
+    g.hair = generate_hairstyle(g.style, builtin_head()).hair;
+    g.head = head_frame(*builtin_head().scalp);
+    return g;
+}
+
+}  // namespace wisp::test

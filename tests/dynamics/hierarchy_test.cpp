@@ -1,0 +1,196 @@
+// The multiresolution hierarchy (Bertails et al. 2003 §2.1–§2.2) and the strand binding.
+#include "dynamics/hierarchy.hpp"
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "core/error.hpp"
+#include "core/parallel.hpp"
+#include "dynamics/skin.hpp"
+#include "dynamics_fixture.hpp"
+
+namespace wisp {
+namespace {
+
+const test::Groomed& long_hair() {
+    static const test::Groomed g = test::groomed("long-straight");
+    return g;
+}
+
+void expect_well_formed(const Hierarchy& h, const Hair& hair) {
+    ASSERT_EQ(h.level_begin.size(), static_cast<size_t>(h.levels + 1));
+    const int n = h.sections;
+    std::vector<uint32_t> strands_seen(h.gc_count(), 0);
+    for (size_t s = 0; s < hair.strand_count(); ++s) {
+        const uint32_t g = h.strand_gc[s];
+        ASSERT_GE(g, h.finest_begin());
+        ASSERT_LT(g, h.gc_count());
+        ++strands_seen[g];
+    }
+    for (uint32_t g = 0; g < h.gc_count(); ++g) {
+        if (h.level[g] + 1 == h.levels) {
+            EXPECT_EQ(h.child_count[g], 0u);
+            EXPECT_EQ(strands_seen[g], h.strand_count[g]) << "finest GC " << g;
+            continue;
+        }
+        ASSERT_GT(h.child_count[g], 0u) << "GC " << g;
+        uint32_t carried = 0;
+        for (uint32_t c = h.child_begin[g]; c < h.child_begin[g] + h.child_count[g]; ++c) {
+            EXPECT_EQ(h.super[c], static_cast<int32_t>(g));
+            EXPECT_EQ(h.level[c], h.level[g] + 1);
+            carried += h.strand_count[c];
+        }
+        EXPECT_EQ(carried, h.strand_count[g]);
+        for (int k = 0; k < n; ++k) {
+            const uint32_t i = h.node(g, k);
+            double mass = 0;
+            Vec3d centre = Vec3d::Zero();
+            for (uint32_t c = h.child_begin[g]; c < h.child_begin[g] + h.child_count[g]; ++c) {
+                const uint32_t j = h.node(c, k);
+                mass += h.mass[j];
+                centre += h.mass[j] * h.rest[j].cast<double>();
+                // §2.1: the super-GC encloses its sub-GCs.
+                EXPECT_LE((h.rest[j] - h.rest[i]).norm() + h.radius[j], h.radius[i] + 1e-4f);
+            }
+            EXPECT_NEAR(h.mass[i], mass, 1e-5 * mass);  // mass is additive
+            EXPECT_LT((centre / mass - h.rest[i].cast<double>()).norm(), 1e-4);
+        }
+    }
+    for (uint32_t g = 0; g < h.level_begin[1]; ++g)
+        EXPECT_EQ(h.super[g], -1);
+}
+
+TEST(Hierarchy, ThreeLevelsFromTheStyledWisps) {
+    const test::Groomed& g = long_hair();
+    HierarchyOptions o;
+    o.levels = 3;
+    o.wisps_per_group = 6;
+    o.sub_wisps = 3;
+    o.sections = 8;
+    const Hierarchy h = build_hierarchy(g.hair, o);
+    expect_well_formed(h, g.hair);
+    // Level 1 is the styled wisps, one GC per wisp id.
+    std::set<int32_t> ids(g.hair.wisp.begin(), g.hair.wisp.end());
+    EXPECT_EQ(h.level_size(1), ids.size());
+    EXPECT_EQ(h.level_size(0), (ids.size() + 5) / 6);
+    EXPECT_LE(h.level_size(2), 3 * ids.size());
+    EXPECT_GT(h.level_size(2), 2 * ids.size());
+    // Every strand of a wisp GC carries that wisp's id.
+    std::vector<int32_t> id_of(h.gc_count(), -1);
+    for (size_t s = 0; s < g.hair.strand_count(); ++s) {
+        const int32_t wisp = h.super[h.strand_gc[s]];
+        ASSERT_GE(wisp, 0);
+        if (id_of[wisp] < 0) id_of[wisp] = g.hair.wisp[s];
+        EXPECT_EQ(g.hair.wisp[s], id_of[wisp]) << "strand " << s;
+    }
+    // Groups hold neighbours: a group's roots lie within a few wisp spacings of its centre.
+    float widest = 0;
+    for (uint32_t top = 0; top < h.level_size(0); ++top)
+        widest = std::max(widest, h.radius[h.node(top, 0)]);
+    EXPECT_LT(widest, 8.f);
+}
+
+TEST(Hierarchy, LevelCountsTwoAndFour) {
+    const test::Groomed& g = long_hair();
+    HierarchyOptions o;
+    o.levels = 2;
+    const Hierarchy two = build_hierarchy(g.hair, o);
+    expect_well_formed(two, g.hair);
+    EXPECT_EQ(two.level_size(0), std::set<int32_t>(g.hair.wisp.begin(), g.hair.wisp.end()).size());
+    o.levels = 4;
+    o.sub_wisps = 2;
+    const Hierarchy four = build_hierarchy(g.hair, o);
+    expect_well_formed(four, g.hair);
+    EXPECT_GT(four.level_size(3), four.level_size(2));
+}
+
+TEST(Hierarchy, ImportedHairIsClusteredByRootAndShape) {
+    Hair hair = long_hair().hair;
+    hair.wisp.clear();
+    HierarchyOptions o;
+    o.strands_per_wisp = 20;
+    const Hierarchy h = build_hierarchy(hair, o);
+    expect_well_formed(h, hair);
+    EXPECT_GE(h.level_size(1), (hair.strand_count() + 19) / 20);
+    EXPECT_LE(h.level_size(1), hair.strand_count() / 10);
+    // Bisection keeps clusters balanced, and a cluster's roots close together.
+    double mean = 0;
+    for (uint32_t w = h.level_begin[1]; w < h.level_begin[2]; ++w) {
+        EXPECT_GT(h.strand_count[w], 10u);
+        EXPECT_LE(h.strand_count[w], 20u);
+        EXPECT_LT(h.radius[h.node(w, 0)], 4.5f);
+        mean += h.radius[h.node(w, 0)];
+    }
+    EXPECT_LT(mean / h.level_size(1), 3.0);
+}
+
+TEST(Hierarchy, DeterministicAtAnyThreadCount) {
+    const test::Groomed& g = long_hair();
+    Hair hair = g.hair;
+    hair.wisp.clear();
+    HierarchyOptions o;
+    Hierarchy one, two;
+    {
+        ThreadLimit limit(1);
+        one = build_hierarchy(hair, o);
+    }
+    {
+        ThreadLimit limit(2);
+        two = build_hierarchy(hair, o);
+    }
+    EXPECT_EQ(one.strand_gc, two.strand_gc);
+    EXPECT_EQ(one.radius, two.radius);
+    ASSERT_EQ(one.rest.size(), two.rest.size());
+    for (size_t i = 0; i < one.rest.size(); ++i)
+        ASSERT_EQ(one.rest[i], two.rest[i]);
+}
+
+TEST(Hierarchy, RejectsBadInput) {
+    HierarchyOptions o;
+    o.levels = 5;
+    EXPECT_THROW(build_hierarchy(long_hair().hair, o), Error);
+    o = HierarchyOptions{};
+    o.sections = 2;
+    EXPECT_THROW(build_hierarchy(long_hair().hair, o), Error);
+    EXPECT_THROW(build_hierarchy(Hair{}, HierarchyOptions{}), Error);
+    Hair one;
+    one.add_strand(std::vector<Vec3f>{{0, 0, 0}});
+    EXPECT_THROW(build_hierarchy(one, HierarchyOptions{}), Error);
+}
+
+TEST(Skin, RestPoseIsReproducedExactly) {
+    const test::Groomed& g = long_hair();
+    const Hierarchy h = build_hierarchy(g.hair, HierarchyOptions{});
+    const StrandBinding b = bind_strands(g.hair, h);
+    std::vector<Mat3f> rotations((h.gc_count() - h.finest_begin()) * h.sections, Mat3f::Identity());
+    Hair out = g.hair;
+    for (Vec3f& p : out.points)
+        p.setZero();
+    skin_strands(h, b, h.rest, rotations, out);
+    float worst = 0;
+    for (size_t i = 0; i < out.points.size(); ++i)
+        worst = std::max(worst, (out.points[i] - g.hair.points[i]).norm());
+    EXPECT_LT(worst, 1e-4f);
+}
+
+TEST(Skin, ARigidMotionOfEveryNodeMovesTheStrandsRigidly) {
+    const test::Groomed& g = long_hair();
+    const Hierarchy h = build_hierarchy(g.hair, HierarchyOptions{});
+    const StrandBinding b = bind_strands(g.hair, h);
+    const Mat3f r = Eigen::AngleAxisf(0.7f, Vec3f(1, 2, 3).normalized()).toRotationMatrix();
+    const Vec3f t(4, -2, 9);
+    std::vector<Vec3f> nodes(h.rest.size());
+    for (size_t i = 0; i < nodes.size(); ++i)
+        nodes[i] = r * h.rest[i] + t;
+    std::vector<Mat3f> rotations((h.gc_count() - h.finest_begin()) * h.sections, r);
+    Hair out = g.hair;
+    skin_strands(h, b, nodes, rotations, out);
+    float worst = 0;
+    for (size_t i = 0; i < out.points.size(); ++i)
+        worst = std::max(worst, (out.points[i] - (r * g.hair.points[i] + t)).norm());
+    EXPECT_LT(worst, 1e-3f);
+}
+
+}  // namespace
+}  // namespace wisp
