@@ -1,22 +1,29 @@
 #include "app/cli.hpp"
 
+#include <spawn.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <random>
 #include <thread>
 
 #include "app/stats.hpp"
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/parallel.hpp"
+#include "dynamics/animate.hpp"
 #include "geometry/builtin_head.hpp"
 #include "groom/generate.hpp"
 #include "groom/style_toml.hpp"
 #include "io/hair_io.hpp"
+#include "io/usda.hpp"
 #include "render/render.hpp"
 #include "solve/pipeline.hpp"
 
@@ -240,6 +247,245 @@ int run_generate(const GenerateArgs& args) {
     return 0;
 }
 
+struct AnimateArgs {
+    std::string input;  // style TOML or hair file
+    std::string preset;
+    std::string motion = "lean";
+    int frames = 48;
+    double fps = 24;
+    std::vector<std::string> outputs;
+    std::string png, mp4, view = "three-quarter", size = "640x640";
+    std::string stats, seed, head, links;
+    float head_scale = 1.f;
+    int threads = 0, strands = 0, levels = 0, sub_wisps = 0, wisps_per_group = 0, sections = 0;
+    bool single_level = false, quiet = false;
+    LookArgs look;
+};
+
+// `name` with its run of '#' replaced by the zero-padded frame number; without one,
+// "_####" goes before the extension.
+std::string numbered(const std::string& name, int frame) {
+    std::string pattern = name;
+    size_t first = pattern.find('#');
+    if (first == std::string::npos) {
+        const std::filesystem::path p(name);
+        pattern =
+            (p.parent_path() / (p.stem().string() + "_####" + p.extension().string())).string();
+        first = pattern.find('#');
+    }
+    size_t last = first;
+    while (last < pattern.size() && pattern[last] == '#')
+        ++last;
+    std::string digits = std::to_string(frame);
+    if (digits.size() < last - first) digits.insert(0, last - first - digits.size(), '0');
+    return pattern.substr(0, first) + digits + pattern.substr(last);
+}
+
+// Runs a program found on PATH with `args` and waits; returns its exit status (127 when it
+// cannot be started).
+int run_program(const std::vector<std::string>& args) {
+    std::vector<char*> argv;
+    for (const std::string& a : args)
+        argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    pid_t pid = 0;
+    if (posix_spawnp(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0) return 127;
+    int status = 0;
+    if (waitpid(pid, &status, 0) < 0) return 127;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+}
+
+bool is_style_file(const std::string& path) {
+    const std::string ext = std::filesystem::path(path).extension().string();
+    return ext == ".toml" || ext == ".TOML";
+}
+
+int run_animate(const AnimateArgs& args) {
+    Stopwatch total;
+    const ThreadLimit limit(args.threads);
+    for (const std::string& out : args.outputs)
+        hair_format_from_path(out);  // fail early
+    if (!args.input.empty() && !args.preset.empty())
+        throw CLI::ValidationError("animate", "give a style or hair file, or --preset, not both");
+    const bool from_style = args.input.empty() || is_style_file(args.input);
+
+    Style style = from_style ? resolve_style(args.input, args.preset) : Style{};
+    if (!args.seed.empty()) style.seed = parse_seed(args.seed);
+    if (args.strands > 0) {
+        style.strands = args.strands;
+        style.wisps = std::min(style.wisps, style.strands);
+    }
+    DynamicsSpec& spec = style.dynamics;
+    if (args.levels) spec.levels = args.levels;
+    if (args.sub_wisps) spec.sub_wisps = args.sub_wisps;
+    if (args.wisps_per_group) spec.wisps_per_group = args.wisps_per_group;
+    if (args.sections) spec.sections = args.sections;
+    if (!args.links.empty())
+        spec.links = args.links == "rigid"  ? DynamicsSpec::Links::kRigid
+                     : args.links == "soft" ? DynamicsSpec::Links::kSoft
+                                            : DynamicsSpec::Links::kAuto;
+    if (!from_style && !args.head.empty()) {
+        style.head.obj = args.head;
+        style.head.scale = args.head_scale;
+    }
+
+    Stopwatch watch;
+    const Head head = load_head(style.head);
+    const HeadFrame frame = head_frame(*head.scalp);
+    StageTimes times{{"head", watch.ms()}};
+    Hair rest;
+    watch = Stopwatch();
+    if (from_style) {
+        info(args.quiet, cat("wisp: ", style.wisps, " wisps, ", style.strands, " strands on the ",
+                             head.source, ", seed ", style.seed));
+        rest = generate_hairstyle(style, head).hair;
+        times.emplace_back("generate", watch.ms());
+    } else {
+        rest = read_hair(args.input);
+        times.emplace_back("read", watch.ms());
+    }
+    const Motion motion = load_motion(args.motion, frame);
+
+    AnimateSettings settings;
+    settings.frames = args.frames;
+    settings.fps = args.fps;
+    settings.single_level = args.single_level;
+
+    // Outputs: one animated .usda, or a numbered file per frame for the other formats.
+    std::vector<std::unique_ptr<UsdaAnimationWriter>> usda;
+    std::vector<std::string> per_frame;
+    for (const std::string& out : args.outputs) {
+        if (hair_format_from_path(out) == HairFormat::kUsda)
+            usda.push_back(std::make_unique<UsdaAnimationWriter>(out, rest, args.fps, args.frames));
+        else
+            per_frame.push_back(out);
+    }
+    std::filesystem::path png_dir;
+    std::string png_pattern = args.png;
+    if (png_pattern.empty() && !args.mp4.empty()) {
+        png_dir =
+            std::filesystem::temp_directory_path() / ("wisp-animate-" + std::to_string(::getpid()));
+        std::filesystem::create_directories(png_dir);
+        png_pattern = (png_dir / "frame_####.png").string();
+    }
+    RenderOptions look;
+    std::tie(look.width, look.height) = parse_size(args.size);
+    args.look.apply(look);
+    look.view = args.view;
+    std::optional<Camera> first_camera;
+    Vec3f first_centre = Vec3f::Zero();
+    HairWriteOptions write_options;
+    const bool progress = !args.quiet && isatty(STDERR_FILENO);
+
+    const AnimationStats stats =
+        animate(rest, *head.mesh, frame, motion, spec, style.prototype.kind, settings,
+                [&](int f, const Hair& hair, const FramePose& pose) {
+                    for (auto& writer : usda)
+                        writer->add(hair);
+                    for (const std::string& out : per_frame)
+                        write_hair(numbered(out, f), hair, write_options);
+                    if (!png_pattern.empty()) {
+                        const Mesh body = pose_body(*head.mesh, frame, pose);
+                        // The camera of frame 0, following the head's translation so a running or
+                        // jumping character stays in view without the framing jittering.
+                        const Vec3f centre = pose.head.apply(frame.center);
+                        if (!first_camera) {
+                            first_camera = render_camera(hair, &body, look);
+                            first_centre = centre;
+                        }
+                        RenderOptions o = look;
+                        const Vec3f shift = centre - first_centre;
+                        o.look_at = LookAt{first_camera->eye + shift,
+                                           first_camera->eye + first_camera->forward + shift,
+                                           first_camera->up};
+                        o.fov_y_degrees = first_camera->fov_y_degrees;
+                        write_png(numbered(png_pattern, f), render(hair, &body, o));
+                    }
+                    if (progress)
+                        std::cerr << "\rwisp: frame " << f + 1 << "/" << args.frames << std::flush;
+                });
+    if (progress) std::cerr << '\n';
+    for (auto& writer : usda)
+        writer->finish();
+    for (const std::string& out : args.outputs)
+        info(args.quiet,
+             cat("wisp: wrote ",
+                 hair_format_from_path(out) == HairFormat::kUsda ? out : numbered(out, 0) + " …"));
+    if (!args.png.empty()) info(args.quiet, cat("wisp: wrote ", numbered(args.png, 0), " …"));
+    if (!args.mp4.empty()) {
+        // ffmpeg writes beside the target and the file is renamed when complete.
+        const std::filesystem::path target(args.mp4);
+        const std::filesystem::path tmp =
+            target.parent_path() /
+            (target.stem().string() + ".tmp-" + std::to_string(::getpid()) + ".mp4");
+        std::string input = png_pattern;
+        const size_t first = input.find('#');
+        size_t last = first;
+        while (last < input.size() && input[last] == '#')
+            ++last;
+        input =
+            input.substr(0, first) + "%0" + std::to_string(last - first) + "d" + input.substr(last);
+        const int status =
+            run_program({"ffmpeg", "-y", "-loglevel", "error", "-framerate", cat(args.fps), "-i",
+                         input, "-c:v", "libx264", "-pix_fmt", "yuv420p", "-vf",
+                         "pad=ceil(iw/2)*2:ceil(ih/2)*2", tmp.string()});
+        if (!png_dir.empty()) std::filesystem::remove_all(png_dir);
+        if (status != 0) {
+            std::error_code ec;
+            std::filesystem::remove(tmp, ec);
+            fail(args.mp4, status == 127 ? ": ffmpeg was not found on PATH (scripts/setup "
+                                           "installs it)"
+                                         : cat(": ffmpeg failed with status ", status));
+        }
+        std::filesystem::rename(tmp, target);
+        info(args.quiet, cat("wisp: wrote ", args.mp4));
+    }
+    if (!args.stats.empty()) {
+        nlohmann::json j;
+        j["version"] = kVersion;
+        j["input"] = from_style ? style.name : args.input;
+        j["motion"] = motion.name;
+        j["frames"] = args.frames;
+        j["fps"] = args.fps;
+        j["strands"] = rest.strand_count();
+        j["points"] = rest.point_count();
+        j["single_level"] = args.single_level;
+        j["links"] = stats.rigid ? "rigid" : "soft";
+        j["hierarchy"] = {{"levels", stats.levels},
+                          {"sections", stats.sections},
+                          {"gcs_per_level", stats.gcs_per_level},
+                          {"nodes", stats.nodes},
+                          {"finest_nodes", stats.finest_nodes}};
+        j["body_spheres"] = stats.spheres;
+        j["steps"] = stats.steps;
+        j["steps_per_frame"] = stats.steps_per_frame;
+        j["dt_s"] = stats.dt;
+        j["ms_per_step"] = {{"mean", stats.step_ms_mean}, {"max", stats.step_ms_max}};
+        j["skin_ms_per_frame"] = stats.skin_ms_mean;
+        j["splits"] = stats.splits;
+        j["merges"] = stats.merges;
+        j["hair_pair_tests"] = stats.pair_tests;
+        j["hair_contacts"] = stats.hair_contacts;
+        j["body_contacts"] = stats.body_contacts;
+        j["max_kinetic_energy"] = stats.max_kinetic_energy;
+        j["active_nodes_per_level"] = stats.active_per_level;
+        j["splits_per_frame"] = stats.frame_splits;
+        j["merges_per_frame"] = stats.frame_merges;
+        times.emplace_back("hierarchy", stats.hierarchy_ms);
+        times.emplace_back("body spheres", stats.bodies_ms);
+        times.emplace_back("bind strands", stats.bind_ms);
+        j["time_ms"] = stage_stats(times);
+        j["time_ms"]["wall"] = total.ms();
+        write_json(args.stats, j);
+        info(args.quiet, cat("wisp: wrote ", args.stats));
+    }
+    info(args.quiet,
+         cat("wisp: ", args.frames, " frames, ", stats.steps, " steps, ",
+             static_cast<int>(stats.step_ms_mean * 1000) / 1000.0, " ms per step, ", stats.splits,
+             " splits, ", stats.merges, " merges in ", static_cast<int>(total.ms()), " ms"));
+    return 0;
+}
+
 }  // namespace
 
 int run_cli(int argc, char** argv) {
@@ -310,6 +556,56 @@ int run_cli(int argc, char** argv) {
     LookArgs render_look;
     render_look.add_to(render_cmd);
 
+    AnimateArgs anim;
+    CLI::App* animate_cmd = app.add_subcommand(
+        "animate",
+        "Animate a hairstyle with the Adaptive Wisp Tree (Bertails et al. 2003); docs/animate.md");
+    animate_cmd
+        ->add_option("input", anim.input,
+                     "Style file (.toml) or hair file (.hair .usda .obj .ply .data)")
+        ->check(CLI::ExistingFile);
+    animate_cmd->add_option("--preset", anim.preset, "A shipped style preset");
+    animate_cmd
+        ->add_option("--motion", anim.motion,
+                     "lean, shake, nod, jump, run, still, or a motion JSON file (docs/motion.md)")
+        ->capture_default_str();
+    animate_cmd->add_option("--frames", anim.frames, "Frames to write")
+        ->check(CLI::Range(1, 100000))
+        ->capture_default_str();
+    animate_cmd->add_option("--fps", anim.fps, "Frames per second")
+        ->check(CLI::Range(1.0, 1000.0))
+        ->capture_default_str();
+    animate_cmd->add_option("-o,--output", anim.outputs,
+                            "Output: .usda (one file, time samples) or .hair/.obj/.ply (one file "
+                            "per frame; #### in the name is the frame number)");
+    animate_cmd->add_option("--png", anim.png, "Render every frame: PNG name with ####");
+    animate_cmd->add_option("--mp4", anim.mp4, "Also encode the frames to an MP4 (ffmpeg)");
+    animate_cmd->add_option("--view", anim.view, "Camera view for --png/--mp4")
+        ->capture_default_str();
+    animate_cmd->add_option("--size", anim.size, "Image size WxH")->capture_default_str();
+    anim.look.add_to(animate_cmd);
+    animate_cmd->add_flag("--single-level", anim.single_level,
+                          "Keep every finest node active (the paper's baseline)");
+    animate_cmd->add_option("--levels", anim.levels, "Hierarchy levels (2-4)")
+        ->check(CLI::Range(2, 4));
+    animate_cmd->add_option("--sub-wisps", anim.sub_wisps, "Sub-wisps per wisp (2-16)")
+        ->check(CLI::Range(2, 16));
+    animate_cmd->add_option("--wisps-per-group", anim.wisps_per_group, "Wisps per group (2-64)")
+        ->check(CLI::Range(2, 64));
+    animate_cmd->add_option("--sections", anim.sections, "Nodes along every wisp (3-64)")
+        ->check(CLI::Range(3, 64));
+    animate_cmd->add_option("--links", anim.links, "auto, rigid or soft")
+        ->check(CLI::IsMember({"auto", "rigid", "soft"}));
+    animate_cmd->add_option("--strands", anim.strands, "Override the style's strand count")
+        ->check(CLI::Range(1, 10000000));
+    animate_cmd->add_option("--head", anim.head, "Head OBJ for a hair file (default: built-in)");
+    animate_cmd->add_option("--head-scale", anim.head_scale, "Scale of --head to centimetres");
+    animate_cmd->add_option("--seed", anim.seed, "Random seed of the style, or 'random'");
+    animate_cmd->add_option("--threads", anim.threads, "Worker threads (0 = all cores)")
+        ->check(CLI::Range(0, 1024));
+    animate_cmd->add_option("--stats", anim.stats, "Write the run's figures as JSON");
+    animate_cmd->add_flag("-q,--quiet", anim.quiet, "Print nothing but errors");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -321,6 +617,12 @@ int run_cli(int argc, char** argv) {
             if (gen.outputs.empty() && gen.png.empty())
                 throw CLI::ValidationError("generate", "give at least one -o FILE or --png FILE");
             return run_generate(gen);
+        }
+        if (*animate_cmd) {
+            if (anim.outputs.empty() && anim.png.empty() && anim.mp4.empty() && anim.stats.empty())
+                throw CLI::ValidationError("animate",
+                                           "give -o FILE, --png FILE, --mp4 FILE or --stats FILE");
+            return run_animate(anim);
         }
         if (*render_cmd) {
             const Hair hair = read_hair(render_in);

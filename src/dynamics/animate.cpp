@@ -41,7 +41,7 @@ std::vector<Sphere> body_spheres_for(const Mesh& body, const HeadFrame& head, co
 AnimationStats animate(const Hair& rest, const Mesh& body, const HeadFrame& head,
                        const Motion& motion, const DynamicsSpec& spec,
                        PrototypeSpec::Kind prototype, const AnimateSettings& settings,
-                       const std::function<void(int, const Hair&)>& frame) {
+                       const std::function<void(int, const Hair&, const FramePose&)>& frame) {
     if (settings.frames < 1) fail("animate: frames must be ≥ 1, got ", settings.frames);
     if (!(settings.fps > 0) || !std::isfinite(settings.fps) || settings.fps > 1000)
         fail("animate: fps must be in (0, 1000], got ", settings.fps);
@@ -108,13 +108,28 @@ AnimationStats animate(const Hair& rest, const Mesh& body, const HeadFrame& head
         stats.frame_merges.push_back(static_cast<uint32_t>(sim.total_merges() - merges_before));
         splits_before = sim.total_splits();
         merges_before = sim.total_merges();
-        frame(f, moved);
+        frame(f, moved, FramePose{sim.time(), sim.head_transform(), sim.body_transform()});
     }
     stats.splits = sim.total_splits();
     stats.merges = sim.total_merges();
     stats.step_ms_mean = stats.steps ? step_total / static_cast<double>(stats.steps) : 0;
     stats.skin_ms_mean = skin_total / settings.frames;
     return stats;
+}
+
+}  // namespace wisp
+
+namespace wisp {
+
+Mesh pose_body(const Mesh& body, const HeadFrame& head, const FramePose& pose) {
+    Mesh posed = body;
+    const float top = head.center.y() - 0.8f * head.radius;     // chin level
+    const float bottom = head.center.y() - 1.6f * head.radius;  // neck base
+    for (Vec3f& v : posed.vertices) {
+        const float w = std::clamp((v.y() - bottom) / (top - bottom), 0.f, 1.f);
+        v = w * pose.head.apply(v) + (1 - w) * pose.body.apply(v);
+    }
+    return posed;
 }
 
 }  // namespace wisp

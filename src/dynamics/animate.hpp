@@ -46,11 +46,21 @@ HierarchyOptions hierarchy_options(const DynamicsSpec& spec);
 std::vector<Sphere> body_spheres_for(const Mesh& body, const HeadFrame& head,
                                      const Hierarchy& hierarchy);
 
-// Runs the animation and calls frame(index, hair) for every frame with the moved strands
-// (the rest hair's topology, widths, colors and wisp ids). Deterministic.
+// Where the character is at a frame.
+struct FramePose {
+    double time = 0;            // s
+    RigidTransform head, body;  // head space → world
+};
+
+// Runs the animation and calls frame(index, hair, pose) for every frame with the moved
+// strands (the rest hair's topology, widths, colors and wisp ids). Deterministic.
 AnimationStats animate(const Hair& rest, const Mesh& body, const HeadFrame& head,
                        const Motion& motion, const DynamicsSpec& spec,
                        PrototypeSpec::Kind prototype, const AnimateSettings& settings,
-                       const std::function<void(int, const Hair&)>& frame);
+                       const std::function<void(int, const Hair&, const FramePose&)>& frame);
+
+// The body mesh posed: vertices above the chin follow the head, those below the neck base
+// the body, blended linearly in between (the neck bends instead of tearing).
+Mesh pose_body(const Mesh& body, const HeadFrame& head, const FramePose& pose);
 
 }  // namespace wisp

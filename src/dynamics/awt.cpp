@@ -283,13 +283,13 @@ void AwtSimulation::interact() {
         // slower than half the threshold cannot have it.
         moving_[s] = mean_velocity_[s].squaredNorm() >= 0.25f * kStill * kStill;
     }
-    // The voxel: the configured size, or the median segment box (so a typical segment
-    // meets its neighbours in at most 8 cells whatever the active level).
+    // The voxel: the configured size, or half the median segment box, so cells stay small
+    // where the tree is fine and a coarse segment spans a few cells.
     float cell = voxel_;
     if (params_.voxel <= 0 && count > 0) {
         scratch_ = extent_;
         std::nth_element(scratch_.begin(), scratch_.begin() + count / 2, scratch_.end());
-        cell = std::max(cell, scratch_[count / 2]);
+        cell = std::max(cell, 0.5f * scratch_[count / 2]);
     }
     const float inv = 1.f / cell;
     cells_.clear();

@@ -57,10 +57,10 @@ namespace wisp {
 struct AwtParams {
     bool rigid = true;
     bool single_level = false;
-    float stiffness = 300.f;         // 1/s²
+    float stiffness = 800.f;         // 1/s²
     float stretch = 3000.f;          // 1/s², soft links
-    float damping = 4.f;             // 1/s
-    float air_drag = 1.f;            // 1/s
+    float damping = 8.f;             // 1/s
+    float air_drag = 2.f;            // 1/s
     float split_threshold = 1500.f;  // |a|·r, cm²/s²
     float merge_velocity = 15.f;     // cm/s
     float friction = 20.f;           // α, 1/s
@@ -130,6 +130,7 @@ class AwtSimulation {
     double kinetic_energy() const;
     double active_mass() const;
     const RigidTransform& head_transform() const { return head_; }
+    const RigidTransform& body_transform() const { return body_; }
     // The spheres at the current time, world space.
     std::vector<Sphere> world_spheres() const;
     // Rotation of every finest node (#finest GCs × sections, row by GC): the rest frame to

@@ -309,9 +309,15 @@ Hierarchy build_hierarchy(const Hair& hair, const HierarchyOptions& o) {
             for (uint32_t s : members)
                 sum += samples[s * n + k].cast<double>();
             const Vec3f centre = (sum / static_cast<double>(members.size())).cast<float>();
-            float r = 0.05f;
+            // The radius holding 90% of the strands: a stray fuzzy strand does not make the
+            // whole cylinder (and every collision test around it) fatter.
+            std::vector<float> d;
+            d.reserve(members.size());
             for (uint32_t s : members)
-                r = std::max(r, (samples[s * n + k] - centre).norm());
+                d.push_back((samples[s * n + k] - centre).norm());
+            const size_t q = std::min(d.size() - 1, (d.size() * 9) / 10);
+            std::nth_element(d.begin(), d.begin() + q, d.end());
+            const float r = std::max(0.05f, d[q]);
             h.rest[h.node(g, k)] = centre;
             h.radius[h.node(g, k)] = r;
             h.mass[h.node(g, k)] = static_cast<float>(segment_mass);

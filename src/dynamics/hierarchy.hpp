@@ -18,8 +18,8 @@
 // a strand is its point at arc-length fraction k/(sections−1).
 //
 // At rest (the hairstyle as given):
-//   finest node  = mean of its strands' cross-section points; radius = the largest distance
-//                  of one of them from the node (at least 0.05 cm)
+//   finest node  = mean of its strands' cross-section points; radius = the distance from the
+//                  node within which 90% of them lie (at least 0.05 cm)
 //   super-node   = centre of mass of its sub-nodes; radius fitted to enclose the sub-GCs
 //                  (§2.1): max over sub-nodes of |sub − super| + sub radius
 //   mass         = strands × (strand length / (sections−1)) × linear density, summed over

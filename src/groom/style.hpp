@@ -159,10 +159,10 @@ struct DynamicsSpec {
     // Segments (§2.3): rigid links or soft springs; auto = soft for curly and kinky
     // prototypes, rigid otherwise.
     Links links = Links::kAuto;
-    float stiffness = 300.f;        // 1/s²: pull toward the styled shape relative to the parent
+    float stiffness = 800.f;        // 1/s²: spring toward the styled shape (turned with the head)
     float stretch = 3000.f;         // 1/s²: soft links' length spring
-    float damping = 4.f;            // 1/s: damping of velocity relative to the parent node
-    float air_drag = 1.f;           // 1/s: drag toward the air's velocity (wind)
+    float damping = 8.f;            // 1/s: damping of velocity relative to the parent node
+    float air_drag = 2.f;           // 1/s: drag toward the air's velocity (wind)
     float split_threshold = 0.15f;  // §3.1: |a|·r over this splits, m²/s² (N·m/kg), > 0
     float merge_velocity = 15.f;    // §3.2: relative speed under this may merge, cm/s, > 0
     float friction = 20.f;          // α of k_f = α·m (§4.2 eq. 1), 1/s, α·dt < 1

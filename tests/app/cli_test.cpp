@@ -101,3 +101,48 @@ TEST(Cli, HeadAndRoundTrip) {
     ASSERT_EQ(run("convert " + usda.string() + " " + back.string()), 0);
     EXPECT_EQ(run("info " + back.string()), 0);
 }
+
+TEST(Cli, AnimateWritesFramesDeterministically) {
+    Dir d;
+    const fs::path style = d.path / "s.toml";
+    write(style,
+          "[roots]\nwisps = 80\nstrands = 800\npoints_per_strand = 12\n"
+          "[maps]\nlength = 30\n[dynamics]\nsections = 6\n");
+    const fs::path a = d.path / "a.usda", b = d.path / "b.usda";
+    const std::string common = "animate " + style.string() + " --motion shake --frames 6 -q ";
+    ASSERT_EQ(run(common + "--threads 1 -o " + a.string() + " -o " +
+                  (d.path / "f_##.hair").string() + " --stats " + (d.path / "s.json").string()),
+              0);
+    ASSERT_EQ(run(common + "--threads 2 -o " + b.string()), 0);
+    EXPECT_EQ(slurp(a), slurp(b));
+    const std::string usda = slurp(a);
+    EXPECT_NE(usda.find("points.timeSamples"), std::string::npos);
+    EXPECT_NE(usda.find("endTimeCode = 5"), std::string::npos);
+    for (int f = 0; f < 6; ++f)
+        EXPECT_TRUE(fs::exists(d.path / ("f_0" + std::to_string(f) + ".hair"))) << f;
+    const std::string stats = slurp(d.path / "s.json");
+    EXPECT_NE(stats.find("\"active_nodes_per_level\""), std::string::npos);
+    EXPECT_NE(stats.find("\"ms_per_step\""), std::string::npos);
+    // An imported hair file animates too (hierarchy by clustering), and PNG frames render.
+    ASSERT_EQ(run("animate " + (d.path / "f_00.hair").string() +
+                  " --frames 3 --size 64x64 -q "
+                  "--png " +
+                  (d.path / "p_####.png").string()),
+              0);
+    EXPECT_TRUE(fs::exists(d.path / "p_0002.png"));
+}
+
+TEST(Cli, AnimateRejectsBadInput) {
+    Dir d;
+    const fs::path motion = d.path / "m.json";
+    write(motion, "{\"format\": \"wisp-motion\", \"version\": 1, \"head\": {\"keys\": [");
+    EXPECT_EQ(run("animate --preset short --strands 500 --motion " + motion.string() + " -o " +
+                  (d.path / "x.usda").string()),
+              1);
+    EXPECT_FALSE(fs::exists(d.path / "x.usda"));
+    EXPECT_EQ(run("animate --preset short --motion wobble -o " + (d.path / "x.usda").string()), 1);
+    EXPECT_EQ(run("animate --preset short --frames 0 -o " + (d.path / "x.usda").string()), 2);
+    const fs::path bad = d.path / "bad.toml";
+    write(bad, "[dynamics]\nfriction = 500\n");  // α·dt = 5 ≥ 1
+    EXPECT_EQ(run("animate " + bad.string() + " -o " + (d.path / "x.usda").string()), 1);
+}

@@ -759,7 +759,8 @@ TEST(StyleToml, UnknownKeysInTheNewSectionsSuggestTheField) {
     EXPECT_EQ(error_of("[solve]\nstifness = 2"),
               "test.toml:2: unknown field 'solve.stifness' (did you mean 'solve.stiffness'?)");
     EXPECT_EQ(error_of("\nstiffness = 2"),
-              "test.toml:2: unknown field 'stiffness' (did you mean 'solve.stiffness'?)");
+              "test.toml:2: unknown field 'stiffness' (did you mean 'solve.stiffness' or "
+              "'dynamics.stiffness'?)");
     EXPECT_EQ(error_of("[[braids]]"),
               "test.toml:1: unknown field 'braids' (did you mean 'braid'?)");
     EXPECT_EQ(error_of("[[solve.field]]\nkind = \"wind\"\ndirecton = [1, 0, 0]"),
@@ -1044,6 +1045,24 @@ TEST(StyleToml, InvalidInputsNameFileLineAndField) {
         EXPECT_NE(message.find(c.says), std::string::npos) << message;
         EXPECT_EQ(message.find('\n'), std::string::npos) << message;
     }
+}
+
+TEST(StyleToml, DynamicsSection) {
+    const Style s = parse(
+        "[dynamics]\nlevels = 2\nsub_wisps = 4\nsections = 12\nlinks = \"soft\"\n"
+        "split_threshold = 0.4\ndt = 0.005\nhair_collisions = false\n");
+    EXPECT_EQ(s.dynamics.levels, 2);
+    EXPECT_EQ(s.dynamics.sub_wisps, 4);
+    EXPECT_EQ(s.dynamics.sections, 12);
+    EXPECT_EQ(s.dynamics.links, DynamicsSpec::Links::kSoft);
+    EXPECT_FLOAT_EQ(s.dynamics.split_threshold, 0.4f);
+    EXPECT_FLOAT_EQ(s.dynamics.dt, 0.005f);
+    EXPECT_FALSE(s.dynamics.hair_collisions);
+    EXPECT_NE(error_of("[dynamics]\nlevels = 5").find("dynamics.levels"), std::string::npos);
+    EXPECT_NE(error_of("[dynamics]\nlinks = \"wobbly\"").find("dynamics.links"), std::string::npos);
+    EXPECT_NE(error_of("[dynamics]\nfriction = 200").find("friction · dt must be under 1"),
+              std::string::npos);
+    EXPECT_NE(error_of("[dynamics]\ndt = 0").find("dynamics.dt"), std::string::npos);
 }
 
 }  // namespace
