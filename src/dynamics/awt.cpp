@@ -187,12 +187,15 @@ std::vector<Sphere> AwtSimulation::world_spheres() const {
     return world_spheres_;
 }
 
+Quat AwtSimulation::rest_to_now(const Vec3f& rest, const Vec3f& now) const {
+    const Vec3f turned = head_rotation_ * rest;
+    if (turned.squaredNorm() < 1e-12f || now.squaredNorm() < 1e-12f) return head_rotation_;
+    return (Quat::FromTwoVectors(turned, now) * head_rotation_).normalized();
+}
+
 Quat AwtSimulation::segment_rotation(uint32_t child, uint32_t parent_node,
                                      const Vec3f& child_position) const {
-    const Vec3f rest = head_rotation_ * (h_->rest[child] - h_->rest[parent_node]);
-    const Vec3f now = child_position - x_[parent_node];
-    if (rest.squaredNorm() < 1e-12f || now.squaredNorm() < 1e-12f) return head_rotation_;
-    return (Quat::FromTwoVectors(rest, now) * head_rotation_).normalized();
+    return rest_to_now(h_->rest[child] - h_->rest[parent_node], child_position - x_[parent_node]);
 }
 
 uint32_t AwtSimulation::find_parent(uint32_t gc, int k) const {
@@ -429,7 +432,6 @@ void AwtSimulation::integrate() {
         const Vec3f v = (v_[c] + dt * (kt * (target - x_[c]) + a)) / d;
         x_[c] += dt * v;
         v_[c] = v;
-        rotation_[c] = segment_rotation(c, p, x_[c]);
     }
     if (params_.rigid) {
         // van Overveld's iterative constraint method: mass-weighted passes over the links.
@@ -635,7 +637,8 @@ bool AwtSimulation::try_merge(uint32_t g, int k) {
 void AwtSimulation::sync() {
     const Hierarchy& h = *h_;
     // Merged nodes, coarse to fine: from their super-node through the governing rotation.
-    std::vector<uint32_t> governor(h.node_count());
+    std::vector<uint32_t>& governor = governor_;
+    governor.resize(h.node_count());
     for (uint32_t g = 0; g < h.gc_count(); ++g)
         for (int k = 1; k < n_; ++k) {
             const uint32_t i = h.node(g, k);
@@ -695,11 +698,7 @@ void AwtSimulation::finest_rotations(std::vector<Mat3f>& out) const {
         segment[0] = head_rotation_;
         for (int k = 1; k < n_; ++k) {
             const uint32_t c = h.node(g, k), p = h.node(g, k - 1);
-            const Vec3f rest = head_rotation_ * (h.rest[c] - h.rest[p]);
-            const Vec3f now = x_[c] - x_[p];
-            segment[k] = rest.squaredNorm() > 1e-12f && now.squaredNorm() > 1e-12f
-                             ? (Quat::FromTwoVectors(rest, now) * head_rotation_).normalized()
-                             : head_rotation_;
+            segment[k] = rest_to_now(h.rest[c] - h.rest[p], x_[c] - x_[p]);
         }
         out[f * n_] = head_rotation_.toRotationMatrix();
         for (int k = 1; k < n_; ++k) {

@@ -21,9 +21,9 @@
 //      threshold angle, repulsion (eq. 2), split to the segment's two nodes by eq. (3);
 //   3. every active node, root to tip, is integrated implicitly (backward Euler in velocity,
 //      with its parent already advanced) under
-//        - a spring toward its rest position relative to its parent: x_p + Q_p·(X_c − X_p),
-//          where Q_p rotates the parent segment's rest direction onto its current one (the
-//          hairstyle keeps its shape: with the head still, hair stays at the styled shape);
+//        - a shape spring toward its styled place relative to its parent, turned with the
+//          head: x_p + R_h·(X_c − X_p), whose reaction acts on the parent (a conservative
+//          spring; with the head still, hair stays at the styled shape);
 //        - soft links (curly hair): a second spring on the segment's length;
 //        - effective gravity g − R_h·R_h0ᵀ·g: the styled shape is the rest shape under the
 //          gravity of the first frame (sag-free), and the head's rotation since then turns it;
@@ -152,6 +152,9 @@ class AwtSimulation {
     uint32_t find_parent(uint32_t gc, int k) const;
     Eigen::Quaternionf segment_rotation(uint32_t child, uint32_t parent_node,
                                         const Vec3f& child_position) const;
+    // The rotation taking the head-space rest vector `rest` to `now` (the head's rotation
+    // composed with the shortest arc).
+    Eigen::Quaternionf rest_to_now(const Vec3f& rest, const Vec3f& now) const;
     void rebase_subtree(uint32_t node, const Eigen::Quaternionf& change);
     void settle_merged();
 
@@ -173,6 +176,7 @@ class AwtSimulation {
     std::vector<uint32_t> parent_;
     std::vector<Eigen::Quaternionf> rotation_;  // segment rotation of active nodes
     std::vector<uint32_t> active_;
+    std::vector<uint32_t> governor_;  // sync(): the active node governing each merged node
     std::vector<Sphere> world_spheres_;
     std::vector<std::pair<uint64_t, uint32_t>> cells_;  // hair–hair voxel entries
     std::vector<Vec3f> box_lo_, box_hi_, mean_velocity_;

@@ -344,7 +344,8 @@ UsdaAnimationWriter::~UsdaAnimationWriter() = default;
 
 void UsdaAnimationWriter::add(const Hair& frame) {
     Impl& m = *impl_;
-    if (m.written == m.frames) fail(path_.string(), ": more frames than announced (", m.frames, ")");
+    if (m.written == m.frames)
+        fail(path_.string(), ": more frames than announced (", m.frames, ")");
     frame.validate(cat(path_.string(), " frame ", m.written));
     if (frame.offsets != m.first.offsets)
         fail(path_.string(), ": frame ", m.written,
