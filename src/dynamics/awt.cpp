@@ -1,7 +1,11 @@
 #include "dynamics/awt.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "core/error.hpp"
 
@@ -60,12 +64,35 @@ void closest_points(const Vec3f& p1, const Vec3f& q1, const Vec3f& p2, const Vec
     }
 }
 
-uint64_t cell_key(int x, int y, int z) {
-    constexpr int64_t kOffset = 1 << 20;
-    const auto c = [](int v) {
-        return static_cast<uint64_t>(std::clamp<int64_t>(v + kOffset, 0, (1 << 21) - 1));
-    };
-    return (c(x) << 42) | (c(y) << 21) | c(z);
+// The hierarchical grid of the hair–hair broad phase: cell widths double from level to level.
+constexpr int kGridLevels = 16;
+constexpr int kCellBits = 20;
+constexpr int64_t kCellOffset = int64_t{1} << (kCellBits - 1);
+constexpr int64_t kCellMax = (int64_t{1} << kCellBits) - 1;
+
+// A grid cell's key: level, then z, y, x, so that cells neighbouring along x are adjacent in
+// key order. Coordinates are offset to be non-negative and must lie in [0, kCellMax].
+uint64_t grid_key(int level, int64_t x, int64_t y, int64_t z) {
+    return (static_cast<uint64_t>(level) << (3 * kCellBits)) |
+           (static_cast<uint64_t>(z) << (2 * kCellBits)) | (static_cast<uint64_t>(y) << kCellBits) |
+           static_cast<uint64_t>(x);
+}
+
+// Whether two boxes (x, y, z, 0) overlap; SSE where the target has it (x86-64 always does).
+bool boxes_overlap(const Eigen::Vector4f& a_lo, const Eigen::Vector4f& a_hi,
+                   const Eigen::Vector4f& b_lo, const Eigen::Vector4f& b_hi) {
+#if defined(__SSE2__)
+    const __m128 apart =
+        _mm_or_ps(_mm_cmpgt_ps(_mm_load_ps(a_lo.data()), _mm_load_ps(b_hi.data())),
+                  _mm_cmpgt_ps(_mm_load_ps(b_lo.data()), _mm_load_ps(a_hi.data())));
+    return _mm_movemask_ps(apart) == 0;
+#else
+    return !((a_lo.array() > b_hi.array()) || (b_lo.array() > a_hi.array())).any();
+#endif
+}
+
+int grid_level(uint64_t key) {
+    return static_cast<int>(key >> (3 * kCellBits));
 }
 
 }  // namespace
@@ -269,45 +296,67 @@ void AwtSimulation::interact() {
         force_[i].setZero();
         drag_[i] = 0;
     }
+    // Broad phase: a hierarchical grid (Ericson, Real-Time Collision Detection §7.2). Each
+    // active segment's box goes into one cell, the one holding its centre, at the first level
+    // whose cells are at least as wide as the box. Two boxes overlap only if their centres are
+    // at most one cell width apart on every axis at the coarser one's level, so a box meets
+    // every box it may touch in the 3×3×3 cells around its centre at its own level and every
+    // coarser one; looking only there (and, at its own level, only at later entries) visits
+    // each pair once.
     const size_t count = active_.size();
-    box_lo_.resize(count);
-    box_hi_.resize(count);
-    mean_velocity_.resize(count);
-    moving_.resize(count);
-    extent_.resize(count);
+    grid_.clear();
+    grid_.reserve(count);
     for (size_t s = 0; s < count; ++s) {
         const uint32_t c = active_[s], p = parent_[c];
-        const float r = radius_[c];
-        box_lo_[s] = x_[c].cwiseMin(x_[p]) - Vec3f::Constant(r);
-        box_hi_[s] = x_[c].cwiseMax(x_[p]) + Vec3f::Constant(r);
-        extent_[s] = (box_hi_[s] - box_lo_[s]).maxCoeff();
-        mean_velocity_[s] = 0.5f * (v_[c] + v_[p]);
+        const Vec3f r = Vec3f::Constant(radius_[c]);
+        const Vec3f lo = x_[c].cwiseMin(x_[p]) - r, hi = x_[c].cwiseMax(x_[p]) + r;
+        if (!lo.allFinite() || !hi.allFinite()) continue;
+        const float extent = (hi - lo).maxCoeff();
+        int level = 0;
+        float cell = voxel_;
+        while (cell < extent && level + 1 < kGridLevels) {
+            cell *= 2;
+            ++level;
+        }
+        if (cell < extent) continue;
+        const Vec3f centre = 0.5f * (lo + hi) / cell;
+        int64_t xyz[3];
+        bool inside = true;
+        for (int axis = 0; axis < 3; ++axis) {
+            xyz[axis] = static_cast<int64_t>(std::floor(centre[axis])) + kCellOffset;
+            inside = inside && xyz[axis] >= 0 && xyz[axis] <= kCellMax;
+        }
+        if (!inside) continue;  // over 10 km away: nothing to meet
+        grid_.push_back({grid_key(level, xyz[0], xyz[1], xyz[2]), static_cast<uint32_t>(s)});
+    }
+    std::sort(grid_.begin(), grid_.end(), [](const GridEntry& a, const GridEntry& b) {
+        return a.key != b.key ? a.key < b.key : a.segment < b.segment;
+    });
+    // The entries' data in grid order, so the scan of a cell reads memory in sequence.
+    const size_t entries = grid_.size();
+    grid_keys_.resize(entries);
+    slots_.resize(entries);
+    boxes_.resize(entries);
+    for (size_t e = 0; e < entries; ++e) {
+        const uint32_t s = grid_[e].segment, c = active_[s], p = parent_[c];
+        const Vec3f r = Vec3f::Constant(radius_[c]);
+        Slot& slot = slots_[e];
+        grid_keys_[e] = grid_[e].key;
+        boxes_[e].lo << x_[c].cwiseMin(x_[p]) - r, 0.f;
+        boxes_[e].hi << x_[c].cwiseMax(x_[p]) + r, 0.f;
+        slot.velocity = 0.5f * (v_[c] + v_[p]);
+        slot.child = c;
         // §4.1: only pairs with relative motion are tested; two segments that both move
         // slower than half the threshold cannot have it.
-        moving_[s] = mean_velocity_[s].squaredNorm() >= 0.25f * kStill * kStill;
+        slot.moving = slot.velocity.squaredNorm() >= 0.25f * kStill * kStill;
     }
-    // The voxel: the configured size, or half the median segment box, so cells stay small
-    // where the tree is fine and a coarse segment spans a few cells.
-    float cell = voxel_;
-    if (params_.voxel <= 0 && count > 0) {
-        scratch_ = extent_;
-        std::nth_element(scratch_.begin(), scratch_.begin() + count / 2, scratch_.end());
-        cell = std::max(cell, 0.5f * scratch_[count / 2]);
+    std::array<size_t, kGridLevels + 1> level_begin{};
+    for (int l = 0, e = 0; l <= kGridLevels; ++l) {
+        while (static_cast<size_t>(e) < entries && grid_level(grid_keys_[e]) < l)
+            ++e;
+        level_begin[l] = static_cast<size_t>(e);
     }
-    const float inv = 1.f / cell;
-    cells_.clear();
-    for (size_t s = 0; s < count; ++s) {
-        const Vec3i lo = (box_lo_[s] * inv).array().floor().cast<int>();
-        const Vec3i hi = (box_hi_[s] * inv).array().floor().cast<int>();
-        const Vec3i top = hi.cwiseMin(lo + Vec3i::Constant(7));  // bound very long segments
-        // Moving segments first in each cell: still–still pairs are never enumerated.
-        const uint32_t order = (moving_[s] ? 0u : 1u << 31) | static_cast<uint32_t>(s);
-        for (int z = lo.z(); z <= top.z(); ++z)
-            for (int y = lo.y(); y <= top.y(); ++y)
-                for (int x = lo.x(); x <= top.x(); ++x)
-                    cells_.emplace_back(cell_key(x, y, z), order);
-    }
-    std::sort(cells_.begin(), cells_.end());
+
     const float alpha = params_.friction, kr = params_.repulsion;
     auto apply = [&](uint32_t c, uint32_t p, float s, const Vec3f& f) {
         // P = u·N_p + (1 − u)·N_c with u = 1 − s (s runs parent → child): eq. (3).
@@ -321,65 +370,84 @@ void AwtSimulation::interact() {
         drag_[p] += (1 - s) * k;
         force_[p] += (1 - s) * k * other;
     };
-    constexpr uint32_t kIndex = (1u << 31) - 1;
-    for (size_t begin = 0; begin < cells_.size();) {
-        size_t end = begin + 1;
-        while (end < cells_.size() && cells_[end].first == cells_[begin].first)
-            ++end;
-        const uint64_t key = cells_[begin].first;
-        for (size_t a = begin; a < end && moving_[cells_[a].second & kIndex]; ++a)
-            for (size_t b = a + 1; b < end; ++b) {
-                const uint32_t sa = cells_[a].second & kIndex, sb = cells_[b].second & kIndex;
-                if ((mean_velocity_[sa] - mean_velocity_[sb]).squaredNorm() < kStill * kStill)
-                    continue;
-                const uint32_t ca = active_[sa], pa = parent_[ca];
-                const uint32_t cb = active_[sb], pb = parent_[cb];
-                if (pa == cb || pb == ca || pa == pb) continue;  // neighbours in the tree
-                // Test each pair once: in the cell holding the corner of their boxes' overlap.
-                const Vec3f lo = box_lo_[sa].cwiseMax(box_lo_[sb]);
-                const Vec3f hi = box_hi_[sa].cwiseMin(box_hi_[sb]);
-                if ((lo.array() > hi.array()).any()) continue;
-                const Vec3i corner = (lo * inv).array().floor().cast<int>();
-                if (cell_key(corner.x(), corner.y(), corner.z()) != key) continue;
-                ++last_.pair_tests;
-                float s, t;
-                closest_points(x_[pa], x_[ca], x_[pb], x_[cb], s, t);
-                const Vec3f p1 = x_[pa] + s * (x_[ca] - x_[pa]);
-                const Vec3f p2 = x_[pb] + t * (x_[cb] - x_[pb]);
-                const float r = radius_[ca] + radius_[cb];
-                const Vec3f d = p1 - p2;
-                const float dist2 = d.squaredNorm();
-                if (dist2 >= r * r) continue;
-                ++last_.hair_contacts;
-                const float m = std::min(h.mass[ca], h.mass[cb]);
-                const Vec3f v1 = v_[pa] + s * (v_[ca] - v_[pa]);
-                const Vec3f v2 = v_[pb] + t * (v_[cb] - v_[pb]);
-                // Eq. (1), k_f = α·m, split by eq. (3). It is integrated implicitly (each
-                // node is drawn toward the other segment's velocity), so many contacts on one
-                // node never reverse its relative motion.
-                friction(ca, pa, s, alpha * m, v2);
-                friction(cb, pb, t, alpha * m, v1);
-                const Vec3f ea = x_[ca] - x_[pa], eb = x_[cb] - x_[pb];
-                const float la = ea.norm(), lb = eb.norm();
-                const float dist = std::sqrt(dist2);
-                if (la > 0 && lb > 0 && dist > 1e-6f &&
-                    std::abs(ea.dot(eb)) < cos_repulsion_ * la * lb) {
-                    // Eq. (2), but never against the styled shape: segments that overlap at
-                    // rest (neighbouring sub-wisps, layers) repel only when closer than there.
-                    float rs, rt;
-                    closest_points(h.rest[pa], h.rest[ca], h.rest[pb], h.rest[cb], rs, rt);
-                    const float at_rest = ((h.rest[pa] + rs * (h.rest[ca] - h.rest[pa])) -
-                                           (h.rest[pb] + rt * (h.rest[cb] - h.rest[pb])))
-                                              .norm();
-                    const float reach = std::min(r, at_rest);
-                    if (dist < reach) {
-                        const Vec3f f = kr * m * (reach - dist) / dist * d;
-                        apply(ca, pa, s, f);
-                        apply(cb, pb, t, -f);
+    auto narrow = [&](const Slot& a, const Slot& b) {
+        if (!a.moving && !b.moving) return;
+        if ((a.velocity - b.velocity).squaredNorm() < kStill * kStill) return;
+        const uint32_t ca = a.child, pa = parent_[ca];
+        const uint32_t cb = b.child, pb = parent_[cb];
+        if (pa == cb || pb == ca || pa == pb) return;  // neighbours in the tree
+        ++last_.pair_tests;
+        float s, t;
+        closest_points(x_[pa], x_[ca], x_[pb], x_[cb], s, t);
+        const Vec3f p1 = x_[pa] + s * (x_[ca] - x_[pa]);
+        const Vec3f p2 = x_[pb] + t * (x_[cb] - x_[pb]);
+        const float r = radius_[ca] + radius_[cb];
+        const Vec3f d = p1 - p2;
+        const float dist2 = d.squaredNorm();
+        if (dist2 >= r * r) return;
+        ++last_.hair_contacts;
+        const float m = std::min(h.mass[ca], h.mass[cb]);
+        const Vec3f v1 = v_[pa] + s * (v_[ca] - v_[pa]);
+        const Vec3f v2 = v_[pb] + t * (v_[cb] - v_[pb]);
+        // Eq. (1), k_f = α·m, split by eq. (3). It is integrated implicitly (each
+        // node is drawn toward the other segment's velocity), so many contacts on one
+        // node never reverse its relative motion.
+        friction(ca, pa, s, alpha * m, v2);
+        friction(cb, pb, t, alpha * m, v1);
+        const Vec3f ea = x_[ca] - x_[pa], eb = x_[cb] - x_[pb];
+        const float la = ea.norm(), lb = eb.norm();
+        const float dist = std::sqrt(dist2);
+        if (la > 0 && lb > 0 && dist > 1e-6f && std::abs(ea.dot(eb)) < cos_repulsion_ * la * lb) {
+            // Eq. (2), but never against the styled shape: segments that overlap at
+            // rest (neighbouring sub-wisps, layers) repel only when closer than there.
+            float rs, rt;
+            closest_points(h.rest[pa], h.rest[ca], h.rest[pb], h.rest[cb], rs, rt);
+            const float at_rest = ((h.rest[pa] + rs * (h.rest[ca] - h.rest[pa])) -
+                                   (h.rest[pb] + rt * (h.rest[cb] - h.rest[pb])))
+                                      .norm();
+            const float reach = std::min(r, at_rest);
+            if (dist < reach) {
+                const Vec3f f = kr * m * (reach - dist) / dist * d;
+                apply(ca, pa, s, f);
+                apply(cb, pb, t, -f);
+            }
+        }
+    };
+    for (size_t i = 0; i < entries; ++i) {
+        const Box& a = boxes_[i];
+        const int own = grid_level(grid_keys_[i]);
+        float cell = voxel_ * static_cast<float>(1 << own);
+        for (int l = own; l < kGridLevels; ++l, cell *= 2) {
+            const size_t begin = level_begin[l], end = level_begin[l + 1];
+            if (begin == end) continue;
+            // Boxes at this level are at most `cell` wide: the centres of those that may meet
+            // this one lie within half a cell of it.
+            const Eigen::Vector4f inv = Eigen::Vector4f::Constant(1.f / cell);
+            const Eigen::Vector4f half = Eigen::Vector4f::Constant(0.5f * cell);
+            const Eigen::Vector4f lo = ((a.lo - half).cwiseProduct(inv)).array().floor();
+            const Eigen::Vector4f hi = ((a.hi + half).cwiseProduct(inv)).array().floor();
+            int64_t from[3], to[3];
+            for (int axis = 0; axis < 3; ++axis) {
+                from[axis] = std::max<int64_t>(0, static_cast<int64_t>(lo[axis]) + kCellOffset);
+                to[axis] = std::min(kCellMax, static_cast<int64_t>(hi[axis]) + kCellOffset);
+            }
+            size_t j = begin;
+            for (int64_t z = from[2]; z <= to[2]; ++z)
+                for (int64_t y = from[1]; y <= to[1]; ++y) {
+                    // Rows of cells along x are contiguous in key order, and rows come in
+                    // increasing order: each search starts where the last one ended.
+                    const uint64_t first = grid_key(l, from[0], y, z);
+                    const uint64_t last = grid_key(l, to[0], y, z);
+                    j = static_cast<size_t>(
+                        std::lower_bound(grid_keys_.begin() + j, grid_keys_.begin() + end, first) -
+                        grid_keys_.begin());
+                    size_t k = l == own ? std::max(j, i + 1) : j;
+                    for (; k < end && grid_keys_[k] <= last; ++k) {
+                        const Box& b = boxes_[k];
+                        if (boxes_overlap(a.lo, a.hi, b.lo, b.hi)) narrow(slots_[i], slots_[k]);
                     }
                 }
-            }
-        begin = end;
+        }
     }
 }
 
@@ -480,8 +548,13 @@ bool AwtSimulation::collide_body(uint32_t c, uint32_t p) {
     // rounds: leaving one sphere may enter an overlapping one.
     for (int round = 0; round < 4; ++round) {
         bool moved = false;
+        const Vec3f a = x_[p];
+        // The child half of the segment lies within `reach` of its child end.
+        float reach = 0.5f * (x_[c] - a).norm();
         for (const Sphere& sphere : world_spheres_) {
-            const Vec3f a = x_[p], b = x_[c];
+            const Vec3f b = x_[c];
+            const float near = sphere.radius + reach;
+            if ((b - sphere.center).squaredNorm() >= near * near) continue;
             const Vec3f ab = b - a;
             const float len2 = ab.squaredNorm();
             const float t =
@@ -497,6 +570,7 @@ bool AwtSimulation::collide_body(uint32_t c, uint32_t p) {
             const Vec3f e = to - sphere.center;
             if (e.norm() < sphere.radius) to = sphere.center + sphere.radius * e.normalized();
             x_[c] = to;
+            reach = 0.5f * (to - a).norm();
             moved = any = true;
             if (!collided_[c]) ++last_.body_contacts;
             collided_[c] = 1;

@@ -178,10 +178,24 @@ class AwtSimulation {
     std::vector<uint32_t> active_;
     std::vector<uint32_t> governor_;  // sync(): the active node governing each merged node
     std::vector<Sphere> world_spheres_;
-    std::vector<std::pair<uint64_t, uint32_t>> cells_;  // hair–hair voxel entries
-    std::vector<Vec3f> box_lo_, box_hi_, mean_velocity_;
-    std::vector<float> extent_, scratch_;
-    std::vector<uint8_t> moving_;
+    // Hair–hair broad phase (interact()): the grid's entries, their keys and their segments'
+    // data, in grid order.
+    struct GridEntry {
+        uint64_t key;
+        uint32_t segment;  // index into active_
+    };
+    struct Box {
+        Eigen::Vector4f lo, hi;  // w = 0
+    };
+    struct Slot {
+        Vec3f velocity;  // mean velocity of the segment's two nodes
+        uint32_t child;
+        bool moving;
+    };
+    std::vector<GridEntry> grid_;
+    std::vector<uint64_t> grid_keys_;
+    std::vector<Box> boxes_;
+    std::vector<Slot> slots_;
     std::vector<AwtEvent> events_;
     AwtStepStats last_;
     uint64_t total_splits_ = 0, total_merges_ = 0;
