@@ -1,11 +1,7 @@
 #include "dynamics/awt.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 
 #include "core/error.hpp"
 
@@ -62,37 +58,6 @@ void closest_points(const Vec3f& p1, const Vec3f& q1, const Vec3f& p2, const Vec
         t = 1;
         s = std::clamp((b - c) / a, 0.f, 1.f);
     }
-}
-
-// The hierarchical grid of the hair–hair broad phase: cell widths double from level to level.
-constexpr int kGridLevels = 16;
-constexpr int kCellBits = 20;
-constexpr int64_t kCellOffset = int64_t{1} << (kCellBits - 1);
-constexpr int64_t kCellMax = (int64_t{1} << kCellBits) - 1;
-
-// A grid cell's key: level, then z, y, x, so that cells neighbouring along x are adjacent in
-// key order. Coordinates are offset to be non-negative and must lie in [0, kCellMax].
-uint64_t grid_key(int level, int64_t x, int64_t y, int64_t z) {
-    return (static_cast<uint64_t>(level) << (3 * kCellBits)) |
-           (static_cast<uint64_t>(z) << (2 * kCellBits)) | (static_cast<uint64_t>(y) << kCellBits) |
-           static_cast<uint64_t>(x);
-}
-
-// Whether two boxes (x, y, z, 0) overlap; SSE where the target has it (x86-64 always does).
-bool boxes_overlap(const Eigen::Vector4f& a_lo, const Eigen::Vector4f& a_hi,
-                   const Eigen::Vector4f& b_lo, const Eigen::Vector4f& b_hi) {
-#if defined(__SSE2__)
-    const __m128 apart =
-        _mm_or_ps(_mm_cmpgt_ps(_mm_load_ps(a_lo.data()), _mm_load_ps(b_hi.data())),
-                  _mm_cmpgt_ps(_mm_load_ps(b_lo.data()), _mm_load_ps(a_hi.data())));
-    return _mm_movemask_ps(apart) == 0;
-#else
-    return !((a_lo.array() > b_hi.array()) || (b_lo.array() > a_hi.array())).any();
-#endif
-}
-
-int grid_level(uint64_t key) {
-    return static_cast<int>(key >> (3 * kCellBits));
 }
 
 }  // namespace
@@ -296,65 +261,25 @@ void AwtSimulation::interact() {
         force_[i].setZero();
         drag_[i] = 0;
     }
-    // Broad phase: a hierarchical grid (Ericson, Real-Time Collision Detection §7.2). Each
-    // active segment's box goes into one cell, the one holding its centre, at the first level
-    // whose cells are at least as wide as the box. Two boxes overlap only if their centres are
-    // at most one cell width apart on every axis at the coarser one's level, so a box meets
-    // every box it may touch in the 3×3×3 cells around its centre at its own level and every
-    // coarser one; looking only there (and, at its own level, only at later entries) visits
-    // each pair once.
+    // Broad phase (broad_phase.hpp): the active segments' boxes on a hierarchical grid.
     const size_t count = active_.size();
-    grid_.clear();
-    grid_.reserve(count);
+    boxes_.resize(count);
     for (size_t s = 0; s < count; ++s) {
         const uint32_t c = active_[s], p = parent_[c];
         const Vec3f r = Vec3f::Constant(radius_[c]);
-        const Vec3f lo = x_[c].cwiseMin(x_[p]) - r, hi = x_[c].cwiseMax(x_[p]) + r;
-        if (!lo.allFinite() || !hi.allFinite()) continue;
-        const float extent = (hi - lo).maxCoeff();
-        int level = 0;
-        float cell = voxel_;
-        while (cell < extent && level + 1 < kGridLevels) {
-            cell *= 2;
-            ++level;
-        }
-        if (cell < extent) continue;
-        const Vec3f centre = 0.5f * (lo + hi) / cell;
-        int64_t xyz[3];
-        bool inside = true;
-        for (int axis = 0; axis < 3; ++axis) {
-            xyz[axis] = static_cast<int64_t>(std::floor(centre[axis])) + kCellOffset;
-            inside = inside && xyz[axis] >= 0 && xyz[axis] <= kCellMax;
-        }
-        if (!inside) continue;  // over 10 km away: nothing to meet
-        grid_.push_back({grid_key(level, xyz[0], xyz[1], xyz[2]), static_cast<uint32_t>(s)});
+        boxes_[s].lo << x_[c].cwiseMin(x_[p]) - r, 0.f;
+        boxes_[s].hi << x_[c].cwiseMax(x_[p]) + r, 0.f;
     }
-    std::sort(grid_.begin(), grid_.end(), [](const GridEntry& a, const GridEntry& b) {
-        return a.key != b.key ? a.key < b.key : a.segment < b.segment;
-    });
-    // The entries' data in grid order, so the scan of a cell reads memory in sequence.
-    const size_t entries = grid_.size();
-    grid_keys_.resize(entries);
-    slots_.resize(entries);
-    boxes_.resize(entries);
-    for (size_t e = 0; e < entries; ++e) {
-        const uint32_t s = grid_[e].segment, c = active_[s], p = parent_[c];
-        const Vec3f r = Vec3f::Constant(radius_[c]);
-        Slot& slot = slots_[e];
-        grid_keys_[e] = grid_[e].key;
-        boxes_[e].lo << x_[c].cwiseMin(x_[p]) - r, 0.f;
-        boxes_[e].hi << x_[c].cwiseMax(x_[p]) + r, 0.f;
-        slot.velocity = 0.5f * (v_[c] + v_[p]);
-        slot.child = c;
-        // §4.1: only pairs with relative motion are tested; two segments that both move
-        // slower than half the threshold cannot have it.
-        slot.moving = slot.velocity.squaredNorm() >= 0.25f * kStill * kStill;
-    }
-    std::array<size_t, kGridLevels + 1> level_begin{};
-    for (int l = 0, e = 0; l <= kGridLevels; ++l) {
-        while (static_cast<size_t>(e) < entries && grid_level(grid_keys_[e]) < l)
-            ++e;
-        level_begin[l] = static_cast<size_t>(e);
+    grid_.build(boxes_, voxel_);
+    // The segments in grid order: child node, mean velocity of the two nodes, and whether that
+    // is over half the relative-motion threshold (§4.1: only pairs with relative motion are
+    // tested; two segments both slower than that cannot have it).
+    const std::span<const uint32_t> order = grid_.order();
+    segments_.resize(order.size());
+    for (size_t e = 0; e < order.size(); ++e) {
+        const uint32_t c = active_[order[e]];
+        const Vec3f v = 0.5f * (v_[c] + v_[parent_[c]]);
+        segments_[e] = {v, c, v.squaredNorm() >= 0.25f * kStill * kStill};
     }
 
     const float alpha = params_.friction, kr = params_.repulsion;
@@ -370,7 +295,9 @@ void AwtSimulation::interact() {
         drag_[p] += (1 - s) * k;
         force_[p] += (1 - s) * k * other;
     };
-    auto narrow = [&](const Slot& a, const Slot& b) {
+    grid_.for_each_overlap([&](size_t ia, size_t ib) {
+        const Segment& a = segments_[ia];
+        const Segment& b = segments_[ib];
         if (!a.moving && !b.moving) return;
         if ((a.velocity - b.velocity).squaredNorm() < kStill * kStill) return;
         const uint32_t ca = a.child, pa = parent_[ca];
@@ -412,43 +339,7 @@ void AwtSimulation::interact() {
                 apply(cb, pb, t, -f);
             }
         }
-    };
-    for (size_t i = 0; i < entries; ++i) {
-        const Box& a = boxes_[i];
-        const int own = grid_level(grid_keys_[i]);
-        float cell = voxel_ * static_cast<float>(1 << own);
-        for (int l = own; l < kGridLevels; ++l, cell *= 2) {
-            const size_t begin = level_begin[l], end = level_begin[l + 1];
-            if (begin == end) continue;
-            // Boxes at this level are at most `cell` wide: the centres of those that may meet
-            // this one lie within half a cell of it.
-            const Eigen::Vector4f inv = Eigen::Vector4f::Constant(1.f / cell);
-            const Eigen::Vector4f half = Eigen::Vector4f::Constant(0.5f * cell);
-            const Eigen::Vector4f lo = ((a.lo - half).cwiseProduct(inv)).array().floor();
-            const Eigen::Vector4f hi = ((a.hi + half).cwiseProduct(inv)).array().floor();
-            int64_t from[3], to[3];
-            for (int axis = 0; axis < 3; ++axis) {
-                from[axis] = std::max<int64_t>(0, static_cast<int64_t>(lo[axis]) + kCellOffset);
-                to[axis] = std::min(kCellMax, static_cast<int64_t>(hi[axis]) + kCellOffset);
-            }
-            size_t j = begin;
-            for (int64_t z = from[2]; z <= to[2]; ++z)
-                for (int64_t y = from[1]; y <= to[1]; ++y) {
-                    // Rows of cells along x are contiguous in key order, and rows come in
-                    // increasing order: each search starts where the last one ended.
-                    const uint64_t first = grid_key(l, from[0], y, z);
-                    const uint64_t last = grid_key(l, to[0], y, z);
-                    j = static_cast<size_t>(
-                        std::lower_bound(grid_keys_.begin() + j, grid_keys_.begin() + end, first) -
-                        grid_keys_.begin());
-                    size_t k = l == own ? std::max(j, i + 1) : j;
-                    for (; k < end && grid_keys_[k] <= last; ++k) {
-                        const Box& b = boxes_[k];
-                        if (boxes_overlap(a.lo, a.hi, b.lo, b.hi)) narrow(slots_[i], slots_[k]);
-                    }
-                }
-        }
-    }
+    });
 }
 
 void AwtSimulation::integrate() {

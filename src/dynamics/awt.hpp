@@ -16,9 +16,10 @@
 //
 // Step (dt), in order:
 //   1. roots follow the head's rigid motion (motion.hpp);
-//   2. hair–hair interactions (§4.1–§4.2) between active segments in one voxel with relative
-//      motion: viscous friction k_f = α·m (eq. 1) and, for segments crossing at more than the
-//      threshold angle, repulsion (eq. 2), split to the segment's two nodes by eq. (3);
+//   2. hair–hair interactions (§4.1–§4.2) between active segments whose boxes overlap
+//      (broad_phase.hpp) with relative motion: viscous friction k_f = α·m (eq. 1) and, for segments
+//      crossing at more than the threshold angle, repulsion (eq. 2), split to the segment's two
+//      nodes by eq. (3);
 //   3. every active node, root to tip, is integrated implicitly (backward Euler in velocity,
 //      with its parent already advanced) under
 //        - a shape spring toward its styled place relative to its parent, turned with the
@@ -48,6 +49,7 @@
 #include <vector>
 
 #include "dynamics/body.hpp"
+#include "dynamics/broad_phase.hpp"
 #include "dynamics/hierarchy.hpp"
 #include "dynamics/motion.hpp"
 #include "groom/style.hpp"
@@ -178,24 +180,16 @@ class AwtSimulation {
     std::vector<uint32_t> active_;
     std::vector<uint32_t> governor_;  // sync(): the active node governing each merged node
     std::vector<Sphere> world_spheres_;
-    // Hair–hair broad phase (interact()): the grid's entries, their keys and their segments'
-    // data, in grid order.
-    struct GridEntry {
-        uint64_t key;
-        uint32_t segment;  // index into active_
-    };
-    struct Box {
-        Eigen::Vector4f lo, hi;  // w = 0
-    };
-    struct Slot {
-        Vec3f velocity;  // mean velocity of the segment's two nodes
+    // Hair–hair interactions (interact()): the active segments' boxes, and their data in the
+    // grid's order.
+    struct Segment {
+        Vec3f velocity;
         uint32_t child;
         bool moving;
     };
-    std::vector<GridEntry> grid_;
-    std::vector<uint64_t> grid_keys_;
-    std::vector<Box> boxes_;
-    std::vector<Slot> slots_;
+    BoxGrid grid_;
+    std::vector<Box4> boxes_;
+    std::vector<Segment> segments_;
     std::vector<AwtEvent> events_;
     AwtStepStats last_;
     uint64_t total_splits_ = 0, total_merges_ = 0;

@@ -168,7 +168,7 @@ struct DynamicsSpec {
     float friction = 20.f;          // α of k_f = α·m (§4.2 eq. 1), 1/s, α·dt < 1
     float repulsion = 1500.f;       // k_r per unit of the lighter node's mass (eq. 2), 1/s²
     float repulsion_angle = 30.f;   // degrees: repel only segments crossing at more
-    float voxel = 0.f;              // cm: hair–hair voxel grid cell; 0 = 2× the mean radius
+    float voxel = 0.f;              // cm: finest hair–hair grid cell; 0 = 2× the mean radius
                                     // of the finest GCs
     int iterations = 2;             // rigid links: constraint passes before the final one
     bool hair_collisions = true;
