@@ -271,75 +271,91 @@ void AwtSimulation::interact() {
         boxes_[s].hi << x_[c].cwiseMax(x_[p]) + r, 0.f;
     }
     grid_.build(boxes_, voxel_);
-    // The segments in grid order: child node, mean velocity of the two nodes, and whether that
-    // is over half the relative-motion threshold (§4.1: only pairs with relative motion are
-    // tested; two segments both slower than that cannot have it).
+    // The segments in grid order, with everything the tests read, so that they read memory in
+    // sequence; forces gather per segment end and are added to the nodes afterwards.
     const std::span<const uint32_t> order = grid_.order();
     segments_.resize(order.size());
     for (size_t e = 0; e < order.size(); ++e) {
-        const uint32_t c = active_[order[e]];
-        const Vec3f v = 0.5f * (v_[c] + v_[parent_[c]]);
-        segments_[e] = {v, c, v.squaredNorm() >= 0.25f * kStill * kStill};
+        const uint32_t c = active_[order[e]], p = parent_[c];
+        Segment& g = segments_[e];
+        g.xp = x_[p];
+        g.xc = x_[c];
+        g.vp = v_[p];
+        g.vc = v_[c];
+        g.velocity = 0.5f * (v_[c] + v_[p]);
+        g.radius = radius_[c];
+        g.mass = h.mass[c];
+        g.child = c;
+        g.parent = p;
+        // §4.1: only pairs with relative motion are tested; two segments both slower than
+        // half the threshold cannot have it.
+        g.moving = g.velocity.squaredNorm() >= 0.25f * kStill * kStill;
+        g.force_c.setZero();
+        g.force_p.setZero();
+        g.drag_c = g.drag_p = 0;
     }
-
     const float alpha = params_.friction, kr = params_.repulsion;
-    auto apply = [&](uint32_t c, uint32_t p, float s, const Vec3f& f) {
-        // P = u·N_p + (1 − u)·N_c with u = 1 − s (s runs parent → child): eq. (3).
-        force_[c] += s * f;
-        if (h.section_of(p) != 0) force_[p] += (1 - s) * f;
-    };
-    auto friction = [&](uint32_t c, uint32_t p, float s, float k, const Vec3f& other) {
-        drag_[c] += s * k;
-        force_[c] += s * k * other;
-        if (h.section_of(p) == 0) return;
-        drag_[p] += (1 - s) * k;
-        force_[p] += (1 - s) * k * other;
-    };
     grid_.for_each_overlap([&](size_t ia, size_t ib) {
-        const Segment& a = segments_[ia];
-        const Segment& b = segments_[ib];
+        Segment& a = segments_[ia];
+        Segment& b = segments_[ib];
         if (!a.moving && !b.moving) return;
         if ((a.velocity - b.velocity).squaredNorm() < kStill * kStill) return;
-        const uint32_t ca = a.child, pa = parent_[ca];
-        const uint32_t cb = b.child, pb = parent_[cb];
-        if (pa == cb || pb == ca || pa == pb) return;  // neighbours in the tree
+        if (a.parent == b.child || b.parent == a.child || a.parent == b.parent)
+            return;  // neighbours in the tree
         ++last_.pair_tests;
         float s, t;
-        closest_points(x_[pa], x_[ca], x_[pb], x_[cb], s, t);
-        const Vec3f p1 = x_[pa] + s * (x_[ca] - x_[pa]);
-        const Vec3f p2 = x_[pb] + t * (x_[cb] - x_[pb]);
-        const float r = radius_[ca] + radius_[cb];
-        const Vec3f d = p1 - p2;
+        closest_points(a.xp, a.xc, b.xp, b.xc, s, t);
+        const Vec3f ea = a.xc - a.xp, eb = b.xc - b.xp;
+        const Vec3f d = (a.xp + s * ea) - (b.xp + t * eb);
+        const float r = a.radius + b.radius;
         const float dist2 = d.squaredNorm();
         if (dist2 >= r * r) return;
         ++last_.hair_contacts;
-        const float m = std::min(h.mass[ca], h.mass[cb]);
-        const Vec3f v1 = v_[pa] + s * (v_[ca] - v_[pa]);
-        const Vec3f v2 = v_[pb] + t * (v_[cb] - v_[pb]);
-        // Eq. (1), k_f = α·m, split by eq. (3). It is integrated implicitly (each
-        // node is drawn toward the other segment's velocity), so many contacts on one
-        // node never reverse its relative motion.
-        friction(ca, pa, s, alpha * m, v2);
-        friction(cb, pb, t, alpha * m, v1);
-        const Vec3f ea = x_[ca] - x_[pa], eb = x_[cb] - x_[pb];
-        const float la = ea.norm(), lb = eb.norm();
+        const float k = alpha * std::min(a.mass, b.mass);
+        const Vec3f v1 = a.vp + s * (a.vc - a.vp);
+        const Vec3f v2 = b.vp + t * (b.vc - b.vp);
+        // Eq. (1), k_f = α·m, split to the nodes by eq. (3): P = u·N_p + (1 − u)·N_c with
+        // u = 1 − s (s runs parent → child). It is integrated implicitly (each node is drawn
+        // toward the other segment's velocity), so many contacts on one node never reverse
+        // its relative motion.
+        a.drag_c += s * k;
+        a.drag_p += (1 - s) * k;
+        a.force_c += s * k * v2;
+        a.force_p += (1 - s) * k * v2;
+        b.drag_c += t * k;
+        b.drag_p += (1 - t) * k;
+        b.force_c += t * k * v1;
+        b.force_p += (1 - t) * k * v1;
+        const float la2 = ea.squaredNorm(), lb2 = eb.squaredNorm();
+        const float dot = ea.dot(eb);
+        if (la2 <= 0 || lb2 <= 0 || dist2 <= 1e-12f ||
+            dot * dot >= cos_repulsion_ * cos_repulsion_ * la2 * lb2)
+            return;
+        // Eq. (2), but never against the styled shape: segments that overlap at rest
+        // (neighbouring sub-wisps, layers) repel only when closer than there.
+        const uint32_t pa = a.parent, ca = a.child, pb = b.parent, cb = b.child;
+        float rs, rt;
+        closest_points(h.rest[pa], h.rest[ca], h.rest[pb], h.rest[cb], rs, rt);
+        const float at_rest = ((h.rest[pa] + rs * (h.rest[ca] - h.rest[pa])) -
+                               (h.rest[pb] + rt * (h.rest[cb] - h.rest[pb])))
+                                  .norm();
+        const float reach = std::min(r, at_rest);
         const float dist = std::sqrt(dist2);
-        if (la > 0 && lb > 0 && dist > 1e-6f && std::abs(ea.dot(eb)) < cos_repulsion_ * la * lb) {
-            // Eq. (2), but never against the styled shape: segments that overlap at
-            // rest (neighbouring sub-wisps, layers) repel only when closer than there.
-            float rs, rt;
-            closest_points(h.rest[pa], h.rest[ca], h.rest[pb], h.rest[cb], rs, rt);
-            const float at_rest = ((h.rest[pa] + rs * (h.rest[ca] - h.rest[pa])) -
-                                   (h.rest[pb] + rt * (h.rest[cb] - h.rest[pb])))
-                                      .norm();
-            const float reach = std::min(r, at_rest);
-            if (dist < reach) {
-                const Vec3f f = kr * m * (reach - dist) / dist * d;
-                apply(ca, pa, s, f);
-                apply(cb, pb, t, -f);
-            }
-        }
+        if (dist >= reach) return;
+        const Vec3f f = kr * std::min(a.mass, b.mass) * (reach - dist) / dist * d;
+        a.force_c += s * f;
+        a.force_p += (1 - s) * f;
+        b.force_c -= t * f;
+        b.force_p -= (1 - t) * f;
     });
+    // Roots are not simulated: what falls on them is dropped.
+    for (const Segment& g : segments_) {
+        force_[g.child] += g.force_c;
+        drag_[g.child] += g.drag_c;
+        if (h.section_of(g.parent) == 0) continue;
+        force_[g.parent] += g.force_p;
+        drag_[g.parent] += g.drag_p;
+    }
 }
 
 void AwtSimulation::integrate() {

@@ -183,9 +183,13 @@ class AwtSimulation {
     // Hair–hair interactions (interact()): the active segments' boxes, and their data in the
     // grid's order.
     struct Segment {
-        Vec3f velocity;
-        uint32_t child;
+        Vec3f xp, xc, vp, vc;  // parent and child node
+        Vec3f velocity;        // mean of the two nodes'
+        float radius, mass;    // the child node's
+        uint32_t child, parent;
         bool moving;
+        Vec3f force_c, force_p;  // interaction forces gathered at either end
+        float drag_c, drag_p;
     };
     BoxGrid grid_;
     std::vector<Box4> boxes_;
