@@ -114,6 +114,7 @@ AwtSimulation::AwtSimulation(const Hierarchy& hierarchy, std::vector<Sphere> sph
     acc_.assign(nodes, Vec3f::Zero());
     force_.assign(nodes, Vec3f::Zero());
     drag_.assign(nodes, 0.f);
+    stiffness_.assign(nodes, 0.f);
     offset_.assign(nodes, Vec3f::Zero());
     x_old_.resize(nodes);
     v_old_.resize(nodes);
@@ -260,6 +261,7 @@ void AwtSimulation::interact() {
     for (uint32_t i : active_) {
         force_[i].setZero();
         drag_[i] = 0;
+        stiffness_[i] = 0;
     }
     // Broad phase (broad_phase.hpp): the active segments' boxes on a hierarchical grid.
     const size_t count = active_.size();
@@ -293,6 +295,7 @@ void AwtSimulation::interact() {
         g.force_c.setZero();
         g.force_p.setZero();
         g.drag_c = g.drag_p = 0;
+        g.stiffness_c = g.stiffness_p = 0;
     }
     const float alpha = params_.friction, kr = params_.repulsion;
     grid_.for_each_overlap([&](size_t ia, size_t ib) {
@@ -342,19 +345,27 @@ void AwtSimulation::interact() {
         const float reach = std::min(r, at_rest);
         const float dist = std::sqrt(dist2);
         if (dist >= reach) return;
-        const Vec3f f = kr * std::min(a.mass, b.mass) * (reach - dist) / dist * d;
+        const float k_r = kr * std::min(a.mass, b.mass);
+        const Vec3f f = k_r * (reach - dist) / dist * d;
         a.force_c += s * f;
         a.force_p += (1 - s) * f;
         b.force_c -= t * f;
         b.force_p -= (1 - t) * f;
+        // The repulsion's stiffness, for its implicit integration (integrate()).
+        a.stiffness_c += s * k_r;
+        a.stiffness_p += (1 - s) * k_r;
+        b.stiffness_c += t * k_r;
+        b.stiffness_p += (1 - t) * k_r;
     });
     // Roots are not simulated: what falls on them is dropped.
     for (const Segment& g : segments_) {
         force_[g.child] += g.force_c;
         drag_[g.child] += g.drag_c;
+        stiffness_[g.child] += g.stiffness_c;
         if (h.section_of(g.parent) == 0) continue;
         force_[g.parent] += g.force_p;
         drag_[g.parent] += g.drag_p;
+        stiffness_[g.parent] += g.stiffness_p;
     }
 }
 
@@ -379,6 +390,7 @@ void AwtSimulation::integrate() {
         for (uint32_t c : active_) {
             force_[c].setZero();
             drag_[c] = 0;
+            stiffness_[c] = 0;
         }
     for (uint32_t c : active_) {
         const uint32_t p = parent_[c];
@@ -401,9 +413,12 @@ void AwtSimulation::integrate() {
         }
         Vec3f a = gravity + air + params_.damping * v_[p];
         // force_ holds the shape springs' reactions, the repulsions and Σ k_f·v_other;
-        // drag_ holds Σ k_f (friction, implicit).
+        // drag_ holds Σ k_f (friction, implicit); stiffness_ the repulsions' Σ k_r, so they
+        // are implicit too: a node pressed by many segments moves out of them by at most its
+        // penetration in a step instead of being flung (an explicit sum over dozens of
+        // contacts is far beyond k·dt² < 1).
         a += force_[c] / h.mass[c];
-        const float d = denom + dt * drag_[c] / h.mass[c];
+        const float d = denom + (dt * drag_[c] + dt * dt * stiffness_[c]) / h.mass[c];
         const Vec3f v = (v_[c] + dt * (kt * (target - x_[c]) + a)) / d;
         x_[c] += dt * v;
         v_[c] = v;

@@ -173,7 +173,7 @@ class AwtSimulation {
     float cos_repulsion_;
 
     std::vector<Vec3f> x_, v_, acc_, force_, offset_, x_old_, v_old_;
-    std::vector<float> radius_, drag_, link_length_;
+    std::vector<float> radius_, drag_, stiffness_, link_length_;
     std::vector<uint8_t> state_, collided_;
     std::vector<uint32_t> parent_;
     std::vector<Eigen::Quaternionf> rotation_;  // segment rotation of active nodes
@@ -190,6 +190,7 @@ class AwtSimulation {
         bool moving;
         Vec3f force_c, force_p;  // interaction forces gathered at either end
         float drag_c, drag_p;
+        float stiffness_c, stiffness_p;  // repulsion
     };
     BoxGrid grid_;
     std::vector<Box4> boxes_;

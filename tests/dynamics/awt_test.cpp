@@ -215,6 +215,35 @@ TEST(Awt, TenSecondsOfTheMostDrasticMotionStayFiniteAndBounded) {
     }
 }
 
+// Hair–hair contacts only exchange and dissipate momentum (§4.2): a vigorous shake of dense
+// hair (every node in contact with dozens of segments) must not move faster with them than
+// without them. An explicit sum of repulsions over that many contacts is far beyond stable
+// and flung the hair up into a fan.
+TEST(Awt, HairContactsDoNotAddEnergy) {
+    test::Groomed g = test::groomed("default", 700, 2800, 16);
+    const Hierarchy h = build_hierarchy(g.hair, hierarchy_options(g.style.dynamics));
+    const std::vector<Sphere> spheres = body_spheres_for(*test::builtin_head().mesh, g.head, h);
+    const Motion motion = motion_preset("shake", g.head);
+    auto peak_energy = [&](bool contacts, uint32_t& most_contacts) {
+        AwtParams params = awt_params(g.style.dynamics, g.style.prototype.kind, false);
+        params.hair_collisions = contacts;
+        AwtSimulation sim(h, spheres, motion, params);
+        double peak = 0;
+        most_contacts = 0;
+        while (sim.time() < 2.0) {
+            sim.step();
+            peak = std::max(peak, sim.kinetic_energy());
+            most_contacts = std::max(most_contacts, sim.last_step().hair_contacts);
+        }
+        return peak;
+    };
+    uint32_t contacts = 0, none = 0;
+    const double with = peak_energy(true, contacts);
+    const double without = peak_energy(false, none);
+    EXPECT_GT(contacts, 20 * h.level_begin[1]) << "the hair is not dense enough to test this";
+    EXPECT_LT(with, 1.1 * without);
+}
+
 TEST(Awt, SameInputsSameFrames) {
     const Scene& s = scene("long-straight");
     auto run = [&] {
