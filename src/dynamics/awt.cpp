@@ -17,6 +17,9 @@ constexpr uint8_t kMerged = static_cast<uint8_t>(NodeState::kMerged);
 // Relative speeds under this (cm/s) count as "the same velocity" (§4.1: no collision test).
 constexpr float kStill = 0.5f;
 
+// A node's total hair–hair friction rate, in units of α (interact()).
+constexpr float kFrictionRate = 4.f;
+
 // Merging asks |a|·r under this fraction of the split threshold.
 constexpr float kMergeHysteresis = 0.5f;
 
@@ -114,6 +117,7 @@ AwtSimulation::AwtSimulation(const Hierarchy& hierarchy, std::vector<Sphere> sph
     acc_.assign(nodes, Vec3f::Zero());
     force_.assign(nodes, Vec3f::Zero());
     drag_.assign(nodes, 0.f);
+    friction_.assign(nodes, Vec3f::Zero());
     stiffness_.assign(nodes, 0.f);
     offset_.assign(nodes, Vec3f::Zero());
     x_old_.resize(nodes);
@@ -260,6 +264,7 @@ void AwtSimulation::interact() {
     const Hierarchy& h = *h_;
     for (uint32_t i : active_) {
         force_[i].setZero();
+        friction_[i].setZero();
         drag_[i] = 0;
         stiffness_[i] = 0;
     }
@@ -294,6 +299,8 @@ void AwtSimulation::interact() {
         g.moving = g.velocity.squaredNorm() >= 0.25f * kStill * kStill;
         g.force_c.setZero();
         g.force_p.setZero();
+        g.friction_c.setZero();
+        g.friction_p.setZero();
         g.drag_c = g.drag_p = 0;
         g.stiffness_c = g.stiffness_p = 0;
     }
@@ -323,12 +330,12 @@ void AwtSimulation::interact() {
         // its relative motion.
         a.drag_c += s * k;
         a.drag_p += (1 - s) * k;
-        a.force_c += s * k * v2;
-        a.force_p += (1 - s) * k * v2;
+        a.friction_c += s * k * v2;
+        a.friction_p += (1 - s) * k * v2;
         b.drag_c += t * k;
         b.drag_p += (1 - t) * k;
-        b.force_c += t * k * v1;
-        b.force_p += (1 - t) * k * v1;
+        b.friction_c += t * k * v1;
+        b.friction_p += (1 - t) * k * v1;
         const float la2 = ea.squaredNorm(), lb2 = eb.squaredNorm();
         const float dot = ea.dot(eb);
         if (la2 <= 0 || lb2 <= 0 || dist2 <= 1e-12f ||
@@ -360,12 +367,29 @@ void AwtSimulation::interact() {
     // Roots are not simulated: what falls on them is dropped.
     for (const Segment& g : segments_) {
         force_[g.child] += g.force_c;
+        friction_[g.child] += g.friction_c;
         drag_[g.child] += g.drag_c;
         stiffness_[g.child] += g.stiffness_c;
         if (h.section_of(g.parent) == 0) continue;
         force_[g.parent] += g.force_p;
+        friction_[g.parent] += g.friction_p;
         drag_[g.parent] += g.drag_p;
         stiffness_[g.parent] += g.stiffness_p;
+    }
+    // A node's friction rate Σk_f/m is at most kFrictionRate·α: it is drawn toward the mean
+    // velocity of the hair it touches at a rate that does not grow with the number of
+    // segments touching it. Eq. (1)'s k_f = α·m makes friction independent of the level of
+    // one contact's nodes (§4.2); this makes it independent of how finely the hair around a
+    // node is split too. Uncapped, a node in dense hair (hundreds of contacts at the finest
+    // level) locked to its neighbours, and the hair set like a jelly in whatever shape a
+    // motion left it.
+    for (uint32_t i : active_) {
+        const float cap = kFrictionRate * alpha * h.mass[i];
+        if (drag_[i] > cap) {
+            friction_[i] *= cap / drag_[i];
+            drag_[i] = cap;
+        }
+        force_[i] += friction_[i];
     }
 }
 

@@ -172,7 +172,7 @@ class AwtSimulation {
     float voxel_;
     float cos_repulsion_;
 
-    std::vector<Vec3f> x_, v_, acc_, force_, offset_, x_old_, v_old_;
+    std::vector<Vec3f> x_, v_, acc_, force_, friction_, offset_, x_old_, v_old_;
     std::vector<float> radius_, drag_, stiffness_, link_length_;
     std::vector<uint8_t> state_, collided_;
     std::vector<uint32_t> parent_;
@@ -188,7 +188,8 @@ class AwtSimulation {
         float radius, mass;    // the child node's
         uint32_t child, parent;
         bool moving;
-        Vec3f force_c, force_p;  // interaction forces gathered at either end
+        Vec3f force_c, force_p;        // repulsion gathered at either end
+        Vec3f friction_c, friction_p;  // Σ k_f·v_other
         float drag_c, drag_p;
         float stiffness_c, stiffness_p;  // repulsion
     };
