@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "core/parallel.hpp"
 
 namespace wisp {
 namespace {
@@ -19,6 +20,9 @@ constexpr float kStill = 0.5f;
 
 // A node's total hair–hair friction rate, in units of α (interact()).
 constexpr float kFrictionRate = 4.f;
+
+// Grid entries per chunk of the parallel hair–hair tests.
+constexpr size_t kChunk = 128;
 
 // Merging asks |a|·r under this fraction of the split threshold.
 constexpr float kMergeHysteresis = 0.5f;
@@ -305,65 +309,87 @@ void AwtSimulation::interact() {
         g.stiffness_c = g.stiffness_p = 0;
     }
     const float alpha = params_.friction, kr = params_.repulsion;
-    grid_.for_each_overlap([&](size_t ia, size_t ib) {
-        Segment& a = segments_[ia];
-        Segment& b = segments_[ib];
-        if (!a.moving && !b.moving) return;
-        if ((a.velocity - b.velocity).squaredNorm() < kStill * kStill) return;
-        if (a.parent == b.child || b.parent == a.child || a.parent == b.parent)
-            return;  // neighbours in the tree
-        ++last_.pair_tests;
-        float s, t;
-        closest_points(a.xp, a.xc, b.xp, b.xc, s, t);
-        const Vec3f ea = a.xc - a.xp, eb = b.xc - b.xp;
-        const Vec3f d = (a.xp + s * ea) - (b.xp + t * eb);
-        const float r = a.radius + b.radius;
-        const float dist2 = d.squaredNorm();
-        if (dist2 >= r * r) return;
-        ++last_.hair_contacts;
-        const float k = alpha * std::min(a.mass, b.mass);
-        const Vec3f v1 = a.vp + s * (a.vc - a.vp);
-        const Vec3f v2 = b.vp + t * (b.vc - b.vp);
-        // Eq. (1), k_f = α·m, split to the nodes by eq. (3): P = u·N_p + (1 − u)·N_c with
-        // u = 1 − s (s runs parent → child). It is integrated implicitly (each node is drawn
-        // toward the other segment's velocity), so many contacts on one node never reverse
-        // its relative motion.
-        a.drag_c += s * k;
-        a.drag_p += (1 - s) * k;
-        a.friction_c += s * k * v2;
-        a.friction_p += (1 - s) * k * v2;
-        b.drag_c += t * k;
-        b.drag_p += (1 - t) * k;
-        b.friction_c += t * k * v1;
-        b.friction_p += (1 - t) * k * v1;
-        const float la2 = ea.squaredNorm(), lb2 = eb.squaredNorm();
-        const float dot = ea.dot(eb);
-        if (la2 <= 0 || lb2 <= 0 || dist2 <= 1e-12f ||
-            dot * dot >= cos_repulsion_ * cos_repulsion_ * la2 * lb2)
-            return;
-        // Eq. (2), but never against the styled shape: segments that overlap at rest
-        // (neighbouring sub-wisps, layers) repel only when closer than there.
-        const uint32_t pa = a.parent, ca = a.child, pb = b.parent, cb = b.child;
-        float rs, rt;
-        closest_points(h.rest[pa], h.rest[ca], h.rest[pb], h.rest[cb], rs, rt);
-        const float at_rest = ((h.rest[pa] + rs * (h.rest[ca] - h.rest[pa])) -
-                               (h.rest[pb] + rt * (h.rest[cb] - h.rest[pb])))
-                                  .norm();
-        const float reach = std::min(r, at_rest);
-        const float dist = std::sqrt(dist2);
-        if (dist >= reach) return;
-        const float k_r = kr * std::min(a.mass, b.mass);
-        const Vec3f f = k_r * (reach - dist) / dist * d;
-        a.force_c += s * f;
-        a.force_p += (1 - s) * f;
-        b.force_c -= t * f;
-        b.force_p -= (1 - t) * f;
-        // The repulsion's stiffness, for its implicit integration (integrate()).
-        a.stiffness_c += s * k_r;
-        a.stiffness_p += (1 - s) * k_r;
-        b.stiffness_c += t * k_r;
-        b.stiffness_p += (1 - t) * k_r;
+    // The tests run in parallel over fixed chunks of the grid, each listing its contacts; the
+    // contacts then act in chunk order, so the sums never depend on the thread count.
+    const size_t chunks = std::max<size_t>(1, (order.size() + kChunk - 1) / kChunk);
+    if (contacts_.size() < chunks) contacts_.resize(chunks);
+    const float cos2 = cos_repulsion_ * cos_repulsion_;
+    parallel_for(chunks, [&](size_t chunk) {
+        ChunkContacts& out = contacts_[chunk];
+        out.list.clear();
+        out.tests = 0;
+        grid_.for_each_overlap(chunk * kChunk, (chunk + 1) * kChunk, [&](size_t ia, size_t ib) {
+            const Segment& a = segments_[ia];
+            const Segment& b = segments_[ib];
+            if (!a.moving && !b.moving) return;
+            if ((a.velocity - b.velocity).squaredNorm() < kStill * kStill) return;
+            if (a.parent == b.child || b.parent == a.child || a.parent == b.parent)
+                return;  // neighbours in the tree
+            ++out.tests;
+            float s, t;
+            closest_points(a.xp, a.xc, b.xp, b.xc, s, t);
+            const Vec3f ea = a.xc - a.xp, eb = b.xc - b.xp;
+            const Vec3f d = (a.xp + s * ea) - (b.xp + t * eb);
+            const float r = a.radius + b.radius;
+            const float dist2 = d.squaredNorm();
+            if (dist2 >= r * r) return;
+            Contact contact{static_cast<uint32_t>(ia), static_cast<uint32_t>(ib), s, t, 0.f};
+            const float la2 = ea.squaredNorm(), lb2 = eb.squaredNorm();
+            const float dot = ea.dot(eb);
+            if (la2 > 0 && lb2 > 0 && dist2 > 1e-12f && dot * dot < cos2 * la2 * lb2) {
+                // Eq. (2), but never against the styled shape: segments that overlap at rest
+                // (neighbouring sub-wisps, layers) repel only when closer than there.
+                const uint32_t pa = a.parent, ca = a.child, pb = b.parent, cb = b.child;
+                float rs, rt;
+                closest_points(h.rest[pa], h.rest[ca], h.rest[pb], h.rest[cb], rs, rt);
+                const float at_rest = ((h.rest[pa] + rs * (h.rest[ca] - h.rest[pa])) -
+                                       (h.rest[pb] + rt * (h.rest[cb] - h.rest[pb])))
+                                          .norm();
+                const float reach = std::min(r, at_rest);
+                const float dist = std::sqrt(dist2);
+                if (dist < reach) contact.push = (reach - dist) / dist;
+            }
+            out.list.push_back(contact);
+        });
     });
+    for (size_t chunk = 0; chunk < chunks; ++chunk) {
+        last_.pair_tests += contacts_[chunk].tests;
+        last_.hair_contacts += static_cast<uint32_t>(contacts_[chunk].list.size());
+        for (const Contact& contact : contacts_[chunk].list) {
+            Segment& a = segments_[contact.a];
+            Segment& b = segments_[contact.b];
+            const float s = contact.s, t = contact.t;
+            const float m = std::min(a.mass, b.mass);
+            const float k = alpha * m;
+            const Vec3f v1 = a.vp + s * (a.vc - a.vp);
+            const Vec3f v2 = b.vp + t * (b.vc - b.vp);
+            // Eq. (1), k_f = α·m, split to the nodes by eq. (3): P = u·N_p + (1 − u)·N_c with
+            // u = 1 − s (s runs parent → child). It is integrated implicitly (each node is
+            // drawn toward the other segment's velocity), so many contacts on one node never
+            // reverse its relative motion.
+            a.drag_c += s * k;
+            a.drag_p += (1 - s) * k;
+            a.friction_c += s * k * v2;
+            a.friction_p += (1 - s) * k * v2;
+            b.drag_c += t * k;
+            b.drag_p += (1 - t) * k;
+            b.friction_c += t * k * v1;
+            b.friction_p += (1 - t) * k * v1;
+            if (contact.push == 0) continue;
+            const float k_r = kr * m;
+            const Vec3f d = (a.xp + s * (a.xc - a.xp)) - (b.xp + t * (b.xc - b.xp));
+            const Vec3f f = k_r * contact.push * d;
+            a.force_c += s * f;
+            a.force_p += (1 - s) * f;
+            b.force_c -= t * f;
+            b.force_p -= (1 - t) * f;
+            // The repulsion's stiffness, for its implicit integration (integrate()).
+            a.stiffness_c += s * k_r;
+            a.stiffness_p += (1 - s) * k_r;
+            b.stiffness_c += t * k_r;
+            b.stiffness_p += (1 - t) * k_r;
+        }
+    }
     // Roots are not simulated: what falls on them is dropped.
     for (const Segment& g : segments_) {
         force_[g.child] += g.force_c;

@@ -42,7 +42,7 @@
 //      its radius, relative speeds under the threshold, the split test false; the super-node
 //      takes the centre of mass, the mass-weighted velocity and a radius that fits them).
 // Single-level mode keeps every finest node active and never adapts (the paper's baseline).
-// Everything is sequential and deterministic.
+// The hair–hair tests run in parallel; their sums do not depend on the thread count.
 #include <cstdint>
 #include <span>
 #include <string>
@@ -193,7 +193,17 @@ class AwtSimulation {
         float drag_c, drag_p;
         float stiffness_c, stiffness_p;  // repulsion
     };
+    struct Contact {
+        uint32_t a, b;  // positions in grid order
+        float s, t;     // closest points along a and b, parent → child
+        float push;     // repulsion (r − d)/d, 0 when none
+    };
+    struct ChunkContacts {
+        std::vector<Contact> list;
+        uint32_t tests = 0;
+    };
     BoxGrid grid_;
+    std::vector<ChunkContacts> contacts_;
     std::vector<Box4> boxes_;
     std::vector<Segment> segments_;
     std::vector<AwtEvent> events_;

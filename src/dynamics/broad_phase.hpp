@@ -53,7 +53,13 @@ class BoxGrid {
     // Calls visit(a, b) once for every pair of overlapping boxes, a ≠ b given as positions in
     // order(), in an order that depends only on the boxes.
     template <class Visit>
-    void for_each_overlap(Visit&& visit) const;
+    void for_each_overlap(Visit&& visit) const {
+        for_each_overlap(0, order().size(), visit);
+    }
+    // The same for the pairs whose first box a is in [begin, end): disjoint ranges visit
+    // disjoint sets of pairs, so ranges can run in parallel.
+    template <class Visit>
+    void for_each_overlap(size_t begin, size_t end, Visit&& visit) const;
 
   private:
     struct Entry {
@@ -84,9 +90,9 @@ class BoxGrid {
 };
 
 template <class Visit>
-void BoxGrid::for_each_overlap(Visit&& visit) const {
-    const size_t count = keys_.size();
-    for (size_t i = 0; i < count; ++i) {
+void BoxGrid::for_each_overlap(size_t first, size_t last, Visit&& visit) const {
+    last = std::min(last, keys_.size());
+    for (size_t i = first; i < last; ++i) {
         const Box4& a = boxes_[i];
         const int own = level_of(keys_[i]);
         float width = cell_ * static_cast<float>(1 << own);
