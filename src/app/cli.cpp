@@ -373,6 +373,22 @@ int run_animate(const AnimateArgs& args) {
     args.look.apply(look);
     look.view = args.view;
     std::optional<Camera> first_camera;
+    Mesh envelope;
+    auto clip_envelope = [&](const Box3& box, const Vec3f& centre) -> const Mesh& {
+        const double clip = static_cast<double>(args.frames) / args.fps;
+        const Mat3f start = motion.head.at(0).rotation.transpose();
+        constexpr int kSamples = 48;
+        for (int i = 0; i <= kSamples; ++i) {
+            const Mat3f turn = motion.head.at(clip * i / kSamples).rotation * start;
+            for (int corner = 0; corner < 8; ++corner) {
+                const Vec3f p((corner & 1 ? box.hi : box.lo).x(),
+                              (corner & 2 ? box.hi : box.lo).y(),
+                              (corner & 4 ? box.hi : box.lo).z());
+                envelope.vertices.push_back(centre + turn * (p - centre));
+            }
+        }
+        return envelope;
+    };
     Vec3f first_centre = Vec3f::Zero();
     HairWriteOptions write_options;
     const bool progress = !args.quiet && isatty(STDERR_FILENO);
@@ -386,11 +402,14 @@ int run_animate(const AnimateArgs& args) {
                         write_hair(numbered(out, f), hair, write_options);
                     if (!png_pattern.empty()) {
                         const Mesh body = pose_body(*head.mesh, frame, pose);
-                        // The camera of frame 0, following the head's translation so a running or
-                        // jumping character stays in view without the framing jittering.
+                        // One camera for the clip, following the head's translation so a running
+                        // or jumping character stays in view without the framing jittering. It
+                        // frames frame 0's hair and body turned by every head rotation the clip
+                        // goes through, so a lean or a nod stays in the picture.
                         const Vec3f centre = pose.head.apply(frame.center);
                         if (!first_camera) {
-                            first_camera = render_camera(hair, &body, look);
+                            first_camera = render_camera(
+                                Hair{}, &clip_envelope(framing_bounds(hair, &body), centre), look);
                             first_centre = centre;
                         }
                         RenderOptions o = look;
