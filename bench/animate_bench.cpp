@@ -109,11 +109,9 @@ const Model& model(int index) {
 }
 
 // The single-level baseline runs the first kBaselineSeconds of the lean (rest, then the whole
-// forward lean), not all 4 s: it costs 40–300 ms a step on one thread, and 400 steps of the
-// four models take over 3 minutes. Speed-ups compare the AWT over the same window
-// (ms_per_step_1.3s); the window is cheaper than the whole motion for the baseline (long hair
-// keeps swinging afterwards: `long` 53 ms a step over the window, 77 over 4 s), so they are
-// conservative. Set 4.0 here to time the baseline over the whole motion.
+// forward lean), not all 4 s: it costs 20–130 ms a step on one thread, and 400 steps of the
+// four models take about 100 s more. Speed-ups compare the AWT over the same window
+// (ms_per_step_1.3s). Set 4.0 here to time the baseline over the whole motion.
 constexpr double kBaselineSeconds = 1.3;
 
 // The baseline's ms per step over that window, per model, for the AWT's speed-up counter
