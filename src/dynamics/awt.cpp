@@ -24,6 +24,9 @@ constexpr float kFrictionRate = 4.f;
 // Grid entries per chunk of the parallel hair–hair tests.
 constexpr size_t kChunk = 128;
 
+// Seconds over which the acceleration of the split and merge tests is averaged.
+constexpr float kAccelerationTime = 0.05f;
+
 // Merging asks |a|·r under this fraction of the split threshold.
 constexpr float kMergeHysteresis = 0.5f;
 
@@ -508,7 +511,12 @@ void AwtSimulation::integrate() {
     const float inv_dt = 1.f / dt;
     for (uint32_t c : active_) {
         if (!collided_[c]) v_[c] = (x_[c] - x_old_[c]) * inv_dt;
-        acc_[c] = (v_[c] - v_old_[c]) * inv_dt;
+        // The split test reads the acceleration averaged over kAccelerationTime (an
+        // exponential moving average), not one step's Δv/dt: a single step's jolt (a node
+        // meeting the hair or the body, a merged node meeting the neighbours its wider radius
+        // now touches) is not motion to resolve. One step's Δv/dt split 70% of merged nodes
+        // again within 0.1 s, and the tree churned.
+        acc_[c] += std::min(1.f, dt / kAccelerationTime) * ((v_[c] - v_old_[c]) * inv_dt - acc_[c]);
         rotation_[c] = segment_rotation(c, parent_[c], x_[c]);
     }
 }

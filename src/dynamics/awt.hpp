@@ -35,7 +35,7 @@
 //      every length exactly;
 //   5. body (§4.3): a segment that penetrates a sphere is pushed out by moving its child
 //      node, whose velocity becomes the obstacle's;
-//   6. velocities from positions; accelerations a = Δv/dt;
+//   6. velocities from positions; accelerations a = Δv/dt, averaged over 50 ms;
 //   7. adaptation: splits tip to root (§3.1: |a|·r over the threshold and the child node
 //      already split; sub-nodes take the offsets and the velocity of the split node), then
 //      merges root to tip (§3.2: sub-nodes of one super-node with the same AWT parent, within

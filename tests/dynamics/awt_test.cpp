@@ -244,6 +244,31 @@ TEST(Awt, HairContactsDoNotAddEnergy) {
     EXPECT_LT(with, 1.1 * without);
 }
 
+// Splits resolve motion, not one step's jolt: few merged nodes split again right away.
+// (With one step's Δv/dt, a merged node meeting the neighbours its wider radius touches
+// split again within 0.1 s most of the time, and the tree churned.)
+TEST(Awt, MergedNodesDoNotSplitRightAway) {
+    const Scene& s = scene("short");
+    const Motion lean = motion_preset("lean", s.groomed.head);
+    AwtSimulation sim(s.hierarchy, s.spheres, lean, params_of(s));
+    std::vector<double> merged_at(s.hierarchy.node_count(), -1.0);
+    size_t splits = 0, quick = 0;
+    while (sim.time() < lean.duration) {
+        sim.step();
+        for (const AwtEvent& e : sim.last_events()) {
+            if (e.kind == AwtEvent::Kind::kMerge) {
+                merged_at[e.node] = sim.time();
+                continue;
+            }
+            ++splits;
+            quick += merged_at[e.node] >= 0 && sim.time() - merged_at[e.node] < 0.1;
+        }
+    }
+    ASSERT_GT(splits, 20u) << "the lean splits the wisps";
+    EXPECT_LT(static_cast<double>(quick), 0.2 * static_cast<double>(splits))
+        << quick << " of " << splits << " splits within 0.1 s of a merge";
+}
+
 TEST(Awt, SameInputsSameFrames) {
     const Scene& s = scene("long-straight");
     auto run = [&] {
