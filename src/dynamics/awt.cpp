@@ -18,8 +18,9 @@ constexpr uint8_t kMerged = static_cast<uint8_t>(NodeState::kMerged);
 // Relative speeds under this (cm/s) count as "the same velocity" (§4.1: no collision test).
 constexpr float kStill = 0.5f;
 
-// A node's total hair–hair friction rate, in units of α (interact()).
-constexpr float kFrictionRate = 4.f;
+// A node's total hair–hair friction rate and repulsion stiffness, in units of one contact's
+// (α and k_r; interact()).
+constexpr float kContactRate = 4.f;
 
 // Grid entries per chunk of the parallel hair–hair tests.
 constexpr size_t kChunk = 128;
@@ -126,6 +127,8 @@ AwtSimulation::AwtSimulation(const Hierarchy& hierarchy, std::vector<Sphere> sph
     drag_.assign(nodes, 0.f);
     friction_.assign(nodes, Vec3f::Zero());
     stiffness_.assign(nodes, 0.f);
+    pushed_with_.assign(nodes, Vec3f::Zero());
+    normal_stiffness_.assign(nodes, Mat3f::Zero());
     offset_.assign(nodes, Vec3f::Zero());
     x_old_.resize(nodes);
     v_old_.resize(nodes);
@@ -274,6 +277,8 @@ void AwtSimulation::interact() {
         friction_[i].setZero();
         drag_[i] = 0;
         stiffness_[i] = 0;
+        pushed_with_[i].setZero();
+        normal_stiffness_[i].setZero();
     }
     // Broad phase (broad_phase.hpp): the active segments' boxes on a hierarchical grid.
     const size_t count = active_.size();
@@ -310,6 +315,10 @@ void AwtSimulation::interact() {
         g.friction_p.setZero();
         g.drag_c = g.drag_p = 0;
         g.stiffness_c = g.stiffness_p = 0;
+        g.pushed_with_c.setZero();
+        g.pushed_with_p.setZero();
+        g.normal_c.setZero();
+        g.normal_p.setZero();
     }
     const float alpha = params_.friction, kr = params_.repulsion;
     // The tests run in parallel over fixed chunks of the grid, each listing its contacts; the
@@ -386,11 +395,23 @@ void AwtSimulation::interact() {
             a.force_p += (1 - s) * f;
             b.force_c -= t * f;
             b.force_p -= (1 - t) * f;
-            // The repulsion's stiffness, for its implicit integration (integrate()).
+            // The repulsion's stiffness and Σ k_r·v_other, for its implicit integration
+            // relative to the other segment's motion (integrate()).
             a.stiffness_c += s * k_r;
             a.stiffness_p += (1 - s) * k_r;
             b.stiffness_c += t * k_r;
             b.stiffness_p += (1 - t) * k_r;
+            // Along the contact normal only: the implicit response resists approach, not
+            // sliding (that is friction's business).
+            const Mat3f nn = (k_r / d.squaredNorm()) * (d * d.transpose());
+            a.normal_c += s * nn;
+            a.normal_p += (1 - s) * nn;
+            b.normal_c += t * nn;
+            b.normal_p += (1 - t) * nn;
+            a.pushed_with_c += s * (nn * v2);
+            a.pushed_with_p += (1 - s) * (nn * v2);
+            b.pushed_with_c += t * (nn * v1);
+            b.pushed_with_p += (1 - t) * (nn * v1);
         }
     }
     // Roots are not simulated: what falls on them is dropped.
@@ -399,24 +420,37 @@ void AwtSimulation::interact() {
         friction_[g.child] += g.friction_c;
         drag_[g.child] += g.drag_c;
         stiffness_[g.child] += g.stiffness_c;
+        pushed_with_[g.child] += g.pushed_with_c;
+        normal_stiffness_[g.child] += g.normal_c;
         if (h.section_of(g.parent) == 0) continue;
         force_[g.parent] += g.force_p;
         friction_[g.parent] += g.friction_p;
         drag_[g.parent] += g.drag_p;
         stiffness_[g.parent] += g.stiffness_p;
+        pushed_with_[g.parent] += g.pushed_with_p;
+        normal_stiffness_[g.parent] += g.normal_p;
     }
-    // A node's friction rate Σk_f/m is at most kFrictionRate·α: it is drawn toward the mean
-    // velocity of the hair it touches at a rate that does not grow with the number of
-    // segments touching it. Eq. (1)'s k_f = α·m makes friction independent of the level of
-    // one contact's nodes (§4.2); this makes it independent of how finely the hair around a
-    // node is split too. Uncapped, a node in dense hair (hundreds of contacts at the finest
+    // A node's friction rate Σk_f/m is at most kContactRate·α, and its repulsion stiffness
+    // Σk_r/m at most kContactRate·k_r: it is drawn toward the mean velocity of the hair it
+    // touches, and pushed out of it, at rates that do not grow with the number of segments
+    // touching it. Eq. (1)'s k_f = α·m makes one contact independent of the level of its
+    // nodes (§4.2); this makes a node's response independent of how finely the hair around
+    // it is split too. Uncapped, a node in dense hair (hundreds of contacts at the finest
     // level) locked to its neighbours, and the hair set like a jelly in whatever shape a
-    // motion left it.
+    // motion left it; and summed repulsions flung it.
     for (uint32_t i : active_) {
-        const float cap = kFrictionRate * alpha * h.mass[i];
-        if (drag_[i] > cap) {
-            friction_[i] *= cap / drag_[i];
-            drag_[i] = cap;
+        const float friction_cap = kContactRate * alpha * h.mass[i];
+        if (drag_[i] > friction_cap) {
+            friction_[i] *= friction_cap / drag_[i];
+            drag_[i] = friction_cap;
+        }
+        const float repulsion_cap = kContactRate * kr * h.mass[i];
+        if (stiffness_[i] > repulsion_cap) {
+            const float scale = repulsion_cap / stiffness_[i];
+            force_[i] *= scale;
+            pushed_with_[i] *= scale;
+            normal_stiffness_[i] *= scale;
+            stiffness_[i] = repulsion_cap;
         }
         force_[i] += friction_[i];
     }
@@ -444,6 +478,8 @@ void AwtSimulation::integrate() {
             force_[c].setZero();
             drag_[c] = 0;
             stiffness_[c] = 0;
+            pushed_with_[c].setZero();
+            normal_stiffness_[c].setZero();
         }
     for (uint32_t c : active_) {
         const uint32_t p = parent_[c];
@@ -466,13 +502,20 @@ void AwtSimulation::integrate() {
         }
         Vec3f a = gravity + air + params_.damping * v_[p];
         // force_ holds the shape springs' reactions, the repulsions and Σ k_f·v_other;
-        // drag_ holds Σ k_f (friction, implicit); stiffness_ the repulsions' Σ k_r, so they
-        // are implicit too: a node pressed by many segments moves out of them by at most its
-        // penetration in a step instead of being flung (an explicit sum over dozens of
-        // contacts is far beyond k·dt² < 1).
-        a += force_[c] / h.mass[c];
-        const float d = denom + (dt * drag_[c] + dt * dt * stiffness_[c]) / h.mass[c];
-        const Vec3f v = (v_[c] + dt * (kt * (target - x_[c]) + a)) / d;
+        // drag_ holds Σ k_f (friction, implicit). The repulsions are implicit too, along
+        // their normals and in the motion relative to the segments pushing: normal_stiffness_
+        // holds Σ k_r·n·nᵀ and pushed_with_ Σ k_r·n·nᵀ·v_other. So a node pressed by many
+        // segments moves out of them by at most its penetration in a step instead of being
+        // flung, and hair moving as one (a running character's) is not slowed.
+        a += (force_[c] + dt * pushed_with_[c]) / h.mass[c];
+        const float d = denom + dt * drag_[c] / h.mass[c];
+        const Vec3f rhs = v_[c] + dt * (kt * (target - x_[c]) + a);
+        const Vec3f v =
+            stiffness_[c] > 0
+                ? Vec3f((d * Mat3f::Identity() + (dt * dt / h.mass[c]) * normal_stiffness_[c])
+                            .inverse() *
+                        rhs)
+                : Vec3f(rhs / d);
         x_[c] += dt * v;
         v_[c] = v;
     }

@@ -172,8 +172,9 @@ class AwtSimulation {
     float voxel_;
     float cos_repulsion_;
 
-    std::vector<Vec3f> x_, v_, acc_, force_, friction_, offset_, x_old_, v_old_;
+    std::vector<Vec3f> x_, v_, acc_, force_, friction_, pushed_with_, offset_, x_old_, v_old_;
     std::vector<float> radius_, drag_, stiffness_, link_length_;
+    std::vector<Mat3f> normal_stiffness_;  // repulsion: Σ k_r·n·nᵀ
     std::vector<uint8_t> state_, collided_;
     std::vector<uint32_t> parent_;
     std::vector<Eigen::Quaternionf> rotation_;  // segment rotation of active nodes
@@ -191,7 +192,9 @@ class AwtSimulation {
         Vec3f force_c, force_p;        // repulsion gathered at either end
         Vec3f friction_c, friction_p;  // Σ k_f·v_other
         float drag_c, drag_p;
-        float stiffness_c, stiffness_p;  // repulsion
+        float stiffness_c, stiffness_p;      // repulsion: Σ k_r
+        Vec3f pushed_with_c, pushed_with_p;  // Σ k_r·n·nᵀ·v_other
+        Mat3f normal_c, normal_p;            // Σ k_r·n·nᵀ
     };
     struct Contact {
         uint32_t a, b;  // positions in grid order

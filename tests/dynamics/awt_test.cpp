@@ -215,33 +215,30 @@ TEST(Awt, TenSecondsOfTheMostDrasticMotionStayFiniteAndBounded) {
     }
 }
 
-// Hair–hair contacts only exchange and dissipate momentum (§4.2): a vigorous shake of dense
-// hair (every node in contact with dozens of segments) must not move faster with them than
-// without them. An explicit sum of repulsions over that many contacts is far beyond stable
-// and flung the hair up into a fan.
-TEST(Awt, HairContactsDoNotAddEnergy) {
+// Dense hair shaken hard (±40° at 1.5 Hz) swings out sideways, but contacts must not fling
+// it up: an explicit sum of repulsions over the dozens of contacts of each node is far beyond
+// stable and threw the hair up into a fan above the head. Nothing may rise more than a few
+// centimetres above the highest point of the styled hair.
+TEST(Awt, ShakenDenseHairIsNotFlungUp) {
     test::Groomed g = test::groomed("default", 700, 2800, 16);
     const Hierarchy h = build_hierarchy(g.hair, hierarchy_options(g.style.dynamics));
     const std::vector<Sphere> spheres = body_spheres_for(*test::builtin_head().mesh, g.head, h);
     const Motion motion = motion_preset("shake", g.head);
-    auto peak_energy = [&](bool contacts, uint32_t& most_contacts) {
-        AwtParams params = awt_params(g.style.dynamics, g.style.prototype.kind, false);
-        params.hair_collisions = contacts;
-        AwtSimulation sim(h, spheres, motion, params);
-        double peak = 0;
-        most_contacts = 0;
-        while (sim.time() < 2.0) {
-            sim.step();
-            peak = std::max(peak, sim.kinetic_energy());
-            most_contacts = std::max(most_contacts, sim.last_step().hair_contacts);
-        }
-        return peak;
-    };
-    uint32_t contacts = 0, none = 0;
-    const double with = peak_energy(true, contacts);
-    const double without = peak_energy(false, none);
+    float top = -INFINITY;
+    for (const Vec3f& p : h.rest)
+        top = std::max(top, p.y());
+    AwtSimulation sim(h, spheres, motion,
+                      awt_params(g.style.dynamics, g.style.prototype.kind, false));
+    uint32_t contacts = 0;
+    float highest = -INFINITY;
+    while (sim.time() < 2.0) {
+        sim.step();
+        contacts = std::max(contacts, sim.last_step().hair_contacts);
+        for (uint32_t i : sim.active())
+            highest = std::max(highest, sim.positions()[i].y());
+    }
     EXPECT_GT(contacts, 20 * h.level_begin[1]) << "the hair is not dense enough to test this";
-    EXPECT_LT(with, 1.1 * without);
+    EXPECT_LT(highest - top, 3.f);
 }
 
 // Splits resolve motion, not one step's jolt: few merged nodes split again right away.
