@@ -294,6 +294,7 @@ void AwtSimulation::interact() {
     // sequence; forces gather per segment end and are added to the nodes afterwards.
     const std::span<const uint32_t> order = grid_.order();
     segments_.resize(order.size());
+    sums_.assign(order.size(), SegmentSums{});
     for (size_t e = 0; e < order.size(); ++e) {
         const uint32_t c = active_[order[e]], p = parent_[c];
         Segment& g = segments_[e];
@@ -309,16 +310,6 @@ void AwtSimulation::interact() {
         // §4.1: only pairs with relative motion are tested; two segments both slower than
         // half the threshold cannot have it.
         g.moving = g.velocity.squaredNorm() >= 0.25f * kStill * kStill;
-        g.force_c.setZero();
-        g.force_p.setZero();
-        g.friction_c.setZero();
-        g.friction_p.setZero();
-        g.drag_c = g.drag_p = 0;
-        g.stiffness_c = g.stiffness_p = 0;
-        g.pushed_with_c.setZero();
-        g.pushed_with_p.setZero();
-        g.normal_c.setZero();
-        g.normal_p.setZero();
     }
     const float alpha = params_.friction, kr = params_.repulsion;
     // The tests run in parallel over fixed chunks of the grid, each listing its contacts; the
@@ -368,8 +359,10 @@ void AwtSimulation::interact() {
         last_.pair_tests += contacts_[chunk].tests;
         last_.hair_contacts += static_cast<uint32_t>(contacts_[chunk].list.size());
         for (const Contact& contact : contacts_[chunk].list) {
-            Segment& a = segments_[contact.a];
-            Segment& b = segments_[contact.b];
+            const Segment& a = segments_[contact.a];
+            const Segment& b = segments_[contact.b];
+            SegmentSums& fa = sums_[contact.a];
+            SegmentSums& fb = sums_[contact.b];
             const float s = contact.s, t = contact.t;
             const float m = std::min(a.mass, b.mass);
             const float k = alpha * m;
@@ -379,56 +372,58 @@ void AwtSimulation::interact() {
             // u = 1 − s (s runs parent → child). It is integrated implicitly (each node is
             // drawn toward the other segment's velocity), so many contacts on one node never
             // reverse its relative motion.
-            a.drag_c += s * k;
-            a.drag_p += (1 - s) * k;
-            a.friction_c += s * k * v2;
-            a.friction_p += (1 - s) * k * v2;
-            b.drag_c += t * k;
-            b.drag_p += (1 - t) * k;
-            b.friction_c += t * k * v1;
-            b.friction_p += (1 - t) * k * v1;
+            fa.drag_c += s * k;
+            fa.drag_p += (1 - s) * k;
+            fa.friction_c += s * k * v2;
+            fa.friction_p += (1 - s) * k * v2;
+            fb.drag_c += t * k;
+            fb.drag_p += (1 - t) * k;
+            fb.friction_c += t * k * v1;
+            fb.friction_p += (1 - t) * k * v1;
             if (contact.push == 0) continue;
             const float k_r = kr * m;
             const Vec3f d = (a.xp + s * (a.xc - a.xp)) - (b.xp + t * (b.xc - b.xp));
             const Vec3f f = k_r * contact.push * d;
-            a.force_c += s * f;
-            a.force_p += (1 - s) * f;
-            b.force_c -= t * f;
-            b.force_p -= (1 - t) * f;
+            fa.force_c += s * f;
+            fa.force_p += (1 - s) * f;
+            fb.force_c -= t * f;
+            fb.force_p -= (1 - t) * f;
             // The repulsion's stiffness and Σ k_r·v_other, for its implicit integration
             // relative to the other segment's motion (integrate()).
-            a.stiffness_c += s * k_r;
-            a.stiffness_p += (1 - s) * k_r;
-            b.stiffness_c += t * k_r;
-            b.stiffness_p += (1 - t) * k_r;
+            fa.stiffness_c += s * k_r;
+            fa.stiffness_p += (1 - s) * k_r;
+            fb.stiffness_c += t * k_r;
+            fb.stiffness_p += (1 - t) * k_r;
             // Along the contact normal only: the implicit response resists approach, not
             // sliding (that is friction's business).
             const Mat3f nn = (k_r / d.squaredNorm()) * (d * d.transpose());
-            a.normal_c += s * nn;
-            a.normal_p += (1 - s) * nn;
-            b.normal_c += t * nn;
-            b.normal_p += (1 - t) * nn;
-            a.pushed_with_c += s * (nn * v2);
-            a.pushed_with_p += (1 - s) * (nn * v2);
-            b.pushed_with_c += t * (nn * v1);
-            b.pushed_with_p += (1 - t) * (nn * v1);
+            fa.normal_c += s * nn;
+            fa.normal_p += (1 - s) * nn;
+            fb.normal_c += t * nn;
+            fb.normal_p += (1 - t) * nn;
+            fa.pushed_with_c += s * (nn * v2);
+            fa.pushed_with_p += (1 - s) * (nn * v2);
+            fb.pushed_with_c += t * (nn * v1);
+            fb.pushed_with_p += (1 - t) * (nn * v1);
         }
     }
     // Roots are not simulated: what falls on them is dropped.
-    for (const Segment& g : segments_) {
-        force_[g.child] += g.force_c;
-        friction_[g.child] += g.friction_c;
-        drag_[g.child] += g.drag_c;
-        stiffness_[g.child] += g.stiffness_c;
-        pushed_with_[g.child] += g.pushed_with_c;
-        normal_stiffness_[g.child] += g.normal_c;
-        if (h.section_of(g.parent) == 0) continue;
-        force_[g.parent] += g.force_p;
-        friction_[g.parent] += g.friction_p;
-        drag_[g.parent] += g.drag_p;
-        stiffness_[g.parent] += g.stiffness_p;
-        pushed_with_[g.parent] += g.pushed_with_p;
-        normal_stiffness_[g.parent] += g.normal_p;
+    for (size_t e = 0; e < segments_.size(); ++e) {
+        const uint32_t c = segments_[e].child, p = segments_[e].parent;
+        const SegmentSums& g = sums_[e];
+        force_[c] += g.force_c;
+        friction_[c] += g.friction_c;
+        drag_[c] += g.drag_c;
+        stiffness_[c] += g.stiffness_c;
+        pushed_with_[c] += g.pushed_with_c;
+        normal_stiffness_[c] += g.normal_c;
+        if (h.section_of(p) == 0) continue;
+        force_[p] += g.force_p;
+        friction_[p] += g.friction_p;
+        drag_[p] += g.drag_p;
+        stiffness_[p] += g.stiffness_p;
+        pushed_with_[p] += g.pushed_with_p;
+        normal_stiffness_[p] += g.normal_p;
     }
     // A node's friction rate Σk_f/m is at most kContactRate·α, and its repulsion stiffness
     // Σk_r/m at most kContactRate·k_r: it is drawn toward the mean velocity of the hair it

@@ -189,12 +189,16 @@ class AwtSimulation {
         float radius, mass;    // the child node's
         uint32_t child, parent;
         bool moving;
-        Vec3f force_c, force_p;        // repulsion gathered at either end
-        Vec3f friction_c, friction_p;  // Σ k_f·v_other
-        float drag_c, drag_p;
-        float stiffness_c, stiffness_p;      // repulsion: Σ k_r
-        Vec3f pushed_with_c, pushed_with_p;  // Σ k_r·n·nᵀ·v_other
-        Mat3f normal_c, normal_p;            // Σ k_r·n·nᵀ
+    };
+    // What the contacts gather at a segment's two ends (kept apart from Segment, which the
+    // tests read, so that the tests' data stays compact).
+    struct SegmentSums {
+        Vec3f force_c = Vec3f::Zero(), force_p = Vec3f::Zero();              // repulsion
+        Vec3f friction_c = Vec3f::Zero(), friction_p = Vec3f::Zero();        // Σ k_f·v_other
+        float drag_c = 0, drag_p = 0;                                        // Σ k_f
+        float stiffness_c = 0, stiffness_p = 0;                              // Σ k_r
+        Vec3f pushed_with_c = Vec3f::Zero(), pushed_with_p = Vec3f::Zero();  // Σ k_r·n·nᵀ·v_other
+        Mat3f normal_c = Mat3f::Zero(), normal_p = Mat3f::Zero();            // Σ k_r·n·nᵀ
     };
     struct Contact {
         uint32_t a, b;  // positions in grid order
@@ -209,6 +213,7 @@ class AwtSimulation {
     std::vector<ChunkContacts> contacts_;
     std::vector<Box4> boxes_;
     std::vector<Segment> segments_;
+    std::vector<SegmentSums> sums_;
     std::vector<AwtEvent> events_;
     AwtStepStats last_;
     uint64_t total_splits_ = 0, total_merges_ = 0;
