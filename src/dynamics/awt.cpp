@@ -303,6 +303,8 @@ void AwtSimulation::interact() {
         g.vp = v_[p];
         g.vc = v_[c];
         g.velocity = 0.5f * (v_[c] + v_[p]);
+        g.middle = 0.5f * (x_[c] + x_[p]);
+        g.reach = 0.5f * (x_[c] - x_[p]).norm() + radius_[c];
         g.radius = radius_[c];
         g.mass = h.mass[c];
         g.child = c;
@@ -328,6 +330,9 @@ void AwtSimulation::interact() {
             if ((a.velocity - b.velocity).squaredNorm() < kStill * kStill) return;
             if (a.parent == b.child || b.parent == a.child || a.parent == b.parent)
                 return;  // neighbours in the tree
+            // Bounding spheres first: segments whose spheres are apart cannot touch.
+            const float reach = a.reach + b.reach;
+            if ((a.middle - b.middle).squaredNorm() >= reach * reach) return;
             ++out.tests;
             float s, t;
             closest_points(a.xp, a.xc, b.xp, b.xc, s, t);

@@ -186,7 +186,9 @@ class AwtSimulation {
     struct Segment {
         Vec3f xp, xc, vp, vc;  // parent and child node
         Vec3f velocity;        // mean of the two nodes'
-        float radius, mass;    // the child node's
+        Vec3f middle;          // bounding sphere: centre and radius
+        float reach;
+        float radius, mass;  // the child node's
         uint32_t child, parent;
         bool moving;
     };
