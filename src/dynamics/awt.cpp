@@ -22,6 +22,14 @@ constexpr float kStill = 0.5f;
 // (α and k_r; interact()).
 constexpr float kContactRate = 4.f;
 
+// Calls share(end, w, args...) for a segment's child end with w = s and its parent end with
+// w = 1 − s: a contact at s along the segment, split to its nodes by eq. (3).
+template <class Sums, class Share, class... Args>
+void at_ends(Sums& sums, float s, const Share& share, const Args&... args) {
+    share(sums.child, s, args...);
+    share(sums.parent, 1 - s, args...);
+}
+
 // Grid entries per chunk of the parallel hair–hair tests.
 constexpr size_t kChunk = 128;
 
@@ -124,11 +132,7 @@ AwtSimulation::AwtSimulation(const Hierarchy& hierarchy, std::vector<Sphere> sph
     v_.assign(nodes, Vec3f::Zero());
     acc_.assign(nodes, Vec3f::Zero());
     force_.assign(nodes, Vec3f::Zero());
-    drag_.assign(nodes, 0.f);
-    friction_.assign(nodes, Vec3f::Zero());
-    stiffness_.assign(nodes, 0.f);
-    pushed_with_.assign(nodes, Vec3f::Zero());
-    normal_stiffness_.assign(nodes, Mat3f::Zero());
+    contact_.assign(nodes, ContactSums{});
     offset_.assign(nodes, Vec3f::Zero());
     x_old_.resize(nodes);
     v_old_.resize(nodes);
@@ -272,14 +276,8 @@ void AwtSimulation::settle_merged() {
 
 void AwtSimulation::interact() {
     const Hierarchy& h = *h_;
-    for (uint32_t i : active_) {
-        force_[i].setZero();
-        friction_[i].setZero();
-        drag_[i] = 0;
-        stiffness_[i] = 0;
-        pushed_with_[i].setZero();
-        normal_stiffness_[i].setZero();
-    }
+    for (uint32_t i : active_)
+        contact_[i] = ContactSums{};
     // Broad phase (broad_phase.hpp): the active segments' boxes on a hierarchical grid.
     const size_t count = active_.size();
     boxes_.resize(count);
@@ -377,58 +375,37 @@ void AwtSimulation::interact() {
             // u = 1 − s (s runs parent → child). It is integrated implicitly (each node is
             // drawn toward the other segment's velocity), so many contacts on one node never
             // reverse its relative motion.
-            fa.drag_c += s * k;
-            fa.drag_p += (1 - s) * k;
-            fa.friction_c += s * k * v2;
-            fa.friction_p += (1 - s) * k * v2;
-            fb.drag_c += t * k;
-            fb.drag_p += (1 - t) * k;
-            fb.friction_c += t * k * v1;
-            fb.friction_p += (1 - t) * k * v1;
+            const auto rub = [&](ContactSums& end, float w, const Vec3f& other) {
+                end.drag += w * k;
+                end.friction += w * k * other;
+            };
+            at_ends(fa, s, rub, v2);
+            at_ends(fb, t, rub, v1);
             if (contact.push == 0) continue;
             const float k_r = kr * m;
             const Vec3f d = (a.xp + s * (a.xc - a.xp)) - (b.xp + t * (b.xc - b.xp));
             const Vec3f f = k_r * contact.push * d;
-            fa.force_c += s * f;
-            fa.force_p += (1 - s) * f;
-            fb.force_c -= t * f;
-            fb.force_p -= (1 - t) * f;
-            // The repulsion's stiffness and Σ k_r·v_other, for its implicit integration
-            // relative to the other segment's motion (integrate()).
-            fa.stiffness_c += s * k_r;
-            fa.stiffness_p += (1 - s) * k_r;
-            fb.stiffness_c += t * k_r;
-            fb.stiffness_p += (1 - t) * k_r;
-            // Along the contact normal only: the implicit response resists approach, not
-            // sliding (that is friction's business).
+            // The repulsion, with its stiffness and Σ k_r·v_other for its implicit integration
+            // relative to the other segment's motion (integrate()), along the contact normal
+            // only: the implicit response resists approach, not sliding (that is friction's
+            // business).
             const Mat3f nn = (k_r / d.squaredNorm()) * (d * d.transpose());
-            fa.normal_c += s * nn;
-            fa.normal_p += (1 - s) * nn;
-            fb.normal_c += t * nn;
-            fb.normal_p += (1 - t) * nn;
-            fa.pushed_with_c += s * (nn * v2);
-            fa.pushed_with_p += (1 - s) * (nn * v2);
-            fb.pushed_with_c += t * (nn * v1);
-            fb.pushed_with_p += (1 - t) * (nn * v1);
+            const auto push = [&](ContactSums& end, float w, const Vec3f& force,
+                                  const Vec3f& other) {
+                end.force += w * force;
+                end.stiffness += w * k_r;
+                end.normal += w * nn;
+                end.pushed_with += w * (nn * other);
+            };
+            at_ends(fa, s, push, f, v2);
+            at_ends(fb, t, push, Vec3f(-f), v1);
         }
     }
     // Roots are not simulated: what falls on them is dropped.
     for (size_t e = 0; e < segments_.size(); ++e) {
-        const uint32_t c = segments_[e].child, p = segments_[e].parent;
-        const SegmentSums& g = sums_[e];
-        force_[c] += g.force_c;
-        friction_[c] += g.friction_c;
-        drag_[c] += g.drag_c;
-        stiffness_[c] += g.stiffness_c;
-        pushed_with_[c] += g.pushed_with_c;
-        normal_stiffness_[c] += g.normal_c;
-        if (h.section_of(p) == 0) continue;
-        force_[p] += g.force_p;
-        friction_[p] += g.friction_p;
-        drag_[p] += g.drag_p;
-        stiffness_[p] += g.stiffness_p;
-        pushed_with_[p] += g.pushed_with_p;
-        normal_stiffness_[p] += g.normal_p;
+        contact_[segments_[e].child].add(sums_[e].child);
+        const uint32_t p = segments_[e].parent;
+        if (h.section_of(p) != 0) contact_[p].add(sums_[e].parent);
     }
     // A node's friction rate Σk_f/m is at most kContactRate·α, and its repulsion stiffness
     // Σk_r/m at most kContactRate·k_r: it is drawn toward the mean velocity of the hair it
@@ -439,20 +416,21 @@ void AwtSimulation::interact() {
     // level) locked to its neighbours, and the hair set like a jelly in whatever shape a
     // motion left it; and summed repulsions flung it.
     for (uint32_t i : active_) {
+        ContactSums& n = contact_[i];
         const float friction_cap = kContactRate * alpha * h.mass[i];
-        if (drag_[i] > friction_cap) {
-            friction_[i] *= friction_cap / drag_[i];
-            drag_[i] = friction_cap;
+        if (n.drag > friction_cap) {
+            n.friction *= friction_cap / n.drag;
+            n.drag = friction_cap;
         }
         const float repulsion_cap = kContactRate * kr * h.mass[i];
-        if (stiffness_[i] > repulsion_cap) {
-            const float scale = repulsion_cap / stiffness_[i];
-            force_[i] *= scale;
-            pushed_with_[i] *= scale;
-            normal_stiffness_[i] *= scale;
-            stiffness_[i] = repulsion_cap;
+        if (n.stiffness > repulsion_cap) {
+            const float scale = repulsion_cap / n.stiffness;
+            n.force *= scale;
+            n.pushed_with *= scale;
+            n.normal *= scale;
+            n.stiffness = repulsion_cap;
         }
-        force_[i] += friction_[i];
+        force_[i] = n.force + n.friction;
     }
 }
 
@@ -465,7 +443,7 @@ void AwtSimulation::integrate() {
     const float kb = params_.stiffness;
     const float kt = kb + ks;
     const float denom = 1 + dt * (params_.damping + params_.air_drag) + dt * dt * kt;
-    const bool forces = params_.hair_collisions;  // interact() has set force_ and drag_
+    const bool forces = params_.hair_collisions;  // interact() has set force_ and contact_
     const float relax = std::min(1.f, dt / kLinkRelaxTime);
     for (uint32_t c : active_)
         link_length_[c] += relax * ((h.rest[c] - h.rest[parent_[c]]).norm() - link_length_[c]);
@@ -474,13 +452,8 @@ void AwtSimulation::integrate() {
     // (explicitly, from the start of the step), so it is a conservative spring between the
     // two and the tree cannot pump energy into itself.
     if (!forces)
-        for (uint32_t c : active_) {
+        for (uint32_t c : active_)
             force_[c].setZero();
-            drag_[c] = 0;
-            stiffness_[c] = 0;
-            pushed_with_[c].setZero();
-            normal_stiffness_[c].setZero();
-        }
     for (uint32_t c : active_) {
         const uint32_t p = parent_[c];
         if (h.section_of(p) == 0) continue;
@@ -501,20 +474,19 @@ void AwtSimulation::integrate() {
             target = (kb * bend_target + ks * stretch_target) / kt;
         }
         Vec3f a = gravity + air + params_.damping * v_[p];
-        // force_ holds the shape springs' reactions, the repulsions and Σ k_f·v_other;
-        // drag_ holds Σ k_f (friction, implicit). The repulsions are implicit too, along
-        // their normals and in the motion relative to the segments pushing: normal_stiffness_
-        // holds Σ k_r·n·nᵀ and pushed_with_ Σ k_r·n·nᵀ·v_other. So a node pressed by many
+        // force_ holds the shape springs' reactions, the repulsions and Σ k_f·v_other; the
+        // contact sums' drag is Σ k_f (friction, implicit). The repulsions are implicit too,
+        // along their normals and in the motion relative to the segments pushing (Σ k_r·n·nᵀ
+        // and Σ k_r·n·nᵀ·v_other). So a node pressed by many
         // segments moves out of them by at most its penetration in a step instead of being
         // flung, and hair moving as one (a running character's) is not slowed.
-        a += (force_[c] + dt * pushed_with_[c]) / h.mass[c];
-        const float d = denom + dt * drag_[c] / h.mass[c];
+        const ContactSums& n = contact_[c];
+        a += (force_[c] + dt * n.pushed_with) / h.mass[c];
+        const float d = denom + dt * n.drag / h.mass[c];
         const Vec3f rhs = v_[c] + dt * (kt * (target - x_[c]) + a);
         const Vec3f v =
-            stiffness_[c] > 0
-                ? Vec3f((d * Mat3f::Identity() + (dt * dt / h.mass[c]) * normal_stiffness_[c])
-                            .inverse() *
-                        rhs)
+            n.stiffness > 0
+                ? Vec3f((d * Mat3f::Identity() + (dt * dt / h.mass[c]) * n.normal).inverse() * rhs)
                 : Vec3f(rhs / d);
         x_[c] += dt * v;
         v_[c] = v;

@@ -172,9 +172,8 @@ class AwtSimulation {
     float voxel_;
     float cos_repulsion_;
 
-    std::vector<Vec3f> x_, v_, acc_, force_, friction_, pushed_with_, offset_, x_old_, v_old_;
-    std::vector<float> radius_, drag_, stiffness_, link_length_;
-    std::vector<Mat3f> normal_stiffness_;  // repulsion: Σ k_r·n·nᵀ
+    std::vector<Vec3f> x_, v_, acc_, force_, offset_, x_old_, v_old_;
+    std::vector<float> radius_, link_length_;
     std::vector<uint8_t> state_, collided_;
     std::vector<uint32_t> parent_;
     std::vector<Eigen::Quaternionf> rotation_;  // segment rotation of active nodes
@@ -192,15 +191,27 @@ class AwtSimulation {
         uint32_t child, parent;
         bool moving;
     };
+    // Hair–hair contact sums at a node, or at one end of a segment.
+    struct ContactSums {
+        Vec3f force = Vec3f::Zero();        // repulsion
+        Vec3f friction = Vec3f::Zero();     // Σ k_f·v_other
+        Vec3f pushed_with = Vec3f::Zero();  // Σ k_r·n·nᵀ·v_other
+        float drag = 0;                     // Σ k_f
+        float stiffness = 0;                // Σ k_r
+        Mat3f normal = Mat3f::Zero();       // Σ k_r·n·nᵀ
+        void add(const ContactSums& o) {
+            force += o.force;
+            friction += o.friction;
+            pushed_with += o.pushed_with;
+            drag += o.drag;
+            stiffness += o.stiffness;
+            normal += o.normal;
+        }
+    };
     // What the contacts gather at a segment's two ends (kept apart from Segment, which the
     // tests read, so that the tests' data stays compact).
     struct SegmentSums {
-        Vec3f force_c = Vec3f::Zero(), force_p = Vec3f::Zero();              // repulsion
-        Vec3f friction_c = Vec3f::Zero(), friction_p = Vec3f::Zero();        // Σ k_f·v_other
-        float drag_c = 0, drag_p = 0;                                        // Σ k_f
-        float stiffness_c = 0, stiffness_p = 0;                              // Σ k_r
-        Vec3f pushed_with_c = Vec3f::Zero(), pushed_with_p = Vec3f::Zero();  // Σ k_r·n·nᵀ·v_other
-        Mat3f normal_c = Mat3f::Zero(), normal_p = Mat3f::Zero();            // Σ k_r·n·nᵀ
+        ContactSums child, parent;
     };
     struct Contact {
         uint32_t a, b;  // positions in grid order
@@ -216,6 +227,7 @@ class AwtSimulation {
     std::vector<Box4> boxes_;
     std::vector<Segment> segments_;
     std::vector<SegmentSums> sums_;
+    std::vector<ContactSums> contact_;  // per node, after the caps
     std::vector<AwtEvent> events_;
     AwtStepStats last_;
     uint64_t total_splits_ = 0, total_merges_ = 0;
