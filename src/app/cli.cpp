@@ -30,6 +30,20 @@
 namespace wisp {
 namespace {
 
+// Points enclosing what a clip `clip` seconds long shows: the corners of `box` (frame 0's
+// hair and body) turned about `centre` by every head rotation since frame 0 (sampled).
+Mesh clip_envelope(const Motion& motion, double clip, const Box3& box, const Vec3f& centre) {
+    Mesh envelope;
+    const Mat3f start = motion.head.at(0).rotation.transpose();
+    constexpr int kSamples = 48;
+    for (int i = 0; i <= kSamples; ++i) {
+        const Mat3f turn = motion.head.at(clip * i / kSamples).rotation * start;
+        for (int k = 0; k < 8; ++k)
+            envelope.vertices.push_back(centre + turn * (box.corner(k) - centre));
+    }
+    return envelope;
+}
+
 constexpr const char* kVersion = "0.1.0";
 
 // "x,y,z" → a finite vector.
@@ -373,22 +387,6 @@ int run_animate(const AnimateArgs& args) {
     args.look.apply(look);
     look.view = args.view;
     std::optional<Camera> first_camera;
-    Mesh envelope;
-    auto clip_envelope = [&](const Box3& box, const Vec3f& centre) -> const Mesh& {
-        const double clip = static_cast<double>(args.frames) / args.fps;
-        const Mat3f start = motion.head.at(0).rotation.transpose();
-        constexpr int kSamples = 48;
-        for (int i = 0; i <= kSamples; ++i) {
-            const Mat3f turn = motion.head.at(clip * i / kSamples).rotation * start;
-            for (int corner = 0; corner < 8; ++corner) {
-                const Vec3f p((corner & 1 ? box.hi : box.lo).x(),
-                              (corner & 2 ? box.hi : box.lo).y(),
-                              (corner & 4 ? box.hi : box.lo).z());
-                envelope.vertices.push_back(centre + turn * (p - centre));
-            }
-        }
-        return envelope;
-    };
     Vec3f first_centre = Vec3f::Zero();
     HairWriteOptions write_options;
     const bool progress = !args.quiet && isatty(STDERR_FILENO);
@@ -408,8 +406,10 @@ int run_animate(const AnimateArgs& args) {
                         // goes through, so a lean or a nod stays in the picture.
                         const Vec3f centre = pose.head.apply(frame.center);
                         if (!first_camera) {
-                            first_camera = render_camera(
-                                Hair{}, &clip_envelope(framing_bounds(hair, &body), centre), look);
+                            const Mesh envelope =
+                                clip_envelope(motion, static_cast<double>(args.frames) / args.fps,
+                                              framing_bounds(hair, &body), centre);
+                            first_camera = render_camera(Hair{}, &envelope, look);
                             first_centre = centre;
                         }
                         RenderOptions o = look;

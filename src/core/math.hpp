@@ -74,6 +74,11 @@ struct Box3 {
     bool empty() const { return !(lo.x() <= hi.x()); }
     Vec3f size() const { return hi - lo; }
     Vec3f center() const { return 0.5f * (lo + hi); }
+    // Corner k in [0, 8): bit 0 picks hi.x, bit 1 hi.y, bit 2 hi.z.
+    Vec3f corner(int k) const {
+        return Vec3f((k & 1) ? hi.x() : lo.x(), (k & 2) ? hi.y() : lo.y(),
+                     (k & 4) ? hi.z() : lo.z());
+    }
 };
 
 }  // namespace wisp

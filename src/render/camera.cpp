@@ -81,10 +81,7 @@ Camera frame_view(const std::string& view, const Box3& bounds, int width, int he
     const float tan_x = 0.96f * 0.5f * width / c.focal_pixels;
     float distance = 1e-3f;
     for (int k = 0; k < 8; ++k) {
-        const Vec3f corner((k & 1) ? bounds.hi.x() : bounds.lo.x(),
-                           (k & 2) ? bounds.hi.y() : bounds.lo.y(),
-                           (k & 4) ? bounds.hi.z() : bounds.lo.z());
-        const Vec3f d = corner - centre;
+        const Vec3f d = bounds.corner(k) - centre;
         const float b = d.dot(dir);
         distance = std::max(distance, b + std::abs(d.dot(c.right)) / tan_x);
         distance = std::max(distance, b + std::abs(d.dot(c.up)) / tan_y);

@@ -612,9 +612,7 @@ RgbImage render(const Hair& hair, const Mesh* head, const RenderOptions& o, Rend
     if (scene.head) box.extend(scene.head->bounds());
     float z_lo = INFINITY, z_hi = -INFINITY;
     for (int k = 0; k < 8; ++k) {
-        const Vec3f corner((k & 1) ? box.hi.x() : box.lo.x(), (k & 2) ? box.hi.y() : box.lo.y(),
-                           (k & 4) ? box.hi.z() : box.lo.z());
-        const float z = (corner - scene.camera.eye).dot(scene.camera.forward);
+        const float z = (box.corner(k) - scene.camera.eye).dot(scene.camera.forward);
         z_lo = std::min(z_lo, z);
         z_hi = std::max(z_hi, z);
     }
