@@ -13,6 +13,7 @@ using Vec3f = Eigen::Vector3f;
 using Vec3d = Eigen::Vector3d;
 using Vec3i = Eigen::Vector3i;
 using Mat3f = Eigen::Matrix3f;
+using Mat3d = Eigen::Matrix3d;
 
 inline constexpr float kPi = 3.14159265358979323846f;
 

@@ -45,12 +45,12 @@ constexpr float kLinkRelaxTime = 0.1f;
 // Seconds over which merged nodes settle back to their styled offsets.
 constexpr float kSettleTime = 0.5f;
 
-// Closest points of segments p1q1 and p2q2 (Ericson, Real-Time Collision Detection §5.1.9):
-// parameters s, t in [0, 1].
-void closest_points(const Vec3f& p1, const Vec3f& q1, const Vec3f& p2, const Vec3f& q2, float& s,
-                    float& t) {
-    const Vec3f d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
-    const float a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+// Closest points of segments p1 + s·d1 and p2 + t·d2, s and t in [0, 1], given a = |d1|² and
+// e = |d2|² (Ericson, Real-Time Collision Detection §5.1.9).
+void closest_points(const Vec3f& p1, const Vec3f& d1, float a, const Vec3f& p2, const Vec3f& d2,
+                    float e, float& s, float& t) {
+    const Vec3f r = p1 - p2;
+    const float f = d2.dot(r);
     constexpr float eps = 1e-12f;
     if (a <= eps && e <= eps) {
         s = t = 0;
@@ -77,6 +77,13 @@ void closest_points(const Vec3f& p1, const Vec3f& q1, const Vec3f& p2, const Vec
         t = 1;
         s = std::clamp((b - c) / a, 0.f, 1.f);
     }
+}
+
+// The same for segments p1q1 and p2q2.
+void closest_points(const Vec3f& p1, const Vec3f& q1, const Vec3f& p2, const Vec3f& q2, float& s,
+                    float& t) {
+    const Vec3f d1 = q1 - p1, d2 = q2 - p2;
+    closest_points(p1, d1, d1.squaredNorm(), p2, d2, d2.squaredNorm(), s, t);
 }
 
 }  // namespace
@@ -159,6 +166,8 @@ AwtSimulation::AwtSimulation(const Hierarchy& hierarchy, std::vector<Sphere> sph
 
     head_ = motion_.head.at(time_);
     body_ = motion_.body.at(time_);
+    head_velocity_ = motion_.head.velocity(time_);
+    body_velocity_ = motion_.body.velocity(time_);
     head_rotation_ = Quat(head_.rotation).normalized();
     rest_gravity_ = head_.rotation.transpose() * motion_.gravity;
 
@@ -177,7 +186,7 @@ AwtSimulation::AwtSimulation(const Hierarchy& hierarchy, std::vector<Sphere> sph
     place_roots();
     for (uint32_t g = 0; g < h.gc_count(); ++g)
         for (int k = 1; k < n_; ++k)
-            v_[h.node(g, k)] = motion_.head.velocity(h.rest[h.node(g, k)], time_);
+            v_[h.node(g, k)] = head_velocity_.at(h.rest[h.node(g, k)]);
     rebuild_active();
 }
 
@@ -186,7 +195,7 @@ void AwtSimulation::place_roots() {
     for (uint32_t g = 0; g < h.gc_count(); ++g) {
         const uint32_t i = h.node(g, 0);
         x_[i] = head_.apply(h.rest[i]);
-        v_[i] = motion_.head.velocity(h.rest[i], time_);
+        v_[i] = head_velocity_.at(h.rest[i]);
         rotation_[i] = head_rotation_;
     }
     world_spheres_ = spheres_;
@@ -241,6 +250,8 @@ void AwtSimulation::step() {
     time_ += dt;
     head_ = motion_.head.at(time_);
     body_ = motion_.body.at(time_);
+    head_velocity_ = motion_.head.velocity(time_);
+    body_velocity_ = motion_.body.velocity(time_);
     head_rotation_ = Quat(head_.rotation).normalized();
 
     for (uint32_t i : active_) {
@@ -284,8 +295,9 @@ void AwtSimulation::interact() {
     for (size_t s = 0; s < count; ++s) {
         const uint32_t c = active_[s], p = parent_[c];
         const Vec3f r = Vec3f::Constant(radius_[c]);
-        boxes_[s].lo << x_[c].cwiseMin(x_[p]) - r, 0.f;
-        boxes_[s].hi << x_[c].cwiseMax(x_[p]) + r, 0.f;
+        const Vec3f lo = x_[c].cwiseMin(x_[p]) - r, hi = x_[c].cwiseMax(x_[p]) + r;
+        boxes_[s].lo = {lo.x(), lo.y(), lo.z(), 0.f};
+        boxes_[s].hi = {hi.x(), hi.y(), hi.z(), 0.f};
     }
     grid_.build(boxes_, voxel_);
     // The segments in grid order, with everything the tests read, so that they read memory in
@@ -297,7 +309,8 @@ void AwtSimulation::interact() {
         const uint32_t c = active_[order[e]], p = parent_[c];
         Segment& g = segments_[e];
         g.xp = x_[p];
-        g.xc = x_[c];
+        g.axis = x_[c] - x_[p];
+        g.length2 = g.axis.squaredNorm();
         g.vp = v_[p];
         g.vc = v_[c];
         g.velocity = 0.5f * (v_[c] + v_[p]);
@@ -333,15 +346,14 @@ void AwtSimulation::interact() {
             if ((a.middle - b.middle).squaredNorm() >= reach * reach) return;
             ++out.tests;
             float s, t;
-            closest_points(a.xp, a.xc, b.xp, b.xc, s, t);
-            const Vec3f ea = a.xc - a.xp, eb = b.xc - b.xp;
-            const Vec3f d = (a.xp + s * ea) - (b.xp + t * eb);
+            closest_points(a.xp, a.axis, a.length2, b.xp, b.axis, b.length2, s, t);
+            const Vec3f d = (a.xp + s * a.axis) - (b.xp + t * b.axis);
             const float r = a.radius + b.radius;
             const float dist2 = d.squaredNorm();
             if (dist2 >= r * r) return;
             Contact contact{static_cast<uint32_t>(ia), static_cast<uint32_t>(ib), s, t, 0.f};
-            const float la2 = ea.squaredNorm(), lb2 = eb.squaredNorm();
-            const float dot = ea.dot(eb);
+            const float la2 = a.length2, lb2 = b.length2;
+            const float dot = a.axis.dot(b.axis);
             if (la2 > 0 && lb2 > 0 && dist2 > 1e-12f && dot * dot < cos2 * la2 * lb2) {
                 // Eq. (2), but never against the styled shape: segments that overlap at rest
                 // (neighbouring sub-wisps, layers) repel only when closer than there.
@@ -383,7 +395,7 @@ void AwtSimulation::interact() {
             at_ends(fb, t, rub, v1);
             if (contact.push == 0) continue;
             const float k_r = kr * m;
-            const Vec3f d = (a.xp + s * (a.xc - a.xp)) - (b.xp + t * (b.xc - b.xp));
+            const Vec3f d = (a.xp + s * a.axis) - (b.xp + t * b.axis);
             const Vec3f f = k_r * contact.push * d;
             // The repulsion, with its stiffness and Σ k_r·v_other for its implicit integration
             // relative to the other segment's motion (integrate()), along the contact normal
@@ -570,10 +582,9 @@ bool AwtSimulation::collide_body(uint32_t c, uint32_t p) {
             if (!collided_[c]) ++last_.body_contacts;
             collided_[c] = 1;
             // Static friction: the node takes the obstacle's velocity (§4.3).
-            const MotionTrack& track = sphere.head ? motion_.head : motion_.body;
             const RigidTransform& pose = sphere.head ? head_ : body_;
             const Vec3f local = pose.rotation.transpose() * (x_[c] - pose.translation);
-            v_[c] = track.velocity(local, time_);
+            v_[c] = (sphere.head ? head_velocity_ : body_velocity_).at(local);
         }
         if (!moved) break;
     }

@@ -167,6 +167,7 @@ class AwtSimulation {
     int n_;
     double time_;
     RigidTransform head_, body_;
+    RigidVelocity head_velocity_, body_velocity_;  // at time_
     Eigen::Quaternionf head_rotation_;
     Vec3f rest_gravity_;  // gravity of the first frame, head space
     float voxel_;
@@ -183,9 +184,11 @@ class AwtSimulation {
     // Hair–hair interactions (interact()): the active segments' boxes, and their data in the
     // grid's order.
     struct Segment {
-        Vec3f xp, xc, vp, vc;  // parent and child node
-        Vec3f velocity;        // mean of the two nodes'
-        Vec3f middle;          // bounding sphere: centre and radius
+        Vec3f xp, axis;  // parent node, and child − parent
+        float length2;   // |axis|²
+        Vec3f vp, vc;    // parent and child node
+        Vec3f velocity;  // mean of the two nodes'
+        Vec3f middle;    // bounding sphere: centre and radius
         float reach;
         float radius, mass;  // the child node's
         uint32_t child, parent;

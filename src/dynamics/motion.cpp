@@ -15,7 +15,6 @@ namespace wisp {
 
 namespace {
 
-using Mat3d = Eigen::Matrix3d;
 using Channels = std::array<double, 6>;  // pitch, yaw, roll (degrees), translation x, y, z (cm)
 
 constexpr double kRadians = std::numbers::pi / 180.0;
@@ -699,18 +698,20 @@ RigidTransform MotionTrack::at(double t) const {
     return x;
 }
 
-Vec3f MotionTrack::velocity(const Vec3f& p, double t) const {
-    if (keys.size() < 2) return Vec3f::Zero();
+RigidVelocity MotionTrack::velocity(double t) const {
+    RigidVelocity out;
+    out.pivot = pivot;
+    if (keys.size() < 2) return out;
     const TrackSample s = sample_track(keys, t);
     const double pitch = s.value[0] * kRadians, yaw = s.value[1] * kRadians,
                  roll = s.value[2] * kRadians;
     const Mat3d rx = rot_x(pitch), ry = rot_y(yaw), rz = rot_z(roll);
     // Product rule on R = Ry·Rx·Rz, each factor's derivative times its angle's rate.
-    const Mat3d dr = drot_y(yaw) * rx * rz * (s.rate[1] * kRadians) +
-                     ry * drot_x(pitch) * rz * (s.rate[0] * kRadians) +
-                     ry * rx * drot_z(roll) * (s.rate[2] * kRadians);
-    const Vec3d v = Vec3d(s.rate[3], s.rate[4], s.rate[5]) + dr * (p - pivot).cast<double>();
-    return v.cast<float>();
+    out.turn = drot_y(yaw) * rx * rz * (s.rate[1] * kRadians) +
+               ry * drot_x(pitch) * rz * (s.rate[0] * kRadians) +
+               ry * rx * drot_z(roll) * (s.rate[2] * kRadians);
+    out.linear = Vec3d(s.rate[3], s.rate[4], s.rate[5]);
+    return out;
 }
 
 Vec3f Motion::wind_at(double t) const {

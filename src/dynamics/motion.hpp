@@ -47,6 +47,17 @@ struct RigidTransform {
     Vec3f apply_vector(const Vec3f& v) const { return rotation * v; }
 };
 
+// The velocity field of a rigid motion at one instant (cm/s): v(p) = linear + turn·(p − pivot)
+// for the point at head-space p, turn being dR/dt.
+struct RigidVelocity {
+    Mat3d turn = Mat3d::Zero();
+    Vec3d linear = Vec3d::Zero();
+    Vec3f pivot = Vec3f::Zero();
+    Vec3f at(const Vec3f& p) const {
+        return (linear + turn * (p - pivot).cast<double>()).cast<float>();
+    }
+};
+
 struct MotionKey {
     double time = 0;                  // s
     Vec3f rotate = Vec3f::Zero();     // degrees: pitch (X), yaw (Y), roll (Z)
@@ -60,7 +71,9 @@ struct MotionTrack {
     RigidTransform at(double t) const;
     // Velocity of the point that sits at head-space p, at time t (cm/s): the analytic time
     // derivative of at(t).apply(p).
-    Vec3f velocity(const Vec3f& p, double t) const;
+    Vec3f velocity(const Vec3f& p, double t) const { return velocity(t).at(p); }
+    // The velocity field at time t, for the velocities of many points.
+    RigidVelocity velocity(double t) const;
 };
 
 struct Motion {
