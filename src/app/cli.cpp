@@ -348,11 +348,14 @@ int run_animate(const AnimateArgs& args) {
     const HeadFrame frame = head_frame(*head.scalp);
     StageTimes times{{"head", watch.ms()}};
     Hair rest;
+    std::vector<float> held;  // per wisp: the length its ties hold
     watch = Stopwatch();
     if (from_style) {
         info(args.quiet, cat("wisp: ", style.wisps, " wisps, ", style.strands, " strands on the ",
                              head.source, ", seed ", style.seed));
-        rest = generate_hairstyle(style, head).hair;
+        HairstyleResult generated = generate_hairstyle(style, head);
+        rest = std::move(generated.hair);
+        held = std::move(generated.solve.held_length);
         times.emplace_back("generate", watch.ms());
     } else {
         rest = read_hair(args.input);
@@ -364,6 +367,7 @@ int run_animate(const AnimateArgs& args) {
     settings.frames = args.frames;
     settings.fps = args.fps;
     settings.single_level = args.single_level;
+    settings.wisp_held = std::move(held);
 
     // Outputs: one animated .usda, or a numbered file per frame for the other formats.
     std::vector<std::unique_ptr<UsdaAnimationWriter>> usda;
@@ -474,7 +478,8 @@ int run_animate(const AnimateArgs& args) {
                           {"sections", stats.sections},
                           {"gcs_per_level", stats.gcs_per_level},
                           {"nodes", stats.nodes},
-                          {"finest_nodes", stats.finest_nodes}};
+                          {"finest_nodes", stats.finest_nodes},
+                          {"held_finest_nodes", stats.held_finest_nodes}};
         j["body_spheres"] = stats.spheres;
         j["steps"] = stats.steps;
         j["steps_per_frame"] = stats.steps_per_frame;

@@ -54,13 +54,18 @@ AnimationStats animate(const Hair& rest, const Mesh& body, const HeadFrame& head
     params.dt = static_cast<float>(stats.dt);
 
     Stopwatch watch;
-    const Hierarchy h = build_hierarchy(rest, hierarchy_options(spec));
+    HierarchyOptions options = hierarchy_options(spec);
+    options.wisp_held = settings.wisp_held;
+    const Hierarchy h = build_hierarchy(rest, options);
     stats.hierarchy_ms = watch.ms();
     stats.levels = h.levels;
     stats.sections = h.sections;
     stats.gcs = h.gc_count();
     stats.nodes = h.node_count();
     stats.finest_nodes = static_cast<size_t>(h.gc_count() - h.finest_begin()) * h.sections;
+    for (uint32_t g = h.finest_begin(); g < h.gc_count(); ++g)
+        for (int k = 1; k < h.sections; ++k)
+            stats.held_finest_nodes += h.held[h.node(g, k)] >= 1;
     for (int l = 0; l < h.levels; ++l)
         stats.gcs_per_level.push_back(h.level_size(l));
 

@@ -18,11 +18,15 @@ struct AnimateSettings {
     int frames = 48;  // ≥ 1; frame 0 is the rest pose at time 0
     double fps = 24;  // > 0
     bool single_level = false;
+    // Per wisp id of the rest hair: the length held rigidly to the head by a tie or a bun
+    // (SolveStats::held_length, HierarchyOptions::wisp_held); empty: no ties.
+    std::vector<float> wisp_held;
 };
 
 struct AnimationStats {
     int levels = 0, sections = 0;
     size_t gcs = 0, nodes = 0, finest_nodes = 0, spheres = 0;
+    size_t held_finest_nodes = 0;  // held rigidly to the head by ties (k ≥ 1)
     std::vector<size_t> gcs_per_level;
     bool rigid = true;
     int steps_per_frame = 0;

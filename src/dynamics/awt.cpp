@@ -30,6 +30,12 @@ void at_ends(Sums& sums, float s, const Share& share, const Args&... args) {
     share(sums.parent, 1 - s, args...);
 }
 
+// Contacts a segment makes as the first of a pair (in grid order) before its other pairs are
+// skipped. A node's friction and repulsion saturate at kContactRate contacts' worth; in a
+// braid or a ponytail, where thousands of segments share a few voxels, the pairs are
+// otherwise quadratic in the hair packed there (a shaken braid: 13M contacts a step).
+constexpr uint32_t kMaxContacts = 32;
+
 // Grid entries per chunk of the parallel hair–hair tests.
 constexpr size_t kChunk = 128;
 
@@ -44,6 +50,11 @@ constexpr float kLinkRelaxTime = 0.1f;
 
 // Seconds over which merged nodes settle back to their styled offsets.
 constexpr float kSettleTime = 0.5f;
+
+// A node partly held by a tie (Hierarchy::held, a coarse node over held and free sub-nodes)
+// is drawn to its held place with this stiffness (1/s²) and critical damping, times the
+// fraction held; a node held whole moves rigidly with the head.
+constexpr float kHoldStiffness = 4000.f;
 
 // Closest points of segments p1 + s·d1 and p2 + t·d2, s and t in [0, 1], given a = |d1|² and
 // e = |d2|² (Ericson, Real-Time Collision Detection §5.1.9).
@@ -144,6 +155,13 @@ AwtSimulation::AwtSimulation(const Hierarchy& hierarchy, std::vector<Sphere> sph
     x_old_.resize(nodes);
     v_old_.resize(nodes);
     radius_ = h.radius;
+    // Without holds only the roots are held.
+    held_ = h.held;
+    if (held_.size() != nodes) {
+        held_.assign(nodes, 0.f);
+        for (uint32_t g = 0; g < h.gc_count(); ++g)
+            held_[h.node(g, 0)] = 1.f;
+    }
     state_.assign(nodes, kMerged);
     collided_.assign(nodes, 0);
     parent_.assign(nodes, 0);
@@ -334,23 +352,29 @@ void AwtSimulation::interact() {
         ChunkContacts& out = contacts_[chunk];
         out.list.clear();
         out.tests = 0;
+        size_t current = SIZE_MAX;
+        uint32_t found = 0;  // contacts of segment `current`, as the first of the pair
         grid_.for_each_overlap(chunk * kChunk, (chunk + 1) * kChunk, [&](size_t ia, size_t ib) {
+            if (ia != current) {
+                current = ia;
+                found = 0;
+            }
             const Segment& a = segments_[ia];
             const Segment& b = segments_[ib];
-            if (!a.moving && !b.moving) return;
-            if ((a.velocity - b.velocity).squaredNorm() < kStill * kStill) return;
+            if (!a.moving && !b.moving) return true;
+            if ((a.velocity - b.velocity).squaredNorm() < kStill * kStill) return true;
             if (a.parent == b.child || b.parent == a.child || a.parent == b.parent)
-                return;  // neighbours in the tree
+                return true;  // neighbours in the tree
             // Bounding spheres first: segments whose spheres are apart cannot touch.
             const float reach = a.reach + b.reach;
-            if ((a.middle - b.middle).squaredNorm() >= reach * reach) return;
+            if ((a.middle - b.middle).squaredNorm() >= reach * reach) return true;
             ++out.tests;
             float s, t;
             closest_points(a.xp, a.axis, a.length2, b.xp, b.axis, b.length2, s, t);
             const Vec3f d = (a.xp + s * a.axis) - (b.xp + t * b.axis);
             const float r = a.radius + b.radius;
             const float dist2 = d.squaredNorm();
-            if (dist2 >= r * r) return;
+            if (dist2 >= r * r) return true;
             Contact contact{static_cast<uint32_t>(ia), static_cast<uint32_t>(ib), s, t, 0.f};
             const float la2 = a.length2, lb2 = b.length2;
             const float dot = a.axis.dot(b.axis);
@@ -368,6 +392,9 @@ void AwtSimulation::interact() {
                 if (dist < reach) contact.push = (reach - dist) / dist;
             }
             out.list.push_back(contact);
+            // Enough contacts saturate the node's caps (below): the rest of a dense bundle
+            // would only cost time, quadratic in the hair packed in one place.
+            return ++found < kMaxContacts;
         });
     });
     for (size_t chunk = 0; chunk < chunks; ++chunk) {
@@ -472,9 +499,17 @@ void AwtSimulation::integrate() {
         const Vec3f target = x_old_[p] + head_rotation_ * (h.rest[c] - h.rest[p]);
         force_[p] -= h.mass[c] * kb * (target - x_old_[c]);
     }
+    const float hold_damping = 2 * std::sqrt(kHoldStiffness);
     // Root to tip: every parent is advanced before its children.
     for (uint32_t c : active_) {
         const uint32_t p = parent_[c];
+        const float held = held_[c];
+        if (held >= 1) {
+            // Tied: rigid with the head, like the roots.
+            x_[c] = head_.apply(h.rest[c]);
+            v_[c] = head_velocity_.at(h.rest[c]);
+            continue;
+        }
         const Vec3f rest = h.rest[c] - h.rest[p];
         const Vec3f bend_target = x_[p] + head_rotation_ * rest;
         Vec3f target = bend_target;
@@ -494,8 +529,15 @@ void AwtSimulation::integrate() {
         // flung, and hair moving as one (a running character's) is not slowed.
         const ContactSums& n = contact_[c];
         a += (force_[c] + dt * n.pushed_with) / h.mass[c];
-        const float d = denom + dt * n.drag / h.mass[c];
-        const Vec3f rhs = v_[c] + dt * (kt * (target - x_[c]) + a);
+        float d = denom + dt * n.drag / h.mass[c];
+        Vec3f rhs = v_[c] + dt * (kt * (target - x_[c]) + a);
+        if (held > 0) {
+            // Partly tied: an implicit spring to the held place, damped toward its velocity.
+            const float k = held * kHoldStiffness, damping = held * hold_damping;
+            d += dt * damping + dt * dt * k;
+            rhs += dt *
+                   (k * (head_.apply(h.rest[c]) - x_[c]) + damping * head_velocity_.at(h.rest[c]));
+        }
         const Vec3f v =
             n.stiffness > 0
                 ? Vec3f((d * Mat3f::Identity() + (dt * dt / h.mass[c]) * n.normal).inverse() * rhs)
@@ -512,8 +554,10 @@ void AwtSimulation::integrate() {
                 const Vec3f d = x_[c] - x_[p];
                 const float len = d.norm();
                 if (len < 1e-6f) continue;
-                const float wc = 1.f / h.mass[c];
-                const float wp = h.section_of(p) == 0 ? 0.f : 1.f / h.mass[p];
+                // Roots and tied nodes do not give.
+                const float wc = held_[c] >= 1 ? 0.f : 1.f / h.mass[c];
+                const float wp = held_[p] >= 1 ? 0.f : 1.f / h.mass[p];
+                if (wc + wp == 0) continue;
                 const Vec3f correction = (len - rest) / (len * (wc + wp)) * d;
                 x_[c] -= wc * correction;
                 x_[p] += wp * correction;
@@ -523,6 +567,7 @@ void AwtSimulation::integrate() {
     for (uint32_t c : active_) {
         const uint32_t p = parent_[c];
         collided_[c] = 0;
+        if (held_[c] >= 1) continue;
         const float rest = link_length_[c];
         // Alternate the link length and the body, ending with the body: the child slides
         // over the obstacle at its link's length (rigid) instead of being shoved off it.
@@ -537,7 +582,7 @@ void AwtSimulation::integrate() {
     }
     const float inv_dt = 1.f / dt;
     for (uint32_t c : active_) {
-        if (!collided_[c]) v_[c] = (x_[c] - x_old_[c]) * inv_dt;
+        if (!collided_[c] && held_[c] < 1) v_[c] = (x_[c] - x_old_[c]) * inv_dt;
         // The split test reads the acceleration averaged over kAccelerationTime (an
         // exponential moving average), not one step's Δv/dt: a single step's jolt (a node
         // meeting the hair or the body, a merged node meeting the neighbours its wider radius
@@ -604,7 +649,8 @@ void AwtSimulation::adapt() {
         for (size_t i = begin; i < end; ++i) {
             const uint32_t c = active_[i];
             const uint32_t g = h.gc_of(c);
-            if (g >= finest || state_[c] != kActive) continue;
+            // A tied node moves with the head: there is nothing to resolve.
+            if (g >= finest || state_[c] != kActive || held_[c] >= 1) continue;
             if (acc_[c].norm() * radius_[c] <= threshold) continue;
             if (k < n_ - 1 && state_[h.node(g, k + 1)] != kSplit) continue;
             split(c);
@@ -640,8 +686,8 @@ void AwtSimulation::split(uint32_t c) {
     for (uint32_t s = h.child_begin[g]; s < h.child_begin[g] + h.child_count[g]; ++s) {
         const uint32_t i = h.node(s, k);
         state_[i] = kActive;
-        x_[i] = x_[c] + q * offset_[i];
-        v_[i] = v_[c];
+        x_[i] = held_[i] >= 1 ? head_.apply(h.rest[i]) : Vec3f(x_[c] + q * offset_[i]);
+        v_[i] = held_[i] >= 1 ? head_velocity_.at(h.rest[i]) : v_[c];
         acc_[i] = acc_[c];
         radius_[i] = h.radius[i];
         parent_[i] = k == 1 ? h.node(s, 0) : p;
@@ -727,8 +773,14 @@ void AwtSimulation::sync() {
             } else if (state_[i] == kMerged) {
                 const uint32_t up = h.node(static_cast<uint32_t>(h.super[g]), k);
                 governor[i] = governor[up];
-                x_[i] = x_[up] + rotation_[governor[i]] * offset_[i];
-                v_[i] = v_[governor[i]];
+                if (held_[i] >= 1) {
+                    // Tied, under a node only partly tied: rigid with the head all the same.
+                    x_[i] = head_.apply(h.rest[i]);
+                    v_[i] = head_velocity_.at(h.rest[i]);
+                } else {
+                    x_[i] = x_[up] + rotation_[governor[i]] * offset_[i];
+                    v_[i] = v_[governor[i]];
+                }
             }
         }
     // Split nodes, fine to coarse: their sub-nodes' centre of mass.

@@ -175,6 +175,7 @@ class AwtSimulation {
 
     std::vector<Vec3f> x_, v_, acc_, force_, offset_, x_old_, v_old_;
     std::vector<float> radius_, link_length_;
+    std::vector<float> held_;  // Hierarchy::held
     std::vector<uint8_t> state_, collided_;
     std::vector<uint32_t> parent_;
     std::vector<Eigen::Quaternionf> rotation_;  // segment rotation of active nodes

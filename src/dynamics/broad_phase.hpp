@@ -13,6 +13,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <type_traits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -51,7 +52,8 @@ class BoxGrid {
     std::span<const uint32_t> order() const { return index_; }
 
     // Calls visit(a, b) once for every pair of overlapping boxes, a ≠ b given as positions in
-    // order(), in an order that depends only on the boxes.
+    // order(), in an order that depends only on the boxes: every pair of a before the next
+    // a. A visit that returns bool ends a's pairs by returning false.
     template <class Visit>
     void for_each_overlap(Visit&& visit) const {
         for_each_overlap(0, order().size(), visit);
@@ -93,17 +95,18 @@ template <class Visit>
 void BoxGrid::for_each_overlap(size_t first, size_t last, Visit&& visit) const {
     last = std::min(last, keys_.size());
     for (size_t i = first; i < last; ++i) {
+        bool more = true;
         const Box4& a = boxes_[i];
         const int own = level_of(keys_[i]);
         float width = cell_ * static_cast<float>(1 << own);
-        for (int l = own; l < kLevels; ++l, width *= 2) {
+        for (int l = own; l < kLevels && more; ++l, width *= 2) {
             const size_t begin = level_begin_[l], end = level_begin_[l + 1];
             if (begin == end) continue;
             int64_t from[3], to[3];
             cell_range(a, width, from, to);
             size_t j = begin;
-            for (int64_t z = from[2]; z <= to[2]; ++z)
-                for (int64_t y = from[1]; y <= to[1]; ++y) {
+            for (int64_t z = from[2]; z <= to[2] && more; ++z)
+                for (int64_t y = from[1]; y <= to[1] && more; ++y) {
                     // A row of cells along x is contiguous in key order, and rows come in
                     // increasing order: each search starts where the last one ended.
                     const uint64_t first = key(l, from[0], y, z), last = key(l, to[0], y, z);
@@ -111,9 +114,14 @@ void BoxGrid::for_each_overlap(size_t first, size_t last, Visit&& visit) const {
                         std::lower_bound(keys_.begin() + static_cast<std::ptrdiff_t>(j),
                                          keys_.begin() + static_cast<std::ptrdiff_t>(end), first) -
                         keys_.begin());
-                    for (size_t k = l == own ? std::max(j, i + 1) : j; k < end && keys_[k] <= last;
-                         ++k)
-                        if (boxes_overlap(a, boxes_[k])) visit(i, k);
+                    for (size_t k = l == own ? std::max(j, i + 1) : j;
+                         more && k < end && keys_[k] <= last; ++k) {
+                        if (!boxes_overlap(a, boxes_[k])) continue;
+                        if constexpr (std::is_same_v<decltype(visit(i, k)), bool>)
+                            more = visit(i, k);
+                        else
+                            visit(i, k);
+                    }
                 }
         }
     }

@@ -133,6 +133,9 @@ Hierarchy build_hierarchy(const Hair& hair, const HierarchyOptions& o) {
         fail("dynamics: strands_per_wisp must be ≥ 1, got ", o.strands_per_wisp);
     if (!(o.linear_density > 0) || !std::isfinite(o.linear_density))
         fail("dynamics: linear_density must be > 0, got ", o.linear_density);
+    for (size_t w = 0; w < o.wisp_held.size(); ++w)
+        if (!(o.wisp_held[w] >= 0) || !std::isfinite(o.wisp_held[w]))
+            fail("dynamics: the held length of wisp ", w, " must be ≥ 0, got ", o.wisp_held[w]);
     const size_t strands = hair.strand_count();
     if (strands == 0) fail("dynamics: the hair has no strands");
     for (size_t s = 0; s < strands; ++s)
@@ -201,6 +204,14 @@ Hierarchy build_hierarchy(const Hair& hair, const HierarchyOptions& o) {
             wisps.push_back(Cluster{0, std::move(members)});
     }
 
+    // The length each strand is held through (its wisp's; none without wisp ids).
+    std::vector<float> held_length(strands, 0.f);
+    if (has_ids)
+        for (size_t s = 0; s < strands; ++s) {
+            const auto id = static_cast<size_t>(hair.wisp[s]);
+            if (id < o.wisp_held.size()) held_length[s] = o.wisp_held[id];
+        }
+
     // Levels of clusters, coarse to fine; parents index into the level above.
     std::vector<std::vector<Cluster>> levels;
     if (o.levels >= 3) {
@@ -213,19 +224,25 @@ Hierarchy build_hierarchy(const Hair& hair, const HierarchyOptions& o) {
             for (size_t d = 0; d < dim; ++d)
                 wf[w * dim + d] /= static_cast<float>(wisps[w].strands.size());
         }
-        std::vector<uint32_t> all(wisps.size());
+        // Held and free wisps are grouped apart: a group is tied or loose as a whole, so the
+        // coarse nodes of a ponytail are not half pinned.
+        std::vector<uint32_t> classes[2];
         for (size_t w = 0; w < wisps.size(); ++w)
-            all[w] = static_cast<uint32_t>(w);
-        const size_t k = (wisps.size() + o.wisps_per_group - 1) / o.wisps_per_group;
+            classes[held_length[wisps[w].strands.front()] > 0].push_back(static_cast<uint32_t>(w));
         std::vector<Cluster> groups;
-        for (auto& members : bisect(wf, dim, std::move(all), k)) {
-            Cluster g;
-            for (uint32_t w : members) {
-                wisps[w].parent = static_cast<uint32_t>(groups.size());
-                g.strands.insert(g.strands.end(), wisps[w].strands.begin(), wisps[w].strands.end());
+        for (std::vector<uint32_t>& all : classes) {
+            if (all.empty()) continue;
+            const size_t k = (all.size() + o.wisps_per_group - 1) / o.wisps_per_group;
+            for (auto& members : bisect(wf, dim, std::move(all), k)) {
+                Cluster g;
+                for (uint32_t w : members) {
+                    wisps[w].parent = static_cast<uint32_t>(groups.size());
+                    g.strands.insert(g.strands.end(), wisps[w].strands.begin(),
+                                     wisps[w].strands.end());
+                }
+                std::sort(g.strands.begin(), g.strands.end());
+                groups.push_back(std::move(g));
             }
-            std::sort(g.strands.begin(), g.strands.end());
-            groups.push_back(std::move(g));
         }
         levels.push_back(std::move(groups));
     }
@@ -298,6 +315,7 @@ Hierarchy build_hierarchy(const Hair& hair, const HierarchyOptions& o) {
     h.rest.assign(gcs * n, Vec3f::Zero());
     h.radius.assign(gcs * n, 0.f);
     h.mass.assign(gcs * n, 0.f);
+    h.held.assign(gcs * n, 0.f);
     parallel_for(levels.back().size(), [&](size_t c) {
         const uint32_t g = finest + static_cast<uint32_t>(c);
         const auto& members = levels.back()[c].strands;
@@ -321,17 +339,26 @@ Hierarchy build_hierarchy(const Hair& hair, const HierarchyOptions& o) {
             h.rest[h.node(g, k)] = centre;
             h.radius[h.node(g, k)] = r;
             h.mass[h.node(g, k)] = static_cast<float>(segment_mass);
+            // Held when most of its strands' cross-sections k lie within their held length,
+            // to the nearest section.
+            size_t held = 0;
+            for (uint32_t s : members)
+                held += (static_cast<float>(k) - 0.5f) / static_cast<float>(n - 1) * lengths[s] <=
+                        held_length[s];
+            h.held[h.node(g, k)] = 2 * held > members.size() ? 1.f : 0.f;
         }
     });
     for (int l = o.levels - 2; l >= 0; --l)
         for (uint32_t g = h.level_begin[l]; g < h.level_begin[l + 1]; ++g)
             for (int k = 0; k < n; ++k) {
-                double m = 0;
+                double m = 0, held = 0;
                 Vec3d sum = Vec3d::Zero();
                 for (uint32_t c = h.child_begin[g]; c < h.child_begin[g] + h.child_count[g]; ++c) {
                     m += h.mass[h.node(c, k)];
                     sum += h.mass[h.node(c, k)] * h.rest[h.node(c, k)].cast<double>();
+                    held += h.mass[h.node(c, k)] * h.held[h.node(c, k)];
                 }
+                h.held[h.node(g, k)] = static_cast<float>(held / m);
                 const Vec3f centre = (sum / m).cast<float>();
                 float r = 0.05f;
                 for (uint32_t c = h.child_begin[g]; c < h.child_begin[g] + h.child_count[g]; ++c)

@@ -41,6 +41,10 @@ struct HierarchyOptions {
     int sections = 8;
     int strands_per_wisp = 50;       // hair without wisp ids
     float linear_density = 6.5e-5f;  // g/cm
+    // Per wisp id (Hair::wisp): the arc length from the root, cm, through which the wisp is
+    // held rigidly to the head by a tie or a bun (SolveStats::held_length); empty or 0: free.
+    // Top-level groups never mix held and free wisps.
+    std::vector<float> wisp_held;
 };
 
 struct Hierarchy {
@@ -58,6 +62,11 @@ struct Hierarchy {
     std::vector<Vec3f> rest;    // #G·n centre at rest, head space, cm
     std::vector<float> radius;  // #G·n cross-section radius at rest, cm
     std::vector<float> mass;    // #G·n g
+    // #G·n the fraction of the node's mass held rigidly to the head (HierarchyOptions::
+    // wisp_held): 1 at the roots; 0 or 1 at the finest level (a strand's cross-section is
+    // held when it lies within the held length, to the nearest section); mass-weighted
+    // means above.
+    std::vector<float> held;
     // Strands.
     std::vector<uint32_t> strand_gc;  // #S the finest GC of each strand
 

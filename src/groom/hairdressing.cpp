@@ -13,6 +13,7 @@ ConstraintSpec point_constraint(const Vec3f& point, float radius, float weight) 
     c.point = point;
     c.radius = radius;
     c.weight = weight;
+    c.hold = true;  // a tie
     return c;
 }
 
@@ -110,6 +111,7 @@ std::vector<GroupSpec> updo_groups(const UpdoSpec& spec) {
     group.queue.push_back(point_constraint(spec.point, spec.radius, spec.weight));
     group.queue.push_back(trajectory_constraint(ConstraintSpec::Kind::kTrajectory,
                                                 std::move(spiral), true, spec.radius, spec.weight));
+    group.queue.back().hold = true;  // pinned: the bun moves with the head
     return {std::move(group)};
 }
 

@@ -111,6 +111,10 @@ struct ConstraintSpec {
     float radius = 1.f;             // tolerance (point, trajectory) or influence (direction)
                                     // radius, cm, > 0
     float weight = 1.f;             // w of eq. (7), in [0, 1]
+    // Animation (dynamics): the wisps are held rigidly to the head from the root through
+    // where they meet this constraint, as a tie or hairpins hold them. Point constraints
+    // (ties) hold by default.
+    bool hold = false;
     // Positions in head units (the default, so that styles fit any head): p ↦ c + R·p, with c
     // the centre and R the radius of the sphere fitted to the scalp (Scalp::center(), crown);
     // radius is then in head units too. false: centimetres in head space.

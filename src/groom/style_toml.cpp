@@ -90,8 +90,8 @@ const std::vector<std::string> kSelectionSources = {"select", "region",     "mas
                                                     "box",    "half_space", "wisps"};
 const std::vector<std::string> kSelectionKeys = {
     "select", "region", "mask", "box", "half_space", "wisps", "part", "parts", "head_relative"};
-const std::vector<std::string> kConstraintKeys = {"kind",   "point",  "trajectory",   "smooth",
-                                                  "radius", "weight", "head_relative"};
+const std::vector<std::string> kConstraintKeys = {
+    "kind", "point", "trajectory", "smooth", "radius", "weight", "hold", "head_relative"};
 
 std::vector<std::string> with_selection(std::vector<std::string> keys) {
     keys.insert(keys.end(), kSelectionKeys.begin(), kSelectionKeys.end());
@@ -1145,6 +1145,8 @@ ConstraintSpec Parser::constraint(const toml::table& table, const std::string& p
     c.radius = (c.kind == Kind::kDirection ? 0.4f : 0.1f) * unit;
     opt_real(&table, path, "radius", c.radius, Range{0, kMaxCoordinate, true});
     opt_real(&table, path, "weight", c.weight, Range{0, 1});
+    c.hold = is_point;
+    opt_bool(&table, path, "hold", c.hold);
     return c;
 }
 

@@ -14,6 +14,7 @@ Constraint resolve_constraint(const ConstraintSpec& spec, const HeadFrame& head)
     Constraint c;
     c.kind = spec.kind;
     c.weight = spec.weight;
+    c.hold = spec.hold;
     auto place = [&](const Vec3f& p) { return spec.head_relative ? head.to_space(p) : p; };
     c.radius = spec.head_relative ? spec.radius * head.radius : spec.radius;
     c.point = place(spec.point);

@@ -18,6 +18,7 @@ struct Constraint {
     std::vector<float> arc;   // #path cumulative arc length, cm
     float radius = 1.f;       // cm
     float weight = 1.f;
+    bool hold = false;  // ConstraintSpec::hold
 };
 
 Constraint resolve_constraint(const ConstraintSpec& spec, const HeadFrame& head);

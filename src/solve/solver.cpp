@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace wisp {
 namespace {
@@ -66,6 +67,9 @@ class Solver {
         inv_cell3_ = 1.f / (rho_.cell() * rho_.cell() * rho_.cell());
         std::fill(rho_.data().begin(), rho_.data().end(), 0.f);
         stats_.group_progress.assign(in.groups.size(), 0);
+        stats_.held_length.assign(w_count, 0.f);
+        nearest_tie_.assign(w_count, 0);
+        nearest_tie_distance_.assign(w_count, std::numeric_limits<float>::infinity());
     }
 
     SolveStats run() {
@@ -82,8 +86,13 @@ class Solver {
                 advance_groups();
             }
         }
-        for (size_t w = 0; w < w_count; ++w)
+        for (size_t w = 0; w < w_count; ++w) {
             update_master(m_, w);
+            // A wisp that a tie pulled but collisions kept from meeting it (the group moved
+            // on without it) is tied where it came closest: it lies with the tied hair.
+            if (stats_.held_length[w] == 0 && nearest_tie_[w] > 0)
+                stats_.held_length[w] = static_cast<float>(nearest_tie_[w]) * m_.segment[w];
+        }
         for (size_t g = 0; g < in_.groups.size(); ++g)
             stats_.group_progress[g] = active_[g];
         return stats_;
@@ -206,12 +215,28 @@ class Solver {
 
         m_.outline[base + j + 1] = x + s * q;
         dir_[w] = q;
+        if (c && c->hold) {
+            const Vec3f& b = m_.outline[base + j + 1];
+            if (c->kind == ConstraintSpec::Kind::kTrajectory) {
+                // A holding trajectory (a bun) holds the wisp as far as it follows it, met
+                // or not: hair too short to finish the spiral is pinned all the same.
+                if ((nearest_on_path(*c, b).position - b).norm() <= c->radius + s)
+                    stats_.held_length[w] = static_cast<float>(j + 1) * m_.segment[w];
+            } else if (c->kind == ConstraintSpec::Kind::kPoint) {
+                const float d = (b - c->point).norm();
+                if (d < nearest_tie_distance_[w]) {
+                    nearest_tie_distance_[w] = d;
+                    nearest_tie_[w] = j + 1;
+                }
+            }
+        }
         ++stats_.joints;
         // Algorithm 1: updateDensityField() with this segment's strands.
         deposit(rho_, x + 0.5f * s * q,
                 static_cast<float>(in_.wisp_strands[w]) * s / spec_.full_density * inv_cell3_);
 
         if (c && constraint_met(*c, x, m_.outline[base + j + 1])) {
+            if (c->hold) stats_.held_length[w] = static_cast<float>(j + 1) * m_.segment[w];
             if (per_wisp_queue) {
                 ++wisp_stage_[w];
             } else {
@@ -257,6 +282,10 @@ class Solver {
     std::vector<int> active_;
     std::vector<uint8_t> met_;
     std::vector<uint32_t> wisp_stage_;
+    // The joint of each wisp closest to a holding point constraint that was acting on it
+    // (0: none), and its distance.
+    std::vector<int> nearest_tie_;
+    std::vector<float> nearest_tie_distance_;
     std::vector<int> stalled_;
     bool squeeze_ = false;
     std::vector<size_t> last_met_;

@@ -37,6 +37,9 @@ struct SolveStats {
     size_t projected = 0;             // joints pushed back out of the head after that
     size_t constrained = 0;           // joints placed under a constraint field
     std::vector<int> group_progress;  // per group: constraints completed (all wisps met)
+    // Per wisp: the arc length from the root (cm) through which a holding constraint
+    // (Constraint::hold: a tie, a bun) holds it, the end of the last such segment; 0: none.
+    std::vector<float> held_length;
 };
 
 // Everything the solver reads.

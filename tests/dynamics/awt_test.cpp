@@ -241,6 +241,46 @@ TEST(Awt, ShakenDenseHairIsNotFlungUp) {
     EXPECT_LT(highest - top, 3.f);
 }
 
+// A ponytail under a shake: what the tie holds (scalp to tie) moves rigidly with the head,
+// and the tail swings from the tie. Without the tie's hold the same nodes sway off the head.
+TEST(Awt, TiedHairMovesWithTheHeadAndTheTailSwingsFromTheTie) {
+    static const test::Groomed g = test::groomed("ponytail");
+    HierarchyOptions o = hierarchy_options(g.style.dynamics);
+    o.wisp_held = g.held;
+    const Hierarchy tied = build_hierarchy(g.hair, o);
+    const Hierarchy loose = build_hierarchy(g.hair, hierarchy_options(g.style.dynamics));
+    ASSERT_EQ(tied.node_count(), loose.node_count());
+    const std::vector<Sphere> spheres = body_spheres_for(*test::builtin_head().mesh, g.head, tied);
+    const Motion shake = motion_preset("shake", g.head);
+    const AwtParams params = awt_params(g.style.dynamics, g.style.prototype.kind, false);
+    // The largest distance of held (and of free) nodes from their place rigid with the head.
+    const auto sway = [&](const Hierarchy& h, float& held_sway, float& free_sway) {
+        AwtSimulation sim(h, spheres, shake, params);
+        held_sway = free_sway = 0;
+        while (sim.time() < 1.5) {
+            sim.step();
+            ASSERT_EQ(sim.check_invariants(), "");
+            sim.sync();
+            for (uint32_t i = 0; i < h.node_count(); ++i) {
+                const float d = (sim.positions()[i] - sim.head_transform().apply(h.rest[i])).norm();
+                (tied.held[i] >= 1 ? held_sway : free_sway) =
+                    std::max(tied.held[i] >= 1 ? held_sway : free_sway, d);
+            }
+        }
+    };
+    size_t held = 0;
+    for (uint32_t i = 0; i < tied.node_count(); ++i)
+        held += tied.section_of(i) > 0 && tied.held[i] >= 1;
+    ASSERT_GT(held, tied.node_count() / 10) << "the ponytail is barely tied";
+    float held_sway, free_sway;
+    sway(tied, held_sway, free_sway);
+    EXPECT_LT(held_sway, 0.05f);
+    EXPECT_GT(free_sway, 3.f);
+    float loose_held_sway, loose_free_sway;
+    sway(loose, loose_held_sway, loose_free_sway);
+    EXPECT_GT(loose_held_sway, 1.f);
+}
+
 // Splits resolve motion, not one step's jolt: few merged nodes split again right away.
 // (With one step's Δv/dt, a merged node meeting the neighbours its wider radius touches
 // split again within 0.1 s most of the time, and the tree churned.)

@@ -105,6 +105,41 @@ TEST(BroadPhase, LeavesOutBoxesThatAreNotFiniteOrFarAway) {
     EXPECT_EQ(grid_pairs(grid), (Pairs{{0, 1}}));
 }
 
+// A visit returning false ends the pairs of its first box: each box then has at most as many
+// pairs as it allowed, all of them real, and the boxes after it still get theirs.
+TEST(BroadPhase, AVisitCanEndItsFirstBoxsPairs) {
+    const std::vector<Box4> boxes = random_boxes(7, 600, 10.f);
+    BoxGrid grid;
+    grid.build(boxes, 1.f);
+    const Pairs all = grid_pairs(grid);
+    const size_t kLimit = 3;
+    std::vector<size_t> all_per_box(boxes.size(), 0), kept_per_box(boxes.size(), 0);
+    grid.for_each_overlap([&](size_t a, size_t) { ++all_per_box[a]; });
+    Pairs kept;
+    size_t current = SIZE_MAX, count = 0;
+    grid.for_each_overlap([&](size_t a, size_t b) -> bool {
+        EXPECT_TRUE(a == current || current == SIZE_MAX || a > current) << "a's pairs in a row";
+        if (a != current) {
+            current = a;
+            count = 0;
+        }
+        ++kept_per_box[a];
+        const auto order = grid.order();
+        kept.emplace_back(std::min(order[a], order[b]), std::max(order[a], order[b]));
+        return ++count < kLimit;
+    });
+    std::sort(kept.begin(), kept.end());
+    Pairs expected = all;
+    std::sort(expected.begin(), expected.end());
+    EXPECT_TRUE(std::includes(expected.begin(), expected.end(), kept.begin(), kept.end()));
+    size_t capped = 0;
+    for (size_t a = 0; a < boxes.size(); ++a) {
+        EXPECT_EQ(kept_per_box[a], std::min(all_per_box[a], kLimit)) << "box " << a;
+        capped += all_per_box[a] > kLimit;
+    }
+    EXPECT_GT(capped, 10u) << "too few boxes with more pairs than the limit to test it";
+}
+
 TEST(BroadPhase, OrderDependsOnlyOnTheBoxes) {
     const std::vector<Box4> boxes = random_boxes(7, 300, 10.f);
     BoxGrid a, b;

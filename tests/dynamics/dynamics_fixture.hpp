@@ -12,6 +12,7 @@ struct Groomed {
     Style style;
     Hair hair;
     HeadFrame head;
+    std::vector<float> held;  // per wisp: SolveStats::held_length
 };
 
 inline const Head& builtin_head() {
@@ -27,7 +28,9 @@ inline Groomed groomed(const std::string& preset, int wisps = 120, int strands =
     g.style.wisps = wisps;
     g.style.strands = strands;
     g.style.points_per_strand = points;
-    g.hair = generate_hairstyle(g.style, builtin_head()).hair;
+    HairstyleResult r = generate_hairstyle(g.style, builtin_head());
+    g.hair = std::move(r.hair);
+    g.held = std::move(r.solve.held_length);
     g.head = head_frame(*builtin_head().scalp);
     return g;
 }

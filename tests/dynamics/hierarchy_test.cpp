@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "core/parallel.hpp"
+#include "dynamics/animate.hpp"
 #include "dynamics/skin.hpp"
 #include "dynamics_fixture.hpp"
 
@@ -146,6 +147,68 @@ TEST(Hierarchy, DeterministicAtAnyThreadCount) {
         ASSERT_EQ(one.rest[i], two.rest[i]);
 }
 
+TEST(Hierarchy, TiesHoldAPrefixOfEveryTiedGcAndGroupsDoNotMixTiedAndFree) {
+    static const test::Groomed g = test::groomed("ponytail");
+    ASSERT_FALSE(g.held.empty());
+    // Every other wisp keeps its tie, so that groups could mix tied and free wisps.
+    HierarchyOptions o = hierarchy_options(g.style.dynamics);
+    o.wisp_held = g.held;
+    for (size_t w = 1; w < o.wisp_held.size(); w += 2)
+        o.wisp_held[w] = 0;
+    const Hierarchy h = build_hierarchy(g.hair, o);
+    expect_well_formed(h, g.hair);
+    ASSERT_EQ(h.held.size(), h.node_count());
+    const int n = h.sections;
+    // The wisp id of each GC (through any of its strands) and whether it is tied.
+    std::vector<int> wisp_of(h.gc_count(), -1);
+    for (size_t s = 0; s < g.hair.strand_count(); ++s)
+        for (int64_t c = h.strand_gc[s]; c >= 0; c = h.super[c])
+            if (h.level[c] >= 1) wisp_of[c] = g.hair.wisp[s];
+    size_t held_nodes = 0, tied_gcs = 0;
+    for (uint32_t c = 0; c < h.gc_count(); ++c) {
+        EXPECT_EQ(h.held[h.node(c, 0)], 1.f) << "the root of GC " << c;
+        if (c >= h.finest_begin()) {
+            const bool tied = o.wisp_held[wisp_of[c]] > 0;
+            tied_gcs += tied;
+            for (int k = 1; k < n; ++k) {
+                const float held = h.held[h.node(c, k)];
+                EXPECT_TRUE(held == 0.f || held == 1.f);
+                if (!tied) {
+                    EXPECT_EQ(held, 0.f) << "free GC " << c << " section " << k;
+                }
+                // Held from the root: a held section's parent section is held.
+                if (held == 1.f) {
+                    EXPECT_EQ(h.held[h.node(c, k - 1)], 1.f);
+                }
+                held_nodes += held == 1.f;
+            }
+            continue;
+        }
+        for (int k = 1; k < n; ++k) {
+            double m = 0, held = 0;
+            for (uint32_t s = h.child_begin[c]; s < h.child_begin[c] + h.child_count[c]; ++s) {
+                m += h.mass[h.node(s, k)];
+                held += h.mass[h.node(s, k)] * h.held[h.node(s, k)];
+            }
+            EXPECT_NEAR(h.held[h.node(c, k)], held / m, 1e-5) << "GC " << c << " section " << k;
+        }
+    }
+    EXPECT_GT(tied_gcs, 0u);
+    EXPECT_GT(held_nodes, 0u);
+    // A top-level group is tied or free as a whole.
+    for (uint32_t top = 0; top < h.level_size(0); ++top) {
+        int tied = 0, free = 0;
+        for (uint32_t w = h.child_begin[top]; w < h.child_begin[top] + h.child_count[top]; ++w)
+            (o.wisp_held[wisp_of[w]] > 0 ? tied : free) += 1;
+        EXPECT_TRUE(tied == 0 || free == 0)
+            << "group " << top << ": " << tied << " tied, " << free << " free";
+    }
+    // Without holds, only the roots are held.
+    const Hierarchy loose = build_hierarchy(g.hair, hierarchy_options(g.style.dynamics));
+    for (uint32_t i = 0; i < loose.node_count(); ++i)
+        EXPECT_EQ(loose.held[i], loose.section_of(i) == 0 ? 1.f : 0.f);
+}
+
 TEST(Hierarchy, RejectsBadInput) {
     HierarchyOptions o;
     o.levels = 5;
@@ -157,6 +220,11 @@ TEST(Hierarchy, RejectsBadInput) {
     Hair one;
     one.add_strand(std::vector<Vec3f>{{0, 0, 0}});
     EXPECT_THROW(build_hierarchy(one, HierarchyOptions{}), Error);
+    o = HierarchyOptions{};
+    o.wisp_held = {1.f, -2.f};
+    EXPECT_THROW(build_hierarchy(long_hair().hair, o), Error);
+    o.wisp_held = {1.f, NAN};
+    EXPECT_THROW(build_hierarchy(long_hair().hair, o), Error);
 }
 
 TEST(Skin, RestPoseIsReproducedExactly) {

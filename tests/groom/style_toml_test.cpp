@@ -382,6 +382,7 @@ weight = 0.7
 kind = "trajectory"
 trajectory = [[0, 0.5, 1.2], [0.5, 0, 1.1], [0.9, -0.5, 0.6]]
 smooth = true
+hold = true
 [[group]]
 mask = "left.png"
 part = 1
@@ -394,6 +395,7 @@ trajectory = [[5, 10, 0], [10, 0, -5]]
 kind = "point"
 point = [0, 0, -14]
 head_relative = true
+hold = false
 [[group]]
 box = { min = [-1, 0, -2], max = [1, 2, 0] }
 [[group.constraint]]
@@ -435,6 +437,8 @@ point = [0, 0, -1.2]
     EXPECT_TRUE(fringe.queue[1].smooth);
     EXPECT_FLOAT_EQ(fringe.queue[1].radius, 0.1f);  // documented default, head units
     EXPECT_FLOAT_EQ(fringe.queue[1].weight, 1.f);
+    EXPECT_TRUE(fringe.queue[0].hold);  // a point constraint holds by default (a tie)
+    EXPECT_TRUE(fringe.queue[1].hold);  // a trajectory when asked (hairpins)
 
     const GroupSpec& masked = s.groups[1];
     EXPECT_EQ(masked.name, "group[1]");
@@ -450,6 +454,8 @@ point = [0, 0, -1.2]
     EXPECT_FLOAT_EQ(masked.queue[0].radius, 4.f);   // a direction's default influence, in cm
     EXPECT_TRUE(masked.queue[1].head_relative);     // its own setting wins
     EXPECT_FLOAT_EQ(masked.queue[1].radius, 0.1f);  // … and its default radius follows it
+    EXPECT_FALSE(masked.queue[0].hold);             // a direction does not hold by default
+    EXPECT_FALSE(masked.queue[1].hold);             // a point asked not to
 
     EXPECT_EQ(s.groups[2].selection.kind, Selection::Kind::kBox);
     EXPECT_TRUE(s.groups[2].selection.lo.isApprox(Vec3f(-1, 0, -2)));
@@ -576,6 +582,14 @@ TEST(StyleToml, HairdressingDefaultsComeFromTheSpecs) {
     for (const GroupSpec& g : s.groups)
         for (const ConstraintSpec& c : g.queue)
             EXPECT_TRUE(c.head_relative);
+    // For the animation, ties and the bun hold; a braid holds at its start only.
+    EXPECT_TRUE(s.groups[0].queue[0].hold);
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_TRUE(s.groups[1 + i].queue[0].hold);
+        EXPECT_FALSE(s.groups[1 + i].queue[1].hold);
+    }
+    EXPECT_TRUE(s.groups[4].queue[0].hold);
+    EXPECT_TRUE(s.groups[4].queue[1].hold);
     // An inline array of tables reads like [[…]] sections.
     EXPECT_EQ(parse("tie = [{ point = [0, 0.3, -1.1] }, { region = \"left\" }]").groups.size(), 2u);
 }

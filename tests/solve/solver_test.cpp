@@ -176,6 +176,7 @@ TEST(Solver, TiedGroupPassesThroughItsTolerance) {
     point.point = Vec3f(0.f, 0.1f, -1.2f);  // behind the head, head units
     point.radius = 0.1f;
     point.weight = 1.f;
+    point.hold = true;
     tie.queue.push_back(point);
     style.groups.push_back(tie);
     const Head& head = builtin();
@@ -200,6 +201,36 @@ TEST(Solver, TiedGroupPassesThroughItsTolerance) {
     }
     EXPECT_EQ(missed, 0u);
     EXPECT_EQ(r.solve.group_progress.at(0), 1);  // the group completed its queue
+
+    // A tie holds for the animation: every tied wisp is held from the root through the
+    // segment that met the tie (a whole number of segments, short of the whole wisp), the
+    // free ones not at all.
+    ASSERT_EQ(r.solve.held_length.size(), r.masters.count());
+    std::vector<bool> tied(r.masters.count(), false);
+    for (uint32_t w : group)
+        tied[w] = true;
+    for (size_t w = 0; w < r.masters.count(); ++w) {
+        const float held = r.solve.held_length[w], segment = r.masters.segment[w];
+        if (!tied[w]) {
+            EXPECT_EQ(held, 0.f) << "wisp " << w;
+            continue;
+        }
+        EXPECT_GT(held, 0.f) << "wisp " << w;
+        EXPECT_LT(held, segment * static_cast<float>(r.masters.points - 1)) << "wisp " << w;
+        EXPECT_NEAR(held / segment, std::round(held / segment), 1e-3f) << "wisp " << w;
+        // The joint at the held length is within a segment of the tie.
+        const int j = static_cast<int>(std::lround(held / segment));
+        EXPECT_LE((r.masters.outline[w * r.masters.points + j] - target).norm(),
+                  tolerance + segment * 1.001f)
+            << "wisp " << w;
+    }
+    // A point constraint that does not hold (ConstraintSpec::hold = false) styles the same
+    // and holds nothing.
+    style.groups.back().queue.back().hold = false;
+    const HairstyleResult loose = generate_hairstyle(style, head, &builtin_field());
+    EXPECT_EQ(loose.hair.points, r.hair.points);
+    for (float held : loose.solve.held_length)
+        EXPECT_EQ(held, 0.f);
 }
 
 TEST(Solver, BraidGroupFollowsItsTrajectory) {
