@@ -155,13 +155,7 @@ AwtSimulation::AwtSimulation(const Hierarchy& hierarchy, std::vector<Sphere> sph
     x_old_.resize(nodes);
     v_old_.resize(nodes);
     radius_ = h.radius;
-    // Without holds only the roots are held.
-    held_ = h.held;
-    if (held_.size() != nodes) {
-        held_.assign(nodes, 0.f);
-        for (uint32_t g = 0; g < h.gc_count(); ++g)
-            held_[h.node(g, 0)] = 1.f;
-    }
+    if (h.held.size() != nodes) fail("dynamics: the hierarchy's held fractions are missing");
     state_.assign(nodes, kMerged);
     collided_.assign(nodes, 0);
     parent_.assign(nodes, 0);
@@ -212,13 +206,17 @@ void AwtSimulation::place_roots() {
     const Hierarchy& h = *h_;
     for (uint32_t g = 0; g < h.gc_count(); ++g) {
         const uint32_t i = h.node(g, 0);
-        x_[i] = head_.apply(h.rest[i]);
-        v_[i] = head_velocity_.at(h.rest[i]);
+        hold(i);
         rotation_[i] = head_rotation_;
     }
     world_spheres_ = spheres_;
     for (Sphere& s : world_spheres_)
         s.center = (s.head ? head_ : body_).apply(s.center);
+}
+
+void AwtSimulation::hold(uint32_t node) {
+    x_[node] = head_.apply(h_->rest[node]);
+    v_[node] = head_velocity_.at(h_->rest[node]);
 }
 
 std::vector<Sphere> AwtSimulation::world_spheres() const {
@@ -503,11 +501,9 @@ void AwtSimulation::integrate() {
     // Root to tip: every parent is advanced before its children.
     for (uint32_t c : active_) {
         const uint32_t p = parent_[c];
-        const float held = held_[c];
+        const float held = h.held[c];
         if (held >= 1) {
-            // Tied: rigid with the head, like the roots.
-            x_[c] = head_.apply(h.rest[c]);
-            v_[c] = head_velocity_.at(h.rest[c]);
+            hold(c);  // tied: rigid with the head, like the roots
             continue;
         }
         const Vec3f rest = h.rest[c] - h.rest[p];
@@ -555,8 +551,8 @@ void AwtSimulation::integrate() {
                 const float len = d.norm();
                 if (len < 1e-6f) continue;
                 // Roots and tied nodes do not give.
-                const float wc = held_[c] >= 1 ? 0.f : 1.f / h.mass[c];
-                const float wp = held_[p] >= 1 ? 0.f : 1.f / h.mass[p];
+                const float wc = h.held[c] >= 1 ? 0.f : 1.f / h.mass[c];
+                const float wp = h.held[p] >= 1 ? 0.f : 1.f / h.mass[p];
                 if (wc + wp == 0) continue;
                 const Vec3f correction = (len - rest) / (len * (wc + wp)) * d;
                 x_[c] -= wc * correction;
@@ -567,7 +563,7 @@ void AwtSimulation::integrate() {
     for (uint32_t c : active_) {
         const uint32_t p = parent_[c];
         collided_[c] = 0;
-        if (held_[c] >= 1) continue;
+        if (h.held[c] >= 1) continue;
         const float rest = link_length_[c];
         // Alternate the link length and the body, ending with the body: the child slides
         // over the obstacle at its link's length (rigid) instead of being shoved off it.
@@ -582,7 +578,7 @@ void AwtSimulation::integrate() {
     }
     const float inv_dt = 1.f / dt;
     for (uint32_t c : active_) {
-        if (!collided_[c] && held_[c] < 1) v_[c] = (x_[c] - x_old_[c]) * inv_dt;
+        if (!collided_[c] && h.held[c] < 1) v_[c] = (x_[c] - x_old_[c]) * inv_dt;
         // The split test reads the acceleration averaged over kAccelerationTime (an
         // exponential moving average), not one step's Δv/dt: a single step's jolt (a node
         // meeting the hair or the body, a merged node meeting the neighbours its wider radius
@@ -650,7 +646,7 @@ void AwtSimulation::adapt() {
             const uint32_t c = active_[i];
             const uint32_t g = h.gc_of(c);
             // A tied node moves with the head: there is nothing to resolve.
-            if (g >= finest || state_[c] != kActive || held_[c] >= 1) continue;
+            if (g >= finest || state_[c] != kActive || h.held[c] >= 1) continue;
             if (acc_[c].norm() * radius_[c] <= threshold) continue;
             if (k < n_ - 1 && state_[h.node(g, k + 1)] != kSplit) continue;
             split(c);
@@ -686,8 +682,12 @@ void AwtSimulation::split(uint32_t c) {
     for (uint32_t s = h.child_begin[g]; s < h.child_begin[g] + h.child_count[g]; ++s) {
         const uint32_t i = h.node(s, k);
         state_[i] = kActive;
-        x_[i] = held_[i] >= 1 ? head_.apply(h.rest[i]) : Vec3f(x_[c] + q * offset_[i]);
-        v_[i] = held_[i] >= 1 ? head_velocity_.at(h.rest[i]) : v_[c];
+        if (h.held[i] >= 1) {
+            hold(i);
+        } else {
+            x_[i] = x_[c] + q * offset_[i];
+            v_[i] = v_[c];
+        }
         acc_[i] = acc_[c];
         radius_[i] = h.radius[i];
         parent_[i] = k == 1 ? h.node(s, 0) : p;
@@ -773,10 +773,8 @@ void AwtSimulation::sync() {
             } else if (state_[i] == kMerged) {
                 const uint32_t up = h.node(static_cast<uint32_t>(h.super[g]), k);
                 governor[i] = governor[up];
-                if (held_[i] >= 1) {
-                    // Tied, under a node only partly tied: rigid with the head all the same.
-                    x_[i] = head_.apply(h.rest[i]);
-                    v_[i] = head_velocity_.at(h.rest[i]);
+                if (h.held[i] >= 1) {
+                    hold(i);  // tied, under a node only partly tied: rigid with the head
                 } else {
                     x_[i] = x_[up] + rotation_[governor[i]] * offset_[i];
                     v_[i] = v_[governor[i]];

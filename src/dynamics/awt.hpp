@@ -144,6 +144,8 @@ class AwtSimulation {
 
   private:
     void place_roots();
+    // Places a node rigidly with the head (roots, tied nodes): its rest place and velocity.
+    void hold(uint32_t node);
     void interact();
     void integrate();
     bool collide_body(uint32_t child, uint32_t parent_node);  // true when it moved the child
@@ -175,7 +177,6 @@ class AwtSimulation {
 
     std::vector<Vec3f> x_, v_, acc_, force_, offset_, x_old_, v_old_;
     std::vector<float> radius_, link_length_;
-    std::vector<float> held_;  // Hierarchy::held
     std::vector<uint8_t> state_, collided_;
     std::vector<uint32_t> parent_;
     std::vector<Eigen::Quaternionf> rotation_;  // segment rotation of active nodes

@@ -215,13 +215,14 @@ class Solver {
 
         m_.outline[base + j + 1] = x + s * q;
         dir_[w] = q;
+        const float reached = static_cast<float>(j + 1) * s;  // arc length to the new joint
         if (c && c->hold) {
             const Vec3f& b = m_.outline[base + j + 1];
             if (c->kind == ConstraintSpec::Kind::kTrajectory) {
                 // A holding trajectory (a bun) holds the wisp as far as it follows it, met
                 // or not: hair too short to finish the spiral is pinned all the same.
                 if ((nearest_on_path(*c, b).position - b).norm() <= c->radius + s)
-                    stats_.held_length[w] = static_cast<float>(j + 1) * m_.segment[w];
+                    stats_.held_length[w] = reached;
             } else if (c->kind == ConstraintSpec::Kind::kPoint) {
                 const float d = (b - c->point).norm();
                 if (d < nearest_tie_distance_[w]) {
@@ -236,7 +237,7 @@ class Solver {
                 static_cast<float>(in_.wisp_strands[w]) * s / spec_.full_density * inv_cell3_);
 
         if (c && constraint_met(*c, x, m_.outline[base + j + 1])) {
-            if (c->hold) stats_.held_length[w] = static_cast<float>(j + 1) * m_.segment[w];
+            if (c->hold) stats_.held_length[w] = reached;
             if (per_wisp_queue) {
                 ++wisp_stage_[w];
             } else {
