@@ -170,6 +170,9 @@ class AwtSimulation {
     double time_;
     RigidTransform head_, body_;
     RigidVelocity head_velocity_, body_velocity_;  // at time_
+    // The head's acceleration field over the last step, in the same form (linear + turn·(p −
+    // pivot) for the point at head-space p): what hair moving rigidly with the head would do.
+    RigidVelocity head_acceleration_;
     Eigen::Quaternionf head_rotation_;
     Vec3f rest_gravity_;  // gravity of the first frame, head space
     float voxel_;

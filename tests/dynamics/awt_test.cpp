@@ -354,6 +354,42 @@ TEST(Awt, ALowerSplitThresholdSplitsMore) {
     }
 }
 
+TEST(Awt, HairSettledOnAnAcceleratingHeadMergesBack) {
+    // The split test reads the acceleration in the world or relative to the head's, whichever
+    // is smaller. A head that keeps accelerating forward at 0.3 g sweeps the hair back, like
+    // a gravity tilted back; the hair settles there and rides along. The head's own
+    // acceleration keeps |a|·r over the merge limit for every coarse node, but the hair no
+    // longer moves relative to the head, so the tree merges back to the coarsest level.
+    const Scene& s = scene("long-straight");
+    const Hierarchy& h = s.hierarchy;
+    constexpr double kAcceleration = 300;  // cm/s², forward (+z)
+    Motion motion;
+    motion.duration = 4;
+    for (double t = 0; t <= motion.duration + 1e-9; t += 0.05) {
+        MotionKey key;
+        key.time = t;
+        key.translate = Vec3f(0, 0, static_cast<float>(0.5 * kAcceleration * t * t));
+        motion.head.keys.push_back(key);
+    }
+    motion.body = motion.head;
+    DynamicsSpec spec = s.groomed.style.dynamics;
+    spec.air_drag = 0;  // still air would drag the hair back harder as the head speeds up
+    const AwtParams params = awt_params(spec, s.groomed.style.prototype.kind, false);
+    // Merging asks |a|·r under half the threshold: with the head's acceleration counted, no
+    // coarse node could ever merge.
+    float carried = INFINITY;  // the coarse nodes' smallest |a|·r, the head's acceleration
+    for (uint32_t g = 0; g < h.level_begin[1]; ++g)
+        for (int k = 1; k < h.sections; ++k)
+            carried = std::min(carried, static_cast<float>(kAcceleration) * h.radius[h.node(g, k)]);
+    ASSERT_GT(carried, 0.5f * params.split_threshold);
+    AwtSimulation sim(h, s.spheres, motion, params);
+    while (sim.time() < 3)  // (the keys end at 4 s, where the head stops dead)
+        sim.step();
+    EXPECT_GT(sim.total_splits(), 10u) << "the start sweeps the hair back";
+    EXPECT_EQ(sim.active_per_level()[0], h.level_size(0) * (h.sections - 1))
+        << "the hair rides the head but has not merged back";
+}
+
 TEST(Awt, RootsMoveRigidlyWithTheHead) {
     const Scene& s = scene("long-straight");
     const Hierarchy& h = s.hierarchy;
