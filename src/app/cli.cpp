@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -59,6 +60,25 @@ Vec3f parse_vec3(const std::string& flag, const std::string& text) {
         p = r.ptr + 1;
     }
     return v;
+}
+
+// "x,y,z" or "x,y,z,radius" → a tie (hierarchy.hpp).
+Tie parse_tie(const std::string& text) {
+    const size_t last = text.rfind(',');
+    const bool has_radius = std::count(text.begin(), text.end(), ',') == 3;
+    Tie tie;
+    tie.point = parse_vec3("--tie", has_radius ? text.substr(0, last) : text);
+    if (has_radius) {
+        const char* begin = text.data() + last + 1;
+        const char* end = text.data() + text.size();
+        const auto r = std::from_chars(begin, end, tie.radius);
+        if (r.ec != std::errc() || r.ptr != end || !(tie.radius > 0) || !std::isfinite(tie.radius))
+            throw CLI::ValidationError("--tie",
+                                       "expects x,y,z or x,y,z,radius with a radius > 0, "
+                                       "got '" +
+                                           text + "'");
+    }
+    return tie;
 }
 
 // Look options shared by `render` and `generate --png`.
@@ -270,6 +290,7 @@ struct AnimateArgs {
     std::vector<std::string> outputs;
     std::string png, mp4, view = "three-quarter", size = "640x640";
     std::string stats, seed, head, links;
+    std::vector<std::string> ties;
     float head_scale = 1.f;
     int threads = 0, strands = 0, levels = 0, sub_wisps = 0, wisps_per_group = 0, sections = 0;
     bool single_level = false, quiet = false;
@@ -368,6 +389,27 @@ int run_animate(const AnimateArgs& args) {
     settings.fps = args.fps;
     settings.single_level = args.single_level;
     settings.wisp_held = std::move(held);
+    if (!args.ties.empty()) {
+        std::vector<Tie> ties;
+        for (const std::string& text : args.ties)
+            ties.push_back(parse_tie(text));
+        settings.strand_held = held_lengths(rest, ties);
+        for (size_t t = 0; t < ties.size(); ++t) {
+            // A tie that catches nothing is a mistake in its coordinates, not a request.
+            const std::vector<float> caught = held_lengths(rest, std::span(&ties[t], 1));
+            const auto count = static_cast<size_t>(
+                std::count_if(caught.begin(), caught.end(), [](float l) { return l > 0; }));
+            if (count == 0) {
+                const Box3 box = rest.bounds();
+                throw CLI::ValidationError(
+                    "--tie",
+                    cat("'", args.ties[t], "' passes within ", ties[t].radius,
+                        " cm of no strand (the hair spans ", box.lo.x(), ",", box.lo.y(), ",",
+                        box.lo.z(), " to ", box.hi.x(), ",", box.hi.y(), ",", box.hi.z(), ")"));
+            }
+            info(args.quiet, cat("wisp: tie ", t + 1, " holds ", count, " strands"));
+        }
+    }
 
     // Outputs: one animated .usda, or a numbered file per frame for the other formats.
     std::vector<std::unique_ptr<UsdaAnimationWriter>> usda;
@@ -622,6 +664,11 @@ int run_cli(int argc, char** argv) {
         ->check(CLI::IsMember({"auto", "rigid", "soft"}));
     animate_cmd->add_option("--strands", anim.strands, "Override the style's strand count")
         ->check(CLI::Range(1, 10000000));
+    animate_cmd->add_option(
+        "--tie", anim.ties,
+        "Hold the strands passing within radius (cm, default 2) of the point x,y,z (the rest "
+        "hair's coordinates, cm) rigidly to the head from the root to there, like a ponytail's "
+        "tie: x,y,z[,radius]; repeatable");
     animate_cmd->add_option("--head", anim.head, "Head OBJ for a hair file (default: built-in)");
     animate_cmd->add_option("--head-scale", anim.head_scale, "Scale of --head to centimetres");
     animate_cmd->add_option("--seed", anim.seed, "Random seed of the style, or 'random'");

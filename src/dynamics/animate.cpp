@@ -56,6 +56,7 @@ AnimationStats animate(const Hair& rest, const Mesh& body, const HeadFrame& head
     Stopwatch watch;
     HierarchyOptions options = hierarchy_options(spec);
     options.wisp_held = settings.wisp_held;
+    options.strand_held = settings.strand_held;
     const Hierarchy h = build_hierarchy(rest, options);
     stats.hierarchy_ms = watch.ms();
     stats.levels = h.levels;

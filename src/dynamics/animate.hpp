@@ -21,6 +21,9 @@ struct AnimateSettings {
     // Per wisp id of the rest hair: the length held rigidly to the head by a tie or a bun
     // (SolveStats::held_length, HierarchyOptions::wisp_held); empty: no ties.
     std::vector<float> wisp_held;
+    // Per strand of the rest hair: the length held by ties (held_lengths(), `--tie`); empty:
+    // none (HierarchyOptions::strand_held).
+    std::vector<float> strand_held;
 };
 
 struct AnimationStats {

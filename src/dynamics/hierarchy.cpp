@@ -121,6 +121,46 @@ Vec3f point_at_fraction(std::span<const Vec3f> strand, float t) {
     return strand.back();
 }
 
+std::vector<float> held_lengths(const Hair& hair, std::span<const Tie> ties) {
+    for (size_t t = 0; t < ties.size(); ++t) {
+        if (!ties[t].point.allFinite()) fail("dynamics: tie ", t + 1, " is not a finite point");
+        if (!(ties[t].radius > 0) || !std::isfinite(ties[t].radius))
+            fail("dynamics: the radius of tie ", t + 1, " must be > 0, got ", ties[t].radius);
+    }
+    std::vector<float> held(hair.strand_count(), 0.f);
+    if (ties.empty()) return held;
+    parallel_for(
+        hair.strand_count(),
+        [&](size_t s) {
+            const auto strand = hair.strand(s);
+            for (const Tie& tie : ties) {
+                // The nearest approach of the polyline to the tie, and its arc length.
+                float best = tie.radius * tie.radius, at = -1, walked = 0;
+                for (size_t i = 0; i < strand.size(); ++i) {
+                    float u = 0, length = 0;
+                    Vec3f q = strand[i];
+                    if (i + 1 < strand.size()) {
+                        const Vec3f d = strand[i + 1] - strand[i];
+                        length = d.norm();
+                        const float dd = d.squaredNorm();
+                        u = dd > 0 ? std::clamp((tie.point - strand[i]).dot(d) / dd, 0.f, 1.f)
+                                   : 0.f;
+                        q = strand[i] + u * d;
+                    }
+                    const float d2 = (q - tie.point).squaredNorm();
+                    if (d2 <= best) {
+                        best = d2;
+                        at = walked + u * length;
+                    }
+                    walked += length;
+                }
+                held[s] = std::max(held[s], at);
+            }
+        },
+        256);
+    return held;
+}
+
 Hierarchy build_hierarchy(const Hair& hair, const HierarchyOptions& o) {
     if (o.levels < 2 || o.levels > 4) fail("dynamics: levels must be in [2, 4], got ", o.levels);
     if (o.sections < 3 || o.sections > 64)
@@ -138,6 +178,11 @@ Hierarchy build_hierarchy(const Hair& hair, const HierarchyOptions& o) {
             fail("dynamics: the held length of wisp ", w, " must be ≥ 0, got ", o.wisp_held[w]);
     const size_t strands = hair.strand_count();
     if (strands == 0) fail("dynamics: the hair has no strands");
+    if (!o.strand_held.empty() && o.strand_held.size() != strands)
+        fail("dynamics: ", o.strand_held.size(), " held lengths for ", strands, " strands");
+    for (size_t s = 0; s < o.strand_held.size(); ++s)
+        if (!(o.strand_held[s] >= 0) || !std::isfinite(o.strand_held[s]))
+            fail("dynamics: the held length of strand ", s, " must be ≥ 0, got ", o.strand_held[s]);
     for (size_t s = 0; s < strands; ++s)
         if (hair.strand_size(s) < 2) fail("dynamics: strand ", s, " has fewer than 2 points");
 
@@ -180,11 +225,19 @@ Hierarchy build_hierarchy(const Hair& hair, const HierarchyOptions& o) {
         return f;
     }();
 
-    // The wisp level.
-    std::vector<Cluster> wisps;
+    // The length each strand is held through: its wisp's, or its own, whichever is longer.
     bool has_ids = hair.wisp.size() == strands;
     for (size_t s = 0; has_ids && s < strands; ++s)
         has_ids = hair.wisp[s] >= 0;
+    std::vector<float> held_length(strands, 0.f);
+    for (size_t s = 0; s < strands; ++s) {
+        if (has_ids && static_cast<size_t>(hair.wisp[s]) < o.wisp_held.size())
+            held_length[s] = o.wisp_held[static_cast<size_t>(hair.wisp[s])];
+        if (!o.strand_held.empty()) held_length[s] = std::max(held_length[s], o.strand_held[s]);
+    }
+
+    // The wisp level.
+    std::vector<Cluster> wisps;
     if (has_ids) {
         std::map<int32_t, uint32_t> index;
         for (size_t s = 0; s < strands; ++s)
@@ -196,21 +249,17 @@ Hierarchy build_hierarchy(const Hair& hair, const HierarchyOptions& o) {
         for (size_t s = 0; s < strands; ++s)
             wisps[index[hair.wisp[s]]].strands.push_back(static_cast<uint32_t>(s));
     } else {
-        std::vector<uint32_t> all(strands);
+        // Held and free strands make separate wisps.
+        std::vector<uint32_t> classes[2];
         for (size_t s = 0; s < strands; ++s)
-            all[s] = static_cast<uint32_t>(s);
-        for (auto& members : bisect(strand_features, dim, std::move(all), 1,
-                                    static_cast<size_t>(o.strands_per_wisp)))
-            wisps.push_back(Cluster{0, std::move(members)});
-    }
-
-    // The length each strand is held through (its wisp's; none without wisp ids).
-    std::vector<float> held_length(strands, 0.f);
-    if (has_ids)
-        for (size_t s = 0; s < strands; ++s) {
-            const auto id = static_cast<size_t>(hair.wisp[s]);
-            if (id < o.wisp_held.size()) held_length[s] = o.wisp_held[id];
+            classes[held_length[s] > 0].push_back(static_cast<uint32_t>(s));
+        for (std::vector<uint32_t>& all : classes) {
+            if (all.empty()) continue;
+            for (auto& members : bisect(strand_features, dim, std::move(all), 1,
+                                        static_cast<size_t>(o.strands_per_wisp)))
+                wisps.push_back(Cluster{0, std::move(members)});
         }
+    }
 
     // Levels of clusters, coarse to fine; parents index into the level above.
     std::vector<std::vector<Cluster>> levels;
@@ -226,9 +275,14 @@ Hierarchy build_hierarchy(const Hair& hair, const HierarchyOptions& o) {
         }
         // Held and free wisps are grouped apart: a group is tied or loose as a whole, so the
         // coarse nodes of a ponytail are not half pinned.
+        // A wisp is held when most of its strands are.
         std::vector<uint32_t> classes[2];
-        for (size_t w = 0; w < wisps.size(); ++w)
-            classes[held_length[wisps[w].strands.front()] > 0].push_back(static_cast<uint32_t>(w));
+        for (size_t w = 0; w < wisps.size(); ++w) {
+            size_t held = 0;
+            for (uint32_t s : wisps[w].strands)
+                held += held_length[s] > 0;
+            classes[2 * held > wisps[w].strands.size()].push_back(static_cast<uint32_t>(w));
+        }
         std::vector<Cluster> groups;
         for (std::vector<uint32_t>& all : classes) {
             if (all.empty()) continue;

@@ -45,7 +45,24 @@ struct HierarchyOptions {
     // held rigidly to the head by a tie or a bun (SolveStats::held_length); empty or 0: free.
     // Top-level groups never mix held and free wisps.
     std::vector<float> wisp_held;
+    // Per strand: the same, for holds that are not per wisp (held_lengths(), an imported
+    // ponytail's tie); empty: none. A strand is held through the longer of the two. Hair
+    // without wisp ids makes its wisps of held and free strands apart.
+    std::vector<float> strand_held;
 };
+
+// A tie for hair that carries no constraints (`wisp animate --tie`): every strand passing
+// within `radius` of `point` (the rest hair's coordinates, cm) is held from its root to its
+// nearest approach to the point.
+struct Tie {
+    Vec3f point = Vec3f::Zero();
+    float radius = 2.f;  // cm, > 0
+};
+
+// Per strand, the arc length (cm) the ties hold (the longest, where several catch it); 0
+// for strands no tie catches. Throws wisp::Error for a tie that is not finite or a radius
+// that is not > 0.
+std::vector<float> held_lengths(const Hair& hair, std::span<const Tie> ties);
 
 struct Hierarchy {
     int levels = 0;
@@ -63,9 +80,9 @@ struct Hierarchy {
     std::vector<float> radius;  // #G·n cross-section radius at rest, cm
     std::vector<float> mass;    // #G·n g
     // #G·n the fraction of the node's mass held rigidly to the head (HierarchyOptions::
-    // wisp_held): 1 at the roots; 0 or 1 at the finest level (a strand's cross-section is
-    // held when it lies within the held length, to the nearest section); mass-weighted
-    // means above.
+    // wisp_held, strand_held): 1 at the roots; 0 or 1 at the finest level (a strand's cross-section
+    // is held when it lies within the held length, to the nearest section); mass-weighted means
+    // above.
     std::vector<float> held;
     // Strands.
     std::vector<uint32_t> strand_gc;  // #S the finest GC of each strand

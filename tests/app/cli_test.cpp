@@ -130,6 +130,20 @@ TEST(Cli, AnimateWritesFramesDeterministically) {
                   (d.path / "p_####.png").string()),
               0);
     EXPECT_TRUE(fs::exists(d.path / "p_0002.png"));
+    // A tie holds the imported strands that pass near it; one that catches none, or has a
+    // radius ≤ 0, is a usage error.
+    const std::string hair = (d.path / "f_00.hair").string();
+    ASSERT_EQ(run("animate " + hair + " --frames 2 -q --tie 0,0,-12,4 --stats " +
+                  (d.path / "t.json").string()),
+              0);
+    const std::string tied = slurp(d.path / "t.json");
+    EXPECT_EQ(tied.find("\"held_finest_nodes\": 0"), std::string::npos) << tied;
+    EXPECT_EQ(
+        run("animate " + hair + " --frames 2 --tie 0,500,0 -o " + (d.path / "t.usda").string()), 2);
+    EXPECT_FALSE(fs::exists(d.path / "t.usda"));
+    EXPECT_EQ(
+        run("animate " + hair + " --frames 2 --tie 0,0,-12,-1 -o " + (d.path / "t.usda").string()),
+        2);
 }
 
 TEST(Cli, AnimateRejectsBadInput) {

@@ -209,6 +209,66 @@ TEST(Hierarchy, TiesHoldAPrefixOfEveryTiedGcAndGroupsDoNotMixTiedAndFree) {
         EXPECT_EQ(loose.held[i], loose.section_of(i) == 0 ? 1.f : 0.f);
 }
 
+TEST(Hierarchy, ATieHoldsEveryStrandPassingNearItUpToItsNearestApproach) {
+    Hair hair;
+    // Straight down from y = 0, 30 cm: the tie at y = −10 is 1 cm off the first strand's
+    // axis, 5 cm off the second's.
+    hair.add_strand(std::vector<Vec3f>{{0, 0, 0}, {0, -8, 0}, {0, -16, 0}, {0, -30, 0}});
+    hair.add_strand(std::vector<Vec3f>{{6, 0, 0}, {6, -30, 0}});
+    const std::vector<Tie> one{{Vec3f(1, -10, 0), 2.f}};
+    std::vector<float> held = held_lengths(hair, one);
+    ASSERT_EQ(held.size(), 2u);
+    EXPECT_NEAR(held[0], 10.f, 1e-4f);
+    EXPECT_EQ(held[1], 0.f);
+    // Several ties: the longest hold; a wider radius catches the second strand.
+    const std::vector<Tie> two{{Vec3f(1, -10, 0), 2.f}, {Vec3f(0, -20, 0), 6.5f}};
+    held = held_lengths(hair, two);
+    EXPECT_NEAR(held[0], 20.f, 1e-4f);
+    EXPECT_NEAR(held[1], 20.f, 1e-4f);
+    EXPECT_THROW(held_lengths(hair, std::vector<Tie>{{Vec3f(0, NAN, 0), 2.f}}), Error);
+    EXPECT_THROW(held_lengths(hair, std::vector<Tie>{{Vec3f::Zero(), 0.f}}), Error);
+}
+
+TEST(Hierarchy, StrandHoldsMakeWispsOfHeldAndFreeStrandsApart) {
+    // Imported hair (no wisp ids) with every other strand held through half its length:
+    // no wisp mixes held and free strands, and held GCs hold a prefix of their sections.
+    Hair hair = long_hair().hair;
+    hair.wisp.clear();
+    HierarchyOptions o;
+    o.strands_per_wisp = 20;
+    o.strand_held.assign(hair.strand_count(), 0.f);
+    for (size_t s = 0; s < hair.strand_count(); s += 2)
+        o.strand_held[s] = 15.f;
+    const Hierarchy h = build_hierarchy(hair, o);
+    expect_well_formed(h, hair);
+    std::vector<int> kind(h.gc_count(), -1);  // per wisp-level GC: 0 free, 1 held, 2 mixed
+    const int wisp_level = h.levels - 2;
+    for (size_t s = 0; s < hair.strand_count(); ++s) {
+        int64_t c = h.strand_gc[s];
+        while (h.level[c] != wisp_level)
+            c = h.super[c];
+        const int k = o.strand_held[s] > 0;
+        kind[c] = kind[c] < 0 || kind[c] == k ? k : 2;
+    }
+    size_t held_wisps = 0;
+    for (uint32_t c = h.level_begin[wisp_level]; c < h.level_begin[wisp_level + 1]; ++c) {
+        EXPECT_NE(kind[c], 2) << "wisp GC " << c << " mixes held and free strands";
+        held_wisps += kind[c] == 1;
+    }
+    EXPECT_GT(held_wisps, 0u);
+    size_t held_nodes = 0;
+    for (uint32_t c = h.finest_begin(); c < h.gc_count(); ++c)
+        for (int k = 1; k < h.sections; ++k) {
+            if (h.held[h.node(c, k)] == 1.f) EXPECT_EQ(h.held[h.node(c, k - 1)], 1.f);
+            held_nodes += h.held[h.node(c, k)] == 1.f;
+        }
+    EXPECT_GT(held_nodes, 0u);
+    o.strand_held.pop_back();
+    EXPECT_THROW(build_hierarchy(hair, o), Error);
+    o.strand_held.assign(hair.strand_count(), -1.f);
+    EXPECT_THROW(build_hierarchy(hair, o), Error);
+}
+
 TEST(Hierarchy, RejectsBadInput) {
     HierarchyOptions o;
     o.levels = 5;
