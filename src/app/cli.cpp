@@ -389,26 +389,26 @@ int run_animate(const AnimateArgs& args) {
     settings.fps = args.fps;
     settings.single_level = args.single_level;
     settings.wisp_held = std::move(held);
-    if (!args.ties.empty()) {
-        std::vector<Tie> ties;
-        for (const std::string& text : args.ties)
-            ties.push_back(parse_tie(text));
-        settings.strand_held = held_lengths(rest, ties);
-        for (size_t t = 0; t < ties.size(); ++t) {
-            // A tie that catches nothing is a mistake in its coordinates, not a request.
-            const std::vector<float> caught = held_lengths(rest, std::span(&ties[t], 1));
-            const auto count = static_cast<size_t>(
-                std::count_if(caught.begin(), caught.end(), [](float l) { return l > 0; }));
-            if (count == 0) {
-                const Box3 box = rest.bounds();
-                throw CLI::ValidationError(
-                    "--tie",
-                    cat("'", args.ties[t], "' passes within ", ties[t].radius,
-                        " cm of no strand (the hair spans ", box.lo.x(), ",", box.lo.y(), ",",
-                        box.lo.z(), " to ", box.hi.x(), ",", box.hi.y(), ",", box.hi.z(), ")"));
-            }
-            info(args.quiet, cat("wisp: tie ", t + 1, " holds ", count, " strands"));
+    // Ties for hair without constraints: each tie's holds, the longest where several catch a
+    // strand.
+    for (size_t t = 0; t < args.ties.size(); ++t) {
+        const Tie tie = parse_tie(args.ties[t]);
+        const std::vector<float> caught = held_lengths(rest, std::span(&tie, 1));
+        const auto count = static_cast<size_t>(
+            std::count_if(caught.begin(), caught.end(), [](float l) { return l > 0; }));
+        // A tie that catches nothing is a mistake in its coordinates, not a request.
+        if (count == 0) {
+            const Box3 box = rest.bounds();
+            throw CLI::ValidationError(
+                "--tie",
+                cat("'", args.ties[t], "' passes within ", tie.radius,
+                    " cm of no strand (the hair spans ", box.lo.x(), ",", box.lo.y(), ",",
+                    box.lo.z(), " to ", box.hi.x(), ",", box.hi.y(), ",", box.hi.z(), ")"));
         }
+        info(args.quiet, cat("wisp: tie ", t + 1, " holds ", count, " strands"));
+        if (settings.strand_held.empty()) settings.strand_held.assign(caught.size(), 0.f);
+        for (size_t s = 0; s < caught.size(); ++s)
+            settings.strand_held[s] = std::max(settings.strand_held[s], caught[s]);
     }
 
     // Outputs: one animated .usda, or a numbered file per frame for the other formats.

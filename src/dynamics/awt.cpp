@@ -582,7 +582,6 @@ void AwtSimulation::integrate() {
         }
     }
     const float inv_dt = 1.f / dt;
-    const Mat3f to_head = head_.rotation.transpose();
     for (uint32_t c : active_) {
         if (!collided_[c] && h.held[c] < 1) v_[c] = (x_[c] - x_old_[c]) * inv_dt;
         // The split test (§3.1) reads the node's acceleration in the world or relative to the
@@ -596,7 +595,7 @@ void AwtSimulation::integrate() {
         // resolve. One step's Δv/dt split 70% of merged nodes again within 0.1 s, and the tree
         // churned.
         const Vec3f world = (v_[c] - v_old_[c]) * inv_dt;
-        const Vec3f relative = world - head_acceleration_.at(to_head * (x_[c] - head_.translation));
+        const Vec3f relative = world - head_acceleration_.at(head_.to_local(x_[c]));
         const Vec3f& a = relative.squaredNorm() < world.squaredNorm() ? relative : world;
         acc_[c] += std::min(1.f, dt / kAccelerationTime) * (a - acc_[c]);
         rotation_[c] = segment_rotation(c, parent_[c], x_[c]);
@@ -638,8 +637,7 @@ bool AwtSimulation::collide_body(uint32_t c, uint32_t p) {
             collided_[c] = 1;
             // Static friction: the node takes the obstacle's velocity (§4.3).
             const RigidTransform& pose = sphere.head ? head_ : body_;
-            const Vec3f local = pose.rotation.transpose() * (x_[c] - pose.translation);
-            v_[c] = (sphere.head ? head_velocity_ : body_velocity_).at(local);
+            v_[c] = (sphere.head ? head_velocity_ : body_velocity_).at(pose.to_local(x_[c]));
         }
         if (!moved) break;
     }

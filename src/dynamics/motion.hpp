@@ -45,6 +45,8 @@ struct RigidTransform {
     Vec3f translation = Vec3f::Zero();
     Vec3f apply(const Vec3f& p) const { return rotation * p + translation; }
     Vec3f apply_vector(const Vec3f& v) const { return rotation * v; }
+    // The inverse: the head-space point that apply() takes to world point p.
+    Vec3f to_local(const Vec3f& p) const { return rotation.transpose() * (p - translation); }
 };
 
 // The velocity field of a rigid motion at one instant (cm/s): v(p) = linear + turn·(p − pivot)

@@ -259,7 +259,9 @@ TEST(Hierarchy, StrandHoldsMakeWispsOfHeldAndFreeStrandsApart) {
     size_t held_nodes = 0;
     for (uint32_t c = h.finest_begin(); c < h.gc_count(); ++c)
         for (int k = 1; k < h.sections; ++k) {
-            if (h.held[h.node(c, k)] == 1.f) EXPECT_EQ(h.held[h.node(c, k - 1)], 1.f);
+            if (h.held[h.node(c, k)] == 1.f) {
+                EXPECT_EQ(h.held[h.node(c, k - 1)], 1.f);
+            }
             held_nodes += h.held[h.node(c, k)] == 1.f;
         }
     EXPECT_GT(held_nodes, 0u);
