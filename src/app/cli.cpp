@@ -26,6 +26,7 @@
 #include "io/hair_io.hpp"
 #include "io/usda.hpp"
 #include "render/render.hpp"
+#include "solve/coverage.hpp"
 #include "solve/pipeline.hpp"
 
 namespace wisp {
@@ -120,7 +121,7 @@ struct GenerateArgs {
     std::string preset;
     std::vector<std::string> outputs;
     std::string seed;
-    int threads = 0;
+    int threads = 0, strands = 0, wisps = 0;
     std::string stats;
     bool obj_segments = false;
     bool quiet = false;
@@ -211,10 +212,34 @@ void info(bool quiet, const std::string& line) {
     if (!quiet) std::cerr << line << '\n';
 }
 
+// How much of the face the hair veils and how much scalp it leaves bare from the top, back
+// and sides (solve/coverage.hpp), the part line left out.
+nlohmann::json coverage_stats(const Hair& hair, const Head& head, const Style& style) {
+    const FaceLandmarks face = face_landmarks(*head.mesh, *head.scalp);
+    const HeadFrame frame = head_frame(*head.scalp);
+    nlohmann::json j;
+    j["face_covered"] = face_coverage(hair, *head.mesh, face.eye_y, face.chin_y).fraction();
+    j["face_window_cm"] = {{"eye_y", face.eye_y}, {"chin_y", face.chin_y}, {"half_width", 4.5}};
+    const auto parting = [&](const Vec3f& p) {
+        return on_part(style.growth, (p - frame.center).normalized(), 1.2f / frame.radius);
+    };
+    for (const char* view : {"top", "back", "left", "right"}) {
+        const Coverage c = scalp_coverage(hair, *head.scalp, ortho_view(view), parting);
+        j["scalp_bare"][view] = c.cells ? 1.f - c.fraction() : 0.f;
+    }
+    return j;
+}
+
 int run_generate(const GenerateArgs& args) {
     Stopwatch total;
     Style style = resolve_style(args.style_path, args.preset);
     if (!args.seed.empty()) style.seed = parse_seed(args.seed);
+    if (args.strands > 0) style.strands = args.strands;
+    if (args.wisps > 0) style.wisps = args.wisps;
+    if (args.wisps > 0 && style.wisps > style.strands)
+        throw CLI::ValidationError(
+            "--wisps", cat("more wisps (", style.wisps, ") than strands (", style.strands, ")"));
+    style.wisps = std::min(style.wisps, style.strands);
     for (const std::string& out : args.outputs)
         hair_format_from_path(out);  // fail early
     const ThreadLimit limit(args.threads);
@@ -264,10 +289,18 @@ int run_generate(const GenerateArgs& args) {
                        {"colliding_joints", solve.collisions},
                        {"unresolved_joints", solve.unresolved},
                        {"projected_joints", solve.projected},
-                       {"constrained_joints", solve.constrained},
-                       {"group_progress", solve.group_progress}};
+                       {"constrained_joints", solve.constrained}};
+        nlohmann::json groups = nlohmann::json::array();
+        for (const SolveStats::Group& g : solve.groups)
+            groups.push_back({{"name", g.name},
+                              {"constraints", g.constraints},
+                              {"completed", g.completed},
+                              {"wisps", g.wisps},
+                              {"met", g.met}});
+        j["solver"]["groups"] = std::move(groups);
         for (const auto& [stage, ms] : result.times)
             if (stage == "solve") j["solver"]["time_ms"] = ms;
+        j["coverage"] = coverage_stats(result.hair, head, style);
         j["points_pushed_out_of_head"] = result.points_pushed;
         j["points_inside_head"] = result.points_inside_head;
         j["strands_cut"] = result.strands_cut;
@@ -578,6 +611,10 @@ int run_cli(int argc, char** argv) {
                              "Random seed (overrides the style's), or 'random'");
     generate_cmd->add_option("--threads", gen.threads, "Worker threads (0 = all cores)")
         ->check(CLI::Range(0, 1024));
+    generate_cmd->add_option("--strands", gen.strands, "Override the style's strand count")
+        ->check(CLI::Range(1, 10000000));
+    generate_cmd->add_option("--wisps", gen.wisps, "Override the style's wisp count")
+        ->check(CLI::Range(1, 1000000));
     generate_cmd->add_option("--stats", gen.stats, "Write the run's figures as JSON");
     generate_cmd->add_flag("--obj-segments", gen.obj_segments,
                            "OBJ: one `l` per segment (Blender's OBJ importer keeps only the "

@@ -54,6 +54,8 @@ float procedural(int which, const Vec2f& uv) {
             return smoothstep(0.55f, 0.85f, r) * smoothstep(0.35f, 0.75f, -z);
         case 11:  // sides: above and behind the ears
             return smoothstep(0.55f, 0.85f, r) * smoothstep(0.55f, 0.85f, std::abs(x));
+        case 12:  // fringe: 0 over the forehead sector by the hairline, 1 elsewhere
+            return 1.f - smoothstep(0.35f, 0.6f, z) * smoothstep(0.4f, 0.7f, r);
     }
     return 1.f;
 }
@@ -62,9 +64,9 @@ float procedural(int which, const Vec2f& uv) {
 
 const std::vector<std::string>& procedural_map_names() {
     // New names go at the end: the index is the case in procedural().
-    static const std::vector<std::string> names = {"uniform",  "bangs", "nape-short", "crown",
-                                                   "hairline", "front", "back",       "side-part",
-                                                   "left",     "right", "nape",       "sides"};
+    static const std::vector<std::string> names = {
+        "uniform",   "bangs", "nape-short", "crown", "hairline", "front", "back",
+        "side-part", "left",  "right",      "nape",  "sides",    "fringe"};
     return names;
 }
 

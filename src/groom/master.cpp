@@ -5,12 +5,11 @@
 
 namespace wisp {
 
-Vec3f protrusion_direction(const SurfacePoint& root, const Vec3f& crown, float protrusion) {
+Vec3f protrusion_direction(const SurfacePoint& root, const Vec3f& growth, float protrusion) {
     const Vec3f& n = root.normal;
-    Vec3f flow = root.position - crown;
-    flow -= flow.dot(n) * n;
+    Vec3f flow = growth - growth.dot(n) * n;
     if (flow.norm() < 1e-3f) {
-        // At the crown itself hair falls toward the back.
+        // Growth along the normal: hair falls toward the back.
         flow = -Vec3f::UnitZ() - (-Vec3f::UnitZ()).dot(n) * n;
         if (flow.norm() < 1e-3f) flow = any_perpendicular(n);
     }

@@ -30,10 +30,10 @@ struct Masters {
     }
 };
 
-// The protrusion direction (§2.3) at a scalp point: protrusion 0 lies along the scalp,
-// flowing away from the crown; 1 is the surface normal; in between the angle from the
-// surface is protrusion·90°.
-Vec3f protrusion_direction(const SurfacePoint& root, const Vec3f& crown, float protrusion);
+// The protrusion direction (§2.3) at a scalp point: protrusion 0 lies along the scalp in the
+// growth direction `flow` (groom/growth.hpp; made tangent to the surface here); 1 is the
+// surface normal; in between the angle from the surface is protrusion·90°.
+Vec3f protrusion_direction(const SurfacePoint& root, const Vec3f& flow, float protrusion);
 
 // Recomputes frames (transported along the outline from root_frame) and control points of
 // master w from its outline and details. Call after the outline changes.

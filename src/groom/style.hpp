@@ -8,6 +8,7 @@
 
 #include "core/math.hpp"
 #include "geometry/scalp.hpp"
+#include "groom/growth.hpp"
 
 namespace wisp {
 
@@ -76,7 +77,7 @@ struct ColorSpec {
 // One term of the styling force field Φ (Choe & Ko §3.1, §6.1); terms add, each scaled by
 // its weight. Φ is dimensionless: gravity alone has |Φ| = weight.
 struct FieldTerm {
-    enum class Kind { kGravity, kPulledBack, kSidePart, kWind, kFile };
+    enum class Kind { kGravity, kPulledBack, kSidePart, kWind, kFile, kGrowth };
     Kind kind = Kind::kGravity;
     float weight = 1.f;          // any finite value
     Vec3f direction{0, 0, -1};   // kWind: the wind's direction (normalized on use), non-zero
@@ -139,7 +140,8 @@ struct SolveSpec {
     int max_tries = 12;           // bound on the bends per joint, ≥ 0
     bool depth_first = false;     // Algorithm 1 is breadth-first; true compares depth-first
     float head_margin = 0.25f;    // cm: head density ramps from 1 at the surface to 0 here
-    std::vector<FieldTerm> field{FieldTerm{}};  // Φ: gravity by default
+    // Φ: gravity, and the scalp's growth direction over the head (which frames the face).
+    std::vector<FieldTerm> field{FieldTerm{}, FieldTerm{FieldTerm::Kind::kGrowth, 1.5f}};
 };
 
 // Cutting (§6.2) beyond the length map: hair past the plane n·p > offset is cut off.
@@ -192,6 +194,7 @@ struct Style {
     ScalarMap length{ScalarMap::Kind::kConstant, 25.f};       // master length in cm, > 0
     ScalarMap protrusion{ScalarMap::Kind::kConstant, 0.25f};  // 0 = along the scalp, 1 = along
                                                               // the normal
+    GrowthSpec growth;          // the direction hair leaves the scalp: whorl, part, front hairline
     float root_width = 0.008f;  // cm, strand diameter at the root, > 0
     float tip_width = 0.002f;   // cm, at the tip, > 0
     PrototypeSpec prototype;

@@ -46,12 +46,14 @@ constexpr double kMaxCoordinate = 1e4;  // cm or head units
 const std::vector<std::pair<std::string, std::vector<std::string>>>& schema() {
     static const std::vector<std::pair<std::string, std::vector<std::string>>> sections = {
         {"",
-         {"name", "seed", "head", "roots", "maps", "strand", "prototype", "wisp", "color", "solve",
-          "cut", "group", "tie", "braid", "updo", "comb", "dynamics"}},
+         {"name", "seed", "head", "roots", "maps", "growth", "strand", "prototype", "wisp", "color",
+          "solve", "cut", "group", "tie", "braid", "updo", "comb", "dynamics"}},
         {"head", {"obj", "scale", "scalp"}},
         {"head.scalp", {"method", "group", "mask", "front", "side", "back"}},
         {"roots", {"wisps", "strands", "points_per_strand"}},
         {"maps", {"density", "length", "protrusion"}},
+        {"growth",
+         {"part", "part_offset", "part_length", "front", "whorl", "whorl_turn", "whorl_swirl"}},
         {"strand", {"root_width", "tip_width"}},
         {"prototype",
          {"shape", "amplitude", "period", "length", "points", "window", "temperature", "roll"}},
@@ -275,6 +277,7 @@ class Parser {
     void read_head(const toml::table* root, Style& style) const;
     void read_roots(const toml::table* root, Style& style) const;
     void read_maps(const toml::table* root, Style& style) const;
+    void read_growth(const toml::table* root, Style& style) const;
     void read_strand(const toml::table* root, Style& style) const;
     void read_prototype(const toml::table* root, Style& style) const;
     void read_wisp(const toml::table* root, Style& style) const;
@@ -769,6 +772,33 @@ void Parser::read_maps(const toml::table* root, Style& style) const {
         style.protrusion = map(*n, "maps.protrusion", {Range{0, 1}, false, 0.f, 1.f});
 }
 
+void Parser::read_growth(const toml::table* root, Style& style) const {
+    const toml::table* growth = section(root, "", "growth");
+    if (!growth) return;
+    GrowthSpec& spec = style.growth;
+    float side = 1.f;
+    if (const toml::node* n = growth->get("part")) {
+        using Part = GrowthSpec::Part;
+        const int part =
+            choice<int>(*n, "growth.part", {{"none", 0}, {"centre", 1}, {"left", 2}, {"right", 3}});
+        spec.part = part == 0 ? Part::kNone : part == 1 ? Part::kCentre : Part::kSide;
+        side = part == 3 ? -1.f : 1.f;
+    }
+    opt_real(growth, "growth", "part_offset", spec.part_offset, Range{0, 0.8, true});
+    spec.part_offset = side * std::abs(spec.part_offset);
+    opt_real(growth, "growth", "part_length", spec.part_length, Range{0, 1.5, true});
+    if (const toml::node* n = growth->get("front"))
+        spec.front = choice<GrowthSpec::Front>(*n, "growth.front",
+                                               {{"sides", GrowthSpec::Front::kSides},
+                                                {"back", GrowthSpec::Front::kBack},
+                                                {"fringe", GrowthSpec::Front::kFringe}});
+    opt_vec3(growth, "growth", "whorl", spec.whorl, true);
+    if (const toml::node* n = growth->get("whorl_turn"))
+        spec.whorl_turn = choice<float>(*n, "growth.whorl_turn",
+                                        {{"clockwise", 1.f}, {"counter-clockwise", -1.f}});
+    opt_real(growth, "growth", "whorl_swirl", spec.whorl_swirl, Range{0, 2});
+}
+
 void Parser::read_strand(const toml::table* root, Style& style) const {
     const toml::table* strand = section(root, "", "strand");
     opt_real(strand, "strand", "root_width", style.root_width, Range{0, 1, true});
@@ -941,15 +971,15 @@ void Parser::read_solve(const toml::table* root, Style& style) const {
 
 FieldTerm Parser::field_term(const toml::table& table, const std::string& path) const {
     using Kind = FieldTerm::Kind;
-    const std::vector<std::pair<std::string, Kind>> kinds = {{"gravity", Kind::kGravity},
-                                                             {"pulled-back", Kind::kPulledBack},
-                                                             {"side-part", Kind::kSidePart},
-                                                             {"wind", Kind::kWind},
-                                                             {"file", Kind::kFile}};
+    const std::vector<std::pair<std::string, Kind>> kinds = {
+        {"gravity", Kind::kGravity},    {"pulled-back", Kind::kPulledBack},
+        {"side-part", Kind::kSidePart}, {"wind", Kind::kWind},
+        {"file", Kind::kFile},          {"growth", Kind::kGrowth}};
     const toml::node* kind = table.get("kind");
     if (!kind)
         error(table, path + ".kind",
-              "required: one of \"gravity\", \"pulled-back\", \"side-part\", \"wind\", \"file\"");
+              "required: one of \"gravity\", \"pulled-back\", \"side-part\", \"wind\", \"file\", "
+              "\"growth\"");
     FieldTerm term;
     term.kind = choice(*kind, path + ".kind", kinds);
     // Each kind's own parameter, rejected with the others so a misplaced key is not ignored.
@@ -1314,6 +1344,7 @@ Style Parser::parse(std::string_view text) {
     read_head(&root, style);
     read_roots(&root, style);
     read_maps(&root, style);
+    read_growth(&root, style);
     read_strand(&root, style);
     read_prototype(&root, style);
     read_wisp(&root, style);

@@ -153,7 +153,7 @@ HairstyleResult generate_hairstyle(const Style& style, const Head& head,
         reach.lo -= Vec3f::Constant(longest);
         reach.hi += Vec3f::Constant(longest);
         bounds.extend(reach);
-        const StylingField field(style.solve.field, frame, bounds, style.solve.cell);
+        const StylingField field(style.solve.field, frame, style.growth, bounds, style.solve.cell);
         Grid3<float> density(field.grid().origin(), field.grid().cell(), field.grid().dims());
         lap("field");
 
@@ -162,6 +162,7 @@ HairstyleResult generate_hairstyle(const Style& style, const Head& head,
         in.head = head_field;
         for (const GroupSpec& g : style.groups) {
             SolverGroup sg;
+            sg.name = g.name;
             sg.wisps = select_wisps(g.selection, roots.masters, *head.scalp, frame);
             for (const ConstraintSpec& c : g.queue)
                 sg.queue.push_back(resolve_constraint(c, frame));

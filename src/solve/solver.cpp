@@ -66,7 +66,9 @@ class Solver {
         bend_ = spec.bend_step * kPi / 180.f;
         inv_cell3_ = 1.f / (rho_.cell() * rho_.cell() * rho_.cell());
         std::fill(rho_.data().begin(), rho_.data().end(), 0.f);
-        stats_.group_progress.assign(in.groups.size(), 0);
+        met_count_.resize(in.groups.size());
+        for (size_t g = 0; g < in.groups.size(); ++g)
+            met_count_[g].assign(in.groups[g].queue.size(), 0);
         stats_.held_length.assign(w_count, 0.f);
         nearest_tie_.assign(w_count, 0);
         nearest_tie_distance_.assign(w_count, std::numeric_limits<float>::infinity());
@@ -93,8 +95,24 @@ class Solver {
             if (stats_.held_length[w] == 0 && nearest_tie_[w] > 0)
                 stats_.held_length[w] = static_cast<float>(nearest_tie_[w]) * m_.segment[w];
         }
-        for (size_t g = 0; g < in_.groups.size(); ++g)
-            stats_.group_progress[g] = active_[g];
+        std::vector<size_t> members(in_.groups.size(), 0);
+        for (size_t w = 0; w < w_count; ++w)
+            if (group_of_[w] >= 0) ++members[group_of_[w]];
+        for (size_t g = 0; g < in_.groups.size(); ++g) {
+            SolveStats::Group& out = stats_.groups.emplace_back();
+            out.name = in_.groups[g].name;
+            out.constraints = static_cast<int>(in_.groups[g].queue.size());
+            out.completed = spec_.depth_first ? 0 : active_[g];
+            out.wisps = members[g];
+            for (size_t k = 0; k < met_count_[g].size(); ++k) {
+                out.met.push_back(members[g] ? float(met_count_[g][k]) / float(members[g]) : 0.f);
+                // Depth-first, each wisp runs its own queue: a constraint is completed when
+                // every wisp met it.
+                if (spec_.depth_first && met_count_[g][k] == members[g] &&
+                    out.completed == static_cast<int>(k))
+                    ++out.completed;
+            }
+        }
         return stats_;
     }
 
@@ -238,6 +256,7 @@ class Solver {
 
         if (c && constraint_met(*c, x, m_.outline[base + j + 1])) {
             if (c->hold) stats_.held_length[w] = reached;
+            ++met_count_[group_of_[w]][c - in_.groups[group_of_[w]].queue.data()];
             if (per_wisp_queue) {
                 ++wisp_stage_[w];
             } else {
@@ -288,6 +307,7 @@ class Solver {
     std::vector<int> nearest_tie_;
     std::vector<float> nearest_tie_distance_;
     std::vector<int> stalled_;
+    std::vector<std::vector<size_t>> met_count_;  // per group, per constraint: wisps that met it
     bool squeeze_ = false;
     std::vector<size_t> last_met_;
     float bend_ = 0.f, inv_cell3_ = 1.f;

@@ -3,6 +3,7 @@
 // constraint-based styler (§4): finds every master's joint angles under the styling force
 // field, bending stiffness and density-field collisions.
 #include <cstddef>
+#include <string>
 #include <vector>
 
 #include "core/grid.hpp"
@@ -25,18 +26,28 @@ inline Vec3f best_direction(const Vec3f& phi, const Vec3f& q0, float kappa) {
 
 // A constraint group resolved for the solver.
 struct SolverGroup {
+    std::string name;
     std::vector<uint32_t> wisps;
     std::vector<Constraint> queue;
 };
 
 struct SolveStats {
-    size_t joints = 0;                // joint placements (wisps × segments)
-    size_t bends = 0;                 // Δθ bends taken by collision handling (eq. (6) iterations)
-    size_t collisions = 0;            // joints that collided at least once
-    size_t unresolved = 0;            // joints still colliding after max_tries bends
-    size_t projected = 0;             // joints pushed back out of the head after that
-    size_t constrained = 0;           // joints placed under a constraint field
-    std::vector<int> group_progress;  // per group: constraints completed (all wisps met)
+    size_t joints = 0;       // joint placements (wisps × segments)
+    size_t bends = 0;        // Δθ bends taken by collision handling (eq. (6) iterations)
+    size_t collisions = 0;   // joints that collided at least once
+    size_t unresolved = 0;   // joints still colliding after max_tries bends
+    size_t projected = 0;    // joints pushed back out of the head after that
+    size_t constrained = 0;  // joints placed under a constraint field
+    // Per group (§4): how far through its queue it got. A wisp belongs to the first group
+    // that selects it; `met[k]` is the fraction of the group's wisps that met constraint k.
+    struct Group {
+        std::string name;
+        int constraints = 0;     // in its queue
+        int completed = 0;       // constraints the group moved past (all or enough wisps met)
+        size_t wisps = 0;        // wisps it holds
+        std::vector<float> met;  // #constraints
+    };
+    std::vector<Group> groups;
     // Per wisp: the arc length from the root (cm) through which a holding constraint
     // (Constraint::hold: a tie, a bun) holds it, the end of the last such segment; 0: none.
     std::vector<float> held_length;

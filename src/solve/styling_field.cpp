@@ -39,11 +39,49 @@ Vec3f swept_toward(const HeadFrame& head, const Vec3f& p, const Vec3f& pole) {
     return ((1.f - t) * down + t * along).normalized();
 }
 
+// The growth term: the scalp's growth direction at the point of the head's sphere under p,
+// handing over to gravity off the head; hair in front of the face (below the brows for a
+// fringe)
+// is carried sideways, away from the part, out of the face.
+Vec3f grown(const HeadFrame& head, const GrowthSpec& growth, const Vec3f& p) {
+    const Vec3f down(0.f, -1.f, 0.f);
+    const Vec3f d = p - head.center;
+    const float dist = d.norm();
+    if (dist < 1e-4f) return down;
+    const Vec3f r = d / dist;
+    const float near = 1.f - smoothstep(1.15f, 1.6f, dist / head.radius);
+    Vec3f phi = (1.f - near) * down + near * growth_direction(growth, r);
+    // Below the skull, hair leaving the head falls as a curtain about as wide as the head
+    // instead of closing in on the neck (a V-shaped tail): close to the head's vertical axis
+    // it is carried outward.
+    const Vec3f q = d / head.radius;  // head units
+    const float axis = std::hypot(q.x(), q.z());
+    if (axis > 1e-4f) {
+        const float curtain =
+            (1.f - near) * smoothstep(-0.2f, -0.7f, q.y()) * (1.f - smoothstep(0.8f, 1.15f, axis));
+        phi += (0.6f * curtain / axis) * Vec3f(q.x(), 0.f, q.z());
+    }
+    {
+        // A fringe may reach the brows; other hair is cleared from the hairline down.
+        const bool fringe = growth.front == GrowthSpec::Front::kFringe;
+        const float top = fringe ? 0.1f : 0.55f, full = fringe ? -0.15f : 0.2f;
+        const float x = q.x() - part_x(growth);
+        const float face = smoothstep(0.1f, 0.4f, q.z()) * smoothstep(top, full, q.y()) *
+                           smoothstep(-1.9f, -1.4f, q.y()) *
+                           (1.f - smoothstep(0.55f, 0.9f, std::abs(q.x())));
+        phi += (1.5f * face * std::clamp(x / 0.1f, -1.f, 1.f)) * Vec3f::UnitX();
+    }
+    return phi;
+}
+
 }  // namespace
 
-Vec3f field_term(const FieldTerm& term, const HeadFrame& head, const Vec3f& p) {
+Vec3f field_term(const FieldTerm& term, const HeadFrame& head, const GrowthSpec& growth,
+                 const Vec3f& p) {
     const Vec3f down(0.f, -1.f, 0.f);
     switch (term.kind) {
+        case FieldTerm::Kind::kGrowth:
+            return grown(head, growth, p);
         case FieldTerm::Kind::kGravity:
             return down;
         case FieldTerm::Kind::kPulledBack:
@@ -127,7 +165,7 @@ Grid3<Vec3f> read_field_file(const std::filesystem::path& path) {
 }
 
 StylingField::StylingField(std::span<const FieldTerm> terms, const HeadFrame& head,
-                           const Box3& bounds, float cell) {
+                           const GrowthSpec& growth, const Box3& bounds, float cell) {
     Vec3i dims;
     for (int a = 0; a < 3; ++a)
         dims[a] = std::max(2, static_cast<int>(std::ceil(bounds.size()[a] / cell)) + 1);
@@ -145,7 +183,8 @@ StylingField::StylingField(std::span<const FieldTerm> terms, const HeadFrame& he
             const Vec3f p = grid_.node(x, y, z);
             Vec3f phi = Vec3f::Zero();
             for (size_t t = 0; t < terms.size(); ++t) {
-                const Vec3f v = files[t] ? files[t]->trilinear(p) : field_term(terms[t], head, p);
+                const Vec3f v =
+                    files[t] ? files[t]->trilinear(p) : field_term(terms[t], head, growth, p);
                 phi += terms[t].weight * v;
             }
             grid_.data()[i] = phi;

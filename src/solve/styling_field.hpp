@@ -23,7 +23,11 @@ struct HeadFrame {
 //                head's sphere, turning to gravity as it leaves the head
 //   side-part    the same toward the side −side·X (the part on the other side)
 //   wind         the term's direction, normalized
-Vec3f field_term(const FieldTerm& term, const HeadFrame& head, const Vec3f& p);
+//   growth       on the head, the scalp's growth direction (groom/growth.hpp) where p lies,
+//                turning to gravity as hair leaves the head; hair in front of the face (below
+//                the brows when the front hairline grows a fringe) is carried sideways out
+Vec3f field_term(const FieldTerm& term, const HeadFrame& head, const GrowthSpec& growth,
+                 const Vec3f& p);
 
 // Reads a field file (the format of docs/style.md "Field files"):
 //   wisp-field 1
@@ -38,8 +42,8 @@ class StylingField {
   public:
     StylingField() = default;
     // Samples Σ weight·term over `bounds` with the given cell size.
-    StylingField(std::span<const FieldTerm> terms, const HeadFrame& head, const Box3& bounds,
-                 float cell);
+    StylingField(std::span<const FieldTerm> terms, const HeadFrame& head, const GrowthSpec& growth,
+                 const Box3& bounds, float cell);
     Vec3f operator()(const Vec3f& p) const { return grid_.trilinear(p); }
     const Grid3<Vec3f>& grid() const { return grid_; }
 

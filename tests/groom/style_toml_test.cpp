@@ -346,9 +346,11 @@ head_relative = false
 
 TEST(StyleToml, FieldTermsReplaceTheDefaultGravity) {
     const Style none = parse("[solve]\nstiffness = 1");
-    ASSERT_EQ(none.solve.field.size(), 1u);
+    ASSERT_EQ(none.solve.field.size(), 2u);  // gravity and the growth term
     EXPECT_EQ(none.solve.field[0].kind, FieldTerm::Kind::kGravity);
     EXPECT_FLOAT_EQ(none.solve.field[0].weight, 1.f);
+    EXPECT_EQ(none.solve.field[1].kind, FieldTerm::Kind::kGrowth);
+    EXPECT_FLOAT_EQ(none.solve.field[1].weight, 1.5f);
     const Style wind = parse("[[solve.field]]\nkind = \"wind\"");
     ASSERT_EQ(wind.solve.field.size(), 1u);
     EXPECT_EQ(wind.solve.field[0].kind, FieldTerm::Kind::kWind);
@@ -712,7 +714,8 @@ TEST(StyleToml, HairdressingPresetsShowTheirOperation) {
 
     const Style swept = load_preset("side-swept");
     ASSERT_FALSE(swept.solve.field.empty());
-    EXPECT_EQ(swept.solve.field[0].kind, FieldTerm::Kind::kSidePart);
+    EXPECT_EQ(swept.solve.field[0].kind, FieldTerm::Kind::kGrowth);
+    EXPECT_EQ(swept.growth.part, GrowthSpec::Part::kSide);
 
     // Every preset places its constraints near the head, in head units.
     for (const auto& name : preset_names()) {

@@ -19,6 +19,7 @@ Style small_style() {
     s.points_per_strand = 24;
     s.length = ScalarMap{ScalarMap::Kind::kConstant, 30.f};
     s.seed = 3;
+    s.solve.field = {FieldTerm{}};  // gravity alone, as in Fig. 9
     return s;
 }
 
@@ -200,7 +201,8 @@ TEST(Solver, TiedGroupPassesThroughItsTolerance) {
         missed += best > tolerance * 1.001f;
     }
     EXPECT_EQ(missed, 0u);
-    EXPECT_EQ(r.solve.group_progress.at(0), 1);  // the group completed its queue
+    EXPECT_EQ(r.solve.groups.at(0).completed, 1);  // the group completed its queue
+    EXPECT_EQ(r.solve.groups.at(0).met.at(0), 1.f);
 
     // A tie holds for the animation: every tied wisp is held from the root through the
     // segment that met the tie (a whole number of segments, short of the whole wisp), the

@@ -1,0 +1,87 @@
+#include "groom/growth.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace wisp {
+namespace {
+
+float smoothstep(float e0, float e1, float x) {
+    const float t = std::clamp((x - e0) / (e1 - e0), 0.f, 1.f);
+    return t * t * (3.f - 2.f * t);
+}
+
+Vec3f tangent(const Vec3f& v, const Vec3f& r) {
+    return v - v.dot(r) * r;
+}
+
+Vec3f unit_or(const Vec3f& v, const Vec3f& fallback) {
+    const float n = v.norm();
+    return n > 1e-6f ? Vec3f(v / n) : fallback;
+}
+
+Vec3f lerp(const Vec3f& a, const Vec3f& b, float t) {
+    return (1.f - t) * a + t * b;
+}
+
+}  // namespace
+
+float part_x(const GrowthSpec& spec) {
+    return spec.part == GrowthSpec::Part::kSide ? spec.part_offset : 0.f;
+}
+
+bool on_part(const GrowthSpec& spec, const Vec3f& r, float half_width) {
+    if (spec.part == GrowthSpec::Part::kNone) return false;
+    const Vec3f w = unit_or(spec.whorl, Vec3f::UnitY());
+    // The part runs from the front hairline back toward the whorl (part_length of the way).
+    const float z_end = 0.9f - spec.part_length * (0.9f - w.z());
+    return r.y() > 0.f && r.z() > z_end && std::abs(r.x() - part_x(spec)) < half_width;
+}
+
+Vec3f growth_direction(const GrowthSpec& spec, const Vec3f& r) {
+    const Vec3f w = unit_or(spec.whorl, Vec3f::UnitY());
+    // Away from the whorl along great circles, turning about it near it (clockwise seen from
+    // above is a rotation about −w).
+    Vec3f away =
+        unit_or(tangent(r - w, r), unit_or(tangent(-Vec3f::UnitZ(), r), any_perpendicular(r)));
+    const float from_whorl = std::acos(std::clamp(r.dot(w), -1.f, 1.f));
+    const float swirl =
+        std::clamp(spec.whorl_swirl, 0.f, 2.f) * (1.f - smoothstep(0.25f, 0.9f, from_whorl));
+    Vec3f d = away - (spec.whorl_turn * swirl) * w.cross(away);
+
+    // Which side of the part (or of the midline) r lies on, softly across a narrow band.
+    const float sigma = std::clamp((r.x() - part_x(spec)) / 0.08f, -1.f, 1.f);
+    // The part: on top of the head ahead of the whorl, hair runs away from the part line.
+    if (spec.part != GrowthSpec::Part::kNone) {
+        const float z_end = 0.9f - spec.part_length * (0.9f - w.z());
+        const float p = smoothstep(z_end - 0.05f, z_end + 0.2f, r.z()) *
+                        smoothstep(-0.1f, 0.35f, r.y()) * smoothstep(0.15f, 0.45f, from_whorl);
+        d = lerp(d, Vec3f(sigma, 0.f, -0.25f), p);
+    }
+    // The front hairline: to the sides past the temples, back over the head, or forward.
+    const Vec3f sides(
+        spec.part == GrowthSpec::Part::kNone ? std::clamp(r.x() / 0.12f, -1.f, 1.f) : sigma, -0.2f,
+        -0.5f);
+    Vec3f front = sides;
+    switch (spec.front) {
+        case GrowthSpec::Front::kSides:
+            break;
+        case GrowthSpec::Front::kBack:
+            front = Vec3f(0.25f * std::clamp(r.x() / 0.2f, -1.f, 1.f), 0.f, -1.f);
+            break;
+        case GrowthSpec::Front::kFringe:  // over the forehead; at the temples still to the sides
+            front = lerp(Vec3f(0.f, -0.5f, 1.f), sides, smoothstep(0.12f, 0.28f, std::abs(r.x())));
+            break;
+    }
+    d = lerp(d, front, smoothstep(0.2f, 0.65f, r.z()));
+    // Low on the sides and at the nape hair grows down, a little outward (so it does not
+    // close in on the nape) and, in front of the ears, a little back.
+    const float h = std::hypot(r.x(), r.z());
+    const Vec3f outward = h > 1e-4f ? Vec3f(r.x() / h, 0.f, r.z() / h) : Vec3f::Zero();
+    const Vec3f low =
+        -Vec3f::UnitY() + 0.3f * outward - 0.4f * std::max(r.z(), 0.f) * Vec3f::UnitZ();
+    d = lerp(d, low, 0.7f * smoothstep(0.15f, -0.35f, r.y()));
+    return unit_or(tangent(d, r), away);
+}
+
+}  // namespace wisp

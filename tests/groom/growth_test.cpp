@@ -1,0 +1,109 @@
+#include "groom/growth.hpp"
+
+#include <gtest/gtest.h>
+
+#include "core/error.hpp"
+#include "core/rng.hpp"
+#include "groom/style_toml.hpp"
+
+namespace wisp {
+namespace {
+
+Vec3f dir(float x, float y, float z) {
+    return Vec3f(x, y, z).normalized();
+}
+
+TEST(Growth, UnitAndTangentEverywhere) {
+    Rng rng(3, Stream::kRoll, 0);
+    for (GrowthSpec::Part part :
+         {GrowthSpec::Part::kNone, GrowthSpec::Part::kCentre, GrowthSpec::Part::kSide})
+        for (GrowthSpec::Front front :
+             {GrowthSpec::Front::kSides, GrowthSpec::Front::kBack, GrowthSpec::Front::kFringe}) {
+            GrowthSpec spec;
+            spec.part = part;
+            spec.front = front;
+            for (int i = 0; i < 2000; ++i) {
+                const Vec3f r = dir(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+                const Vec3f g = growth_direction(spec, r);
+                ASSERT_TRUE(g.allFinite());
+                EXPECT_NEAR(g.norm(), 1.f, 1e-4f);
+                EXPECT_NEAR(g.dot(r), 0.f, 1e-4f);
+            }
+        }
+}
+
+TEST(Growth, APartSplitsTheTopToEitherSide) {
+    GrowthSpec spec;  // centre part
+    EXPECT_GT(growth_direction(spec, dir(0.2f, 0.9f, 0.3f)).x(), 0.5f);
+    EXPECT_LT(growth_direction(spec, dir(-0.2f, 0.9f, 0.3f)).x(), -0.5f);
+    spec.part = GrowthSpec::Part::kSide;
+    spec.part_offset = 0.35f;  // on the left: hair between it and the midline goes right
+    EXPECT_LT(growth_direction(spec, dir(0.2f, 0.9f, 0.3f)).x(), -0.5f);
+    EXPECT_GT(growth_direction(spec, dir(0.5f, 0.8f, 0.3f)).x(), 0.3f);
+    EXPECT_TRUE(on_part(spec, dir(0.35f, 0.85f, 0.4f), 0.05f));
+    EXPECT_FALSE(on_part(spec, dir(0.f, 0.85f, 0.4f), 0.05f));
+    spec.part = GrowthSpec::Part::kNone;
+    EXPECT_FALSE(on_part(spec, dir(0.f, 0.85f, 0.4f), 0.05f));
+}
+
+TEST(Growth, FrontHairlineHairGoesToTheSidesBackOrForward) {
+    const Vec3f forehead_left = dir(0.15f, 0.45f, 0.88f);
+    GrowthSpec spec;
+    const Vec3f sides = growth_direction(spec, forehead_left);
+    EXPECT_GT(sides.x(), 0.5f);  // to the left temple
+    EXPECT_LT(sides.z(), 0.f);   // and back, never over the face
+    spec.front = GrowthSpec::Front::kBack;
+    EXPECT_LT(growth_direction(spec, dir(0.f, 0.45f, 0.88f)).z(), -0.1f);
+    spec.front = GrowthSpec::Front::kFringe;
+    spec.part = GrowthSpec::Part::kNone;
+    const Vec3f fringe = growth_direction(spec, dir(0.f, 0.45f, 0.88f));
+    EXPECT_LT(fringe.y(), -0.5f);  // down over the forehead
+}
+
+TEST(Growth, HairTurnsAboutTheWhorlInItsSense) {
+    GrowthSpec spec;
+    spec.part = GrowthSpec::Part::kNone;
+    spec.whorl = Vec3f::UnitY();
+    // Just behind the whorl, seen from above: clockwise turns from -Z toward +X... measured
+    // as the sign of the turn about +Y, (r × g)·Y < 0 for clockwise.
+    const Vec3f r = dir(0.f, 0.95f, -0.3f);
+    spec.whorl_turn = 1.f;
+    const float cw = r.cross(growth_direction(spec, r)).y();
+    spec.whorl_turn = -1.f;
+    const float ccw = r.cross(growth_direction(spec, r)).y();
+    EXPECT_LT(cw, 0.f);
+    EXPECT_GT(ccw, 0.f);
+    // Far from the whorl, no turn: the nape grows down.
+    EXPECT_LT(growth_direction(spec, dir(0.f, -0.3f, -0.95f)).y(), -0.8f);
+}
+
+TEST(Growth, ReadFromTheStyle) {
+    const Style s = parse_style(R"(
+[growth]
+part = "right"
+part_offset = 0.4
+part_length = 0.7
+front = "fringe"
+whorl = [0.1, 1.0, -0.3]
+whorl_turn = "counter-clockwise"
+whorl_swirl = 1.2
+)",
+                                "growth.toml");
+    EXPECT_EQ(s.growth.part, GrowthSpec::Part::kSide);
+    EXPECT_FLOAT_EQ(s.growth.part_offset, -0.4f);
+    EXPECT_FLOAT_EQ(s.growth.part_length, 0.7f);
+    EXPECT_EQ(s.growth.front, GrowthSpec::Front::kFringe);
+    EXPECT_FLOAT_EQ(s.growth.whorl.x(), 0.1f);
+    EXPECT_FLOAT_EQ(s.growth.whorl_turn, -1.f);
+    EXPECT_FLOAT_EQ(s.growth.whorl_swirl, 1.2f);
+    // The default field now includes the growth term.
+    const Style empty = parse_style("", "empty.toml");
+    ASSERT_EQ(empty.solve.field.size(), 2u);
+    EXPECT_EQ(empty.solve.field[1].kind, FieldTerm::Kind::kGrowth);
+    EXPECT_THROW(parse_style("[growth]\npart = \"middle\"\n", "bad.toml"), Error);
+    EXPECT_THROW(parse_style("[growth]\nwhorl = [0, 0, 0]\n", "bad.toml"), Error);
+    EXPECT_THROW(parse_style("[growth]\npart_offset = 2\n", "bad.toml"), Error);
+}
+
+}  // namespace
+}  // namespace wisp
