@@ -24,6 +24,22 @@ Vec3f lerp(const Vec3f& a, const Vec3f& b, float t) {
     return (1.f - t) * a + t * b;
 }
 
+// The angle of r about the X axis from the front (+Z) over the top (+Y) toward the back, in
+// [−π/2, 3π/2): the part line's parameter.
+float over_the_top(const Vec3f& r) {
+    float a = std::atan2(r.y(), r.z());
+    if (a < -0.5f * kPi) a += 2.f * kPi;
+    return a;
+}
+
+// Where the part runs: from the front hairline (20° above the front) over the top, to the
+// whorl at part_length 1 and on down the back beyond.
+constexpr float kPartStart = 0.35f;
+float part_end(const GrowthSpec& spec) {
+    const Vec3f w = unit_or(spec.whorl, Vec3f::UnitY());
+    return kPartStart + spec.part_length * (over_the_top(w) - kPartStart);
+}
+
 }  // namespace
 
 float part_x(const GrowthSpec& spec) {
@@ -32,10 +48,9 @@ float part_x(const GrowthSpec& spec) {
 
 bool on_part(const GrowthSpec& spec, const Vec3f& r, float half_width) {
     if (spec.part == GrowthSpec::Part::kNone) return false;
-    const Vec3f w = unit_or(spec.whorl, Vec3f::UnitY());
-    // The part runs from the front hairline back toward the whorl (part_length of the way).
-    const float z_end = 0.9f - spec.part_length * (0.9f - w.z());
-    return r.y() > 0.f && r.z() > z_end && std::abs(r.x() - part_x(spec)) < half_width;
+    const float a = over_the_top(r);
+    return a > kPartStart - 0.15f && a < part_end(spec) &&
+           std::abs(r.x() - part_x(spec)) < half_width;
 }
 
 Vec3f growth_direction(const GrowthSpec& spec, const Vec3f& r) {
@@ -53,9 +68,10 @@ Vec3f growth_direction(const GrowthSpec& spec, const Vec3f& r) {
     const float sigma = std::clamp((r.x() - part_x(spec)) / 0.08f, -1.f, 1.f);
     // The part: on top of the head ahead of the whorl, hair runs away from the part line.
     if (spec.part != GrowthSpec::Part::kNone) {
-        const float z_end = 0.9f - spec.part_length * (0.9f - w.z());
-        const float p = smoothstep(z_end - 0.05f, z_end + 0.2f, r.z()) *
-                        smoothstep(-0.1f, 0.35f, r.y()) * smoothstep(0.15f, 0.45f, from_whorl);
+        const float a = over_the_top(r), end = part_end(spec);
+        const float p = smoothstep(kPartStart - 0.3f, kPartStart, a) *
+                        (1.f - smoothstep(end - 0.1f, end + 0.2f, a)) *
+                        smoothstep(0.15f, 0.45f, from_whorl);
         d = lerp(d, Vec3f(sigma, 0.f, -0.25f), p);
     }
     // The front hairline: to the sides past the temples, back over the head, or forward.

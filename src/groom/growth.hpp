@@ -20,7 +20,8 @@ struct GrowthSpec {
     // kSide: the part's distance from the midline, in head units along x; positive on the
     // subject's left (+X, hair swept to the right), negative on the right. Ignored for kCentre.
     float part_offset = 0.3f;
-    // How far the part runs back from the front hairline: up to the whorl at 1. In (0, 1.5].
+    // How far the part runs back from the front hairline over the top: up to the whorl at 1,
+    // on down the back beyond (2.5 reaches the nape). In (0, 3].
     float part_length = 1.f;
     // Front hairline hair: to the sides of the face past the temples (the part's sides; with
     // no part, either side of the midline), back over the head, or forward as a fringe.
@@ -39,8 +40,8 @@ Vec3f growth_direction(const GrowthSpec& spec, const Vec3f& r);
 // The part line's x (head units) at the front of the head, signed; 0 for a centre part.
 float part_x(const GrowthSpec& spec);
 
-// Whether unit direction r lies within `half_width` (head units) of the part line, on top of
-// the head in front of the whorl. False when there is no part.
+// Whether unit direction r lies within `half_width` (head units) of the part line, which runs
+// from the front hairline over the top (part_length). False when there is no part.
 bool on_part(const GrowthSpec& spec, const Vec3f& r, float half_width);
 
 }  // namespace wisp

@@ -112,6 +112,8 @@ std::vector<GroupSpec> updo_groups(const UpdoSpec& spec) {
     group.queue.push_back(trajectory_constraint(ConstraintSpec::Kind::kTrajectory,
                                                 std::move(spiral), true, spec.radius, spec.weight));
     group.queue.back().hold = true;  // pinned: the bun moves with the head
+    // Hair longer than the spiral winds on round its outer turn, tucked into the bun.
+    group.queue.back().repeat = turns > 1.f ? 1.f / turns : 1.f;
     return {std::move(group)};
 }
 

@@ -116,6 +116,9 @@ struct ConstraintSpec {
     // where they meet this constraint, as a tie or hairpins hold them. Point constraints
     // (ties) hold by default.
     bool hold = false;
+    // A holding trajectory (a bun): hair longer than the trajectory winds on over its last
+    // `repeat` of arc length (a fraction in [0, 1]; 0: it leaves the trajectory at its end).
+    float repeat = 0.f;
     // Positions in head units (the default, so that styles fit any head): p ↦ c + R·p, with c
     // the centre and R the radius of the sphere fitted to the scalp (Scalp::center(), crown);
     // radius is then in head units too. false: centimetres in head space.

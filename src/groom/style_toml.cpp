@@ -786,7 +786,7 @@ void Parser::read_growth(const toml::table* root, Style& style) const {
     }
     opt_real(growth, "growth", "part_offset", spec.part_offset, Range{0, 0.8, true});
     spec.part_offset = side * std::abs(spec.part_offset);
-    opt_real(growth, "growth", "part_length", spec.part_length, Range{0, 1.5, true});
+    opt_real(growth, "growth", "part_length", spec.part_length, Range{0, 3, true});
     if (const toml::node* n = growth->get("front"))
         spec.front = choice<GrowthSpec::Front>(*n, "growth.front",
                                                {{"sides", GrowthSpec::Front::kSides},

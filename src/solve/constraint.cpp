@@ -9,12 +9,22 @@
 #include "groom/maps.hpp"
 
 namespace wisp {
+namespace {
+
+float smoothstep(float e0, float e1, float x) {
+    const float t = std::clamp((x - e0) / (e1 - e0), 0.f, 1.f);
+    return t * t * (3.f - 2.f * t);
+}
+
+}  // namespace
 
 Constraint resolve_constraint(const ConstraintSpec& spec, const HeadFrame& head) {
     Constraint c;
     c.kind = spec.kind;
     c.weight = spec.weight;
     c.hold = spec.hold;
+    c.head_center = head.center;
+    c.head_radius = head.radius;
     auto place = [&](const Vec3f& p) { return spec.head_relative ? head.to_space(p) : p; };
     c.radius = spec.head_relative ? spec.radius * head.radius : spec.radius;
     c.point = place(spec.point);
@@ -31,19 +41,24 @@ Constraint resolve_constraint(const ConstraintSpec& spec, const HeadFrame& head)
     c.arc.assign(c.path.size(), 0.f);
     for (size_t i = 1; i < c.path.size(); ++i)
         c.arc[i] = c.arc[i - 1] + (c.path[i] - c.path[i - 1]).norm();
+    if (spec.repeat > 0.f && c.arc.size() >= 2)
+        c.repeat_from = c.arc.back() * (1.f - std::min(spec.repeat, 1.f));
     return c;
 }
 
-PathPoint nearest_on_path(const Constraint& c, const Vec3f& x) {
+PathPoint nearest_on_path(const Constraint& c, const Vec3f& x, float lo, float hi, float* arc) {
     PathPoint best;
     if (c.path.size() < 2) {
         best.position = c.path.empty() ? c.point : c.path[0];
         best.tangent = Vec3f::UnitY();
+        if (arc) *arc = 0.f;
         return best;
     }
-    float best_d = INFINITY;
+    const size_t first = static_cast<size_t>(std::max<ptrdiff_t>(
+        std::lower_bound(c.arc.begin(), c.arc.end(), lo) - c.arc.begin() - 1, 0));
+    float best_d = INFINITY, best_arc = 0.f;
     const float total = std::max(c.arc.back(), 1e-6f);
-    for (size_t i = 0; i + 1 < c.path.size(); ++i) {
+    for (size_t i = first; i + 1 < c.path.size() && c.arc[i] <= hi; ++i) {
         const Vec3f a = c.path[i], e = c.path[i + 1] - a;
         const float len2 = e.squaredNorm();
         const float f = len2 > 0.f ? std::clamp((x - a).dot(e) / len2, 0.f, 1.f) : 0.f;
@@ -53,10 +68,36 @@ PathPoint nearest_on_path(const Constraint& c, const Vec3f& x) {
             best_d = d;
             best.position = q;
             best.tangent = len2 > 0.f ? Vec3f(e / std::sqrt(len2)) : Vec3f::UnitY();
-            best.t = (c.arc[i] + f * (c.arc[i + 1] - c.arc[i])) / total;
+            best_arc = c.arc[i] + f * (c.arc[i + 1] - c.arc[i]);
+            best.t = best_arc / total;
         }
     }
+    if (arc) *arc = best_arc;
     return best;
+}
+
+PathPoint point_at_arc(const Constraint& c, float s) {
+    PathPoint p;
+    if (c.path.size() < 2) {
+        p.position = c.path.empty() ? c.point : c.path[0];
+        p.tangent = Vec3f::UnitY();
+        return p;
+    }
+    const float total = std::max(c.arc.back(), 1e-6f);
+    s = std::clamp(s, 0.f, c.arc.back());
+    size_t i = static_cast<size_t>(std::upper_bound(c.arc.begin(), c.arc.end(), s) - c.arc.begin());
+    i = std::clamp<size_t>(i, 1, c.path.size() - 1) - 1;
+    const float len = c.arc[i + 1] - c.arc[i];
+    const float f = len > 0.f ? (s - c.arc[i]) / len : 0.f;
+    const Vec3f e = c.path[i + 1] - c.path[i];
+    p.position = c.path[i] + f * e;
+    p.tangent = e.norm() > 0.f ? Vec3f(e.normalized()) : Vec3f::UnitY();
+    p.t = s / total;
+    return p;
+}
+
+PathPoint nearest_on_path(const Constraint& c, const Vec3f& x) {
+    return nearest_on_path(c, x, -INFINITY, INFINITY, nullptr);
 }
 
 Vec3f constraint_force(const Constraint& c, const Vec3f& x) {
@@ -64,7 +105,25 @@ Vec3f constraint_force(const Constraint& c, const Vec3f& x) {
         case ConstraintSpec::Kind::kPoint: {
             const Vec3f d = c.point - x;
             const float n = d.norm();
-            return n > 1e-6f ? Vec3f(d / n) : Vec3f::Zero();
+            if (!(n > 1e-6f)) return Vec3f::Zero();
+            const Vec3f direct = d / n;
+            const Vec3f r = x - c.head_center;
+            const float dist = r.norm();
+            if (!(c.head_radius > 0.f) || dist < 1e-4f) return direct;
+            // Far from the tie (seen from the head's centre), along the sphere toward it,
+            // hugging the head (its density keeps hair out): drawn in a little, more where it
+            // stands out past the tie's shell. Near the tie, straight to it.
+            const Vec3f rn = r / dist;
+            const Vec3f to_tie = c.point - c.head_center;
+            const float shell = to_tie.norm();
+            const float angle =
+                std::acos(std::clamp(rn.dot(to_tie) / std::max(shell, 1e-6f), -1.f, 1.f));
+            const float wrap = smoothstep(0.15f, 0.45f, angle);
+            const Vec3f along = d - d.dot(rn) * rn;
+            if (wrap <= 0.f || along.norm() < 1e-6f) return direct;
+            const float out = std::clamp((dist - shell) / (0.1f * shell), 0.f, 1.f);
+            const Vec3f hug = (along.normalized() - (0.2f + 0.5f * out) * rn).normalized();
+            return ((1.f - wrap) * direct + wrap * hug).normalized();
         }
         case ConstraintSpec::Kind::kTrajectory: {
             const PathPoint p = nearest_on_path(c, x);

@@ -19,6 +19,11 @@ struct Constraint {
     float radius = 1.f;       // cm
     float weight = 1.f;
     bool hold = false;  // ConstraintSpec::hold
+    // The head's sphere (HeadFrame): a point constraint's pull wraps around it. Radius 0: no
+    // head, pull in straight lines.
+    Vec3f head_center = Vec3f::Zero();
+    float head_radius = 0.f;
+    float repeat_from = -1.f;  // arc length from which a bun's trajectory repeats; < 0: never
 };
 
 Constraint resolve_constraint(const ConstraintSpec& spec, const HeadFrame& head);
@@ -30,8 +35,16 @@ struct PathPoint {
     float t = 0.f;
 };
 PathPoint nearest_on_path(const Constraint& c, const Vec3f& x);
+// The same among the path's points with arc length in [lo, hi] (cm); `arc` receives the
+// nearest point's arc length.
+PathPoint nearest_on_path(const Constraint& c, const Vec3f& x, float lo, float hi, float* arc);
+// The path's point at arc length s (clamped to the path), and its unit tangent.
+PathPoint point_at_arc(const Constraint& c, float s);
 
-// Ψ(x) of §4: point: the unit vector toward the attraction point; trajectory: toward the
+// Ψ(x) of §4: point: the unit vector toward the attraction point, or, further than ~15° from
+// it seen from the head's centre, along the head's sphere toward it (as a hand draws hair
+// over the scalp to a tie), drawn in a little to hug the scalp; trajectory:
+// toward the
 // nearest point of the trajectory outside the tolerance radius, along its tangent inside;
 // direction: along the tangent inside the influence radius, zero outside.
 Vec3f constraint_force(const Constraint& c, const Vec3f& x);

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "core/rng.hpp"
+
 namespace wisp {
 namespace {
 
@@ -61,7 +63,6 @@ class Solver {
             for (uint32_t w : in.groups[g].wisps)
                 if (group_of_[w] < 0) group_of_[w] = static_cast<int>(g);
         active_.assign(in.groups.size(), 0);
-        met_.assign(w_count, 0);
         wisp_stage_.assign(w_count, 0);
         bend_ = spec.bend_step * kPi / 180.f;
         inv_cell3_ = 1.f / (rho_.cell() * rho_.cell() * rho_.cell());
@@ -70,6 +71,15 @@ class Solver {
         for (size_t g = 0; g < in.groups.size(); ++g)
             met_count_[g].assign(in.groups[g].queue.size(), 0);
         stats_.held_length.assign(w_count, 0.f);
+        following_.assign(w_count, nullptr);
+        follow_arc_.assign(w_count, 0.f);
+        // Each wisp keeps its own place across a followed trajectory's tube (so a braid's
+        // strand or a bun's coil is a bundle as wide as the tube, not a single curve).
+        follow_offset_.resize(w_count);
+        for (size_t w = 0; w < w_count; ++w) {
+            Rng rng(0x7a11, Stream::kMisc, w);
+            follow_offset_[w] = (0.8f * std::cbrt(rng.uniform())) * rng.unit_vector();
+        }
         nearest_tie_.assign(w_count, 0);
         nearest_tie_distance_.assign(w_count, std::numeric_limits<float>::infinity());
     }
@@ -103,6 +113,11 @@ class Solver {
             out.name = in_.groups[g].name;
             out.constraints = static_cast<int>(in_.groups[g].queue.size());
             out.completed = spec_.depth_first ? 0 : active_[g];
+            // The last wisps meet a constraint at their last joints, too late for the group to
+            // move on: it completed a constraint that 95% of its wisps met.
+            while (!spec_.depth_first && out.completed < out.constraints && members[g] &&
+                   met_count_[g][out.completed] >= 0.95 * double(members[g]))
+                ++out.completed;
             out.wisps = members[g];
             for (size_t k = 0; k < met_count_[g].size(); ++k) {
                 out.met.push_back(members[g] ? float(met_count_[g][k]) / float(members[g]) : 0.f);
@@ -148,13 +163,50 @@ class Solver {
         return g;
     }
 
-    // The constraint that currently acts on wisp w, or null.
+    // The constraint that currently acts on wisp w, or null. A wisp that met a constraint
+    // goes on to the next at once (hair gathered at a tie is braided or wound on from there);
+    // breadth-first, the group also carries on the wisps that lag when it moves on.
+    size_t stage(size_t w, bool per_wisp_queue) const {
+        const int g = group_of_[w];
+        return per_wisp_queue ? wisp_stage_[w]
+                              : std::max<size_t>(wisp_stage_[w], static_cast<size_t>(active_[g]));
+    }
     const Constraint* active_constraint(size_t w, bool per_wisp_queue) const {
         const int g = group_of_[w];
-        if (g < 0 || met_[w]) return nullptr;
+        if (g < 0) return nullptr;
         const auto& queue = in_.groups[g].queue;
-        const size_t k = per_wisp_queue ? wisp_stage_[w] : static_cast<size_t>(active_[g]);
+        const size_t k = stage(w, per_wisp_queue);
         return k < queue.size() ? &queue[k] : nullptr;
+    }
+
+    // A trajectory with w = 1 is followed, as hands lay hair along a braid or round a bun:
+    // once wisp w is within the tube, each joint advances its place on the path by a segment
+    // (a bun's trajectory winds on over its last turn). Returns the direction to take, or
+    // false while the wisp has not reached the tube. `end` tells it reached the path's end.
+    bool follow(size_t w, const Constraint& c, const Vec3f& x, float s, Vec3f& q, bool& end) {
+        end = false;
+        if (following_[w] != &c) {
+            float arc = 0.f;
+            const PathPoint p = nearest_on_path(c, x, -INFINITY, INFINITY, &arc);
+            if ((p.position - x).norm() > c.radius + s) return false;
+            following_[w] = &c;
+            follow_arc_[w] = arc;
+        }
+        const float total = c.arc.empty() ? 0.f : c.arc.back();
+        float target = follow_arc_[w] + s;
+        if (target >= total) {
+            if (c.repeat_from >= 0.f && total - c.repeat_from > s)
+                target = c.repeat_from + std::fmod(target - c.repeat_from, total - c.repeat_from);
+            else
+                end = true;
+        }
+        const PathPoint p = point_at_arc(c, target);
+        const Vec3f& o = follow_offset_[w];
+        const Vec3f goal = p.position + c.radius * (o - o.dot(p.tangent) * p.tangent);
+        const Vec3f v = goal - x;
+        q = v.norm() > 1e-6f ? Vec3f(v.normalized()) : p.tangent;
+        follow_arc_[w] = std::min(target, total);
+        return true;
     }
 
     void place(size_t w, int j, bool per_wisp_queue) {
@@ -166,11 +218,15 @@ class Solver {
 
         Vec3f phi = (*in_.field)(x);
         const Constraint* c = active_constraint(w, per_wisp_queue);
+        Vec3f followed;
+        bool at_end = false;
+        const bool following = c && c->kind == ConstraintSpec::Kind::kTrajectory &&
+                               c->weight >= 0.99f && follow(w, *c, x, s, followed, at_end);
         if (c) {
             phi = constrained_field(phi, constraint_force(*c, x), c->weight);
             ++stats_.constrained;
         }
-        Vec3f q = best_direction(phi, q0, spec_.stiffness);
+        Vec3f q = following ? followed : best_direction(phi, q0, spec_.stiffness);
         // Decided once per joint, at the joint: nearest_on_path is not cheap.
         // A tie with w = 1 pulls hair in like a hand gathering it: while it acts, and within
         // reach of a trajectory's tube, hair passes through hair.
@@ -184,7 +240,7 @@ class Solver {
         bool collided = false;
         Vec3f best_q = q;
         float best_density = INFINITY;
-        for (;;) {
+        for (; !following;) {
             const Vec3f end = x + s * q, mid = x + 0.5f * s * q;
             const float d_end = total_density(end), d_mid = total_density(mid);
             const float worst = std::max(d_end, d_mid);
@@ -254,18 +310,19 @@ class Solver {
         deposit(rho_, x + 0.5f * s * q,
                 static_cast<float>(in_.wisp_strands[w]) * s / spec_.full_density * inv_cell3_);
 
-        if (c && constraint_met(*c, x, m_.outline[base + j + 1])) {
+        // A followed trajectory is met at its end; a bun's, which winds on, when the wisp ends
+        // in it.
+        const bool met = following ? at_end || (c->repeat_from >= 0.f && j + 2 == n)
+                                   : c && constraint_met(*c, x, m_.outline[base + j + 1]);
+        if (met) {
             if (c->hold) stats_.held_length[w] = reached;
-            ++met_count_[group_of_[w]][c - in_.groups[group_of_[w]].queue.data()];
-            if (per_wisp_queue) {
-                ++wisp_stage_[w];
-            } else {
-                met_[w] = 1;
-            }
+            const size_t k = static_cast<size_t>(c - in_.groups[group_of_[w]].queue.data());
+            ++met_count_[group_of_[w]][k];
+            wisp_stage_[w] = static_cast<uint32_t>(k + 1);
         }
     }
 
-    // §4: a group moves to its next constraint once all its wisps meet the active one. A
+    // §4: a group moves to its next constraint once all its wisps met the active one. A
     // few wisps that collisions keep from ever meeting it must not hold the rest forever:
     // the group also moves on when 80% have met it and no more did over the last 3 joints.
     void advance_groups() {
@@ -278,7 +335,7 @@ class Solver {
             for (uint32_t w : group.wisps)
                 if (group_of_[w] == static_cast<int>(g)) {
                     ++members;
-                    met += met_[w];
+                    met += wisp_stage_[w] > static_cast<uint32_t>(active_[g]);
                 }
             stalled_[g] = met == last_met_[g] ? stalled_[g] + 1 : 0;
             last_met_[g] = met;
@@ -288,8 +345,6 @@ class Solver {
             ++active_[g];
             stalled_[g] = 0;
             last_met_[g] = 0;
-            for (uint32_t w : group.wisps)
-                if (group_of_[w] == static_cast<int>(g)) met_[w] = 0;
         }
     }
 
@@ -300,13 +355,15 @@ class Solver {
     std::vector<Vec3f> dir_;
     std::vector<int> group_of_;
     std::vector<int> active_;
-    std::vector<uint8_t> met_;
     std::vector<uint32_t> wisp_stage_;
     // The joint of each wisp closest to a holding point constraint that was acting on it
     // (0: none), and its distance.
     std::vector<int> nearest_tie_;
     std::vector<float> nearest_tie_distance_;
     std::vector<int> stalled_;
+    std::vector<const Constraint*> following_;    // per wisp: the trajectory it follows
+    std::vector<float> follow_arc_;               // per wisp: its arc length along it, cm
+    std::vector<Vec3f> follow_offset_;            // per wisp: its place across the tube
     std::vector<std::vector<size_t>> met_count_;  // per group, per constraint: wisps that met it
     bool squeeze_ = false;
     std::vector<size_t> last_met_;

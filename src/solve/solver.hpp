@@ -43,7 +43,8 @@ struct SolveStats {
     struct Group {
         std::string name;
         int constraints = 0;     // in its queue
-        int completed = 0;       // constraints the group moved past (all or enough wisps met)
+        int completed = 0;       // constraints the group moved past (all or enough wisps met,
+                                 // or 95% by the end)
         size_t wisps = 0;        // wisps it holds
         std::vector<float> met;  // #constraints
     };

@@ -21,18 +21,18 @@ inline const Head& builtin_head() {
     return head;
 }
 
-// A preset at a small size (wisps, strands, points per strand).
+// A preset at a small size (wisps, strands, points per strand). `unparted`: without the
+// growth field, hair falling from the scalp under gravity alone.
 inline Groomed groomed(const std::string& preset, int wisps = 120, int strands = 1200,
-                       int points = 16) {
+                       int points = 16, bool unparted = false) {
     Groomed g;
     g.style = load_preset(preset);
     g.style.wisps = wisps;
     g.style.strands = strands;
     g.style.points_per_strand = points;
-    // The animation tests were tuned on hair falling under gravity alone; the growth field's
-    // parted styles are checked by solve/preset_quality_test.
-    std::erase_if(g.style.solve.field,
-                  [](const FieldTerm& t) { return t.kind == FieldTerm::Kind::kGrowth; });
+    if (unparted)
+        std::erase_if(g.style.solve.field,
+                      [](const FieldTerm& t) { return t.kind == FieldTerm::Kind::kGrowth; });
     HairstyleResult r = generate_hairstyle(g.style, builtin_head());
     g.hair = std::move(r.hair);
     g.held = std::move(r.solve.held_length);

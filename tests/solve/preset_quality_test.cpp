@@ -11,9 +11,11 @@
 //    front of the scalp there leaves it more than half see-through.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "groom/style_toml.hpp"
+#include "solve/constraint.hpp"
 #include "solve/coverage.hpp"
 #include "solve/pipeline.hpp"
 
@@ -102,22 +104,28 @@ std::string test_name(const testing::TestParamInfo<std::string>& info) {
     return name;
 }
 
-// The presets reworked so far (issue 12); the rest join as they pass.
+// Every preset but those still being reworked (issue 12), which join as they pass.
+std::vector<std::string> all_but(const std::vector<std::string>& pending) {
+    std::vector<std::string> out;
+    for (const std::string& name : preset_names())
+        if (std::find(pending.begin(), pending.end(), name) == pending.end()) out.push_back(name);
+    return out;
+}
+
 class OnTheBuiltInHead : public testing::TestWithParam<std::string> {};
 TEST_P(OnTheBuiltInHead, ReadsAsHair) {
     expect_reads_as_hair(GetParam(), builtin(), true);
 }
-INSTANTIATE_TEST_SUITE_P(Presets, OnTheBuiltInHead,
-                         testing::Values("default", "long-straight", "curly", "short", "wavy-bob",
-                                         "side-swept"),
+INSTANTIATE_TEST_SUITE_P(Presets, OnTheBuiltInHead, testing::ValuesIn(all_but({"bangs"})),
                          test_name);
 
 class OnTheMakeHumanHead : public testing::TestWithParam<std::string> {};
 TEST_P(OnTheMakeHumanHead, ReadsAsHair) {
     expect_reads_as_hair(GetParam(), makehuman(), false);
 }
-INSTANTIATE_TEST_SUITE_P(Presets, OnTheMakeHumanHead,
-                         testing::Values("default", "curly", "short", "wavy-bob"), test_name);
+INSTANTIATE_TEST_SUITE_P(
+    Presets, OnTheMakeHumanHead,
+    testing::ValuesIn(all_but({"bangs", "combed-back", "long-straight", "side-swept"})), test_name);
 
 // The measures themselves: bare scalp and a veiled face are seen when they are there.
 TEST(Coverage, SparseHairLeavesScalpBareAndNoHairCoversNothing) {
@@ -152,6 +160,95 @@ TEST(Coverage, AVeilOverTheFaceCoversItsWindow) {
     for (Vec3f& p : veil.points)
         p.z() = -20.f;
     EXPECT_EQ(face_coverage(veil, *builtin().mesh, face.eye_y, face.chin_y).covered, 0u);
+}
+
+}  // namespace
+}  // namespace wisp
+
+namespace wisp {
+namespace {
+
+// Fig. 11b, 15d: the braid preset's three strands cross over one another down the braid, at
+// least 6 times over its 20 cm, and the braid is tight and round in section.
+TEST(Braid, ThreeStrandsCrossDownAPlait) {
+    Style style = load_preset("braid");
+    style.strands /= 5;
+    style.wisps /= 4;
+    const HairstyleResult r = generate_hairstyle(style, builtin());
+    const HeadFrame frame = head_frame(*builtin().scalp);
+    // The preset's [[braid]]: start, axis and side in head units, about 2 head units long.
+    const Vec3f start = frame.to_space(Vec3f(0.f, -0.45f, -1.15f));
+    const Vec3f axis = Vec3f(0.f, -1.f, -0.12f).normalized();
+    const Vec3f side = Vec3f::UnitX();
+    const Vec3f depth = axis.cross(side);
+    const float length = 2.0f * frame.radius;
+    constexpr int kBins = 40;
+    std::vector<std::vector<double>> sum(3, std::vector<double>(kBins, 0.0));
+    std::vector<std::vector<int>> count(3, std::vector<int>(kBins, 0));
+    float lo_side = INFINITY, hi_side = -INFINITY, lo_depth = INFINITY, hi_depth = -INFINITY;
+    for (int g = 0; g < 3; ++g) {
+        const GroupSpec& group = style.groups.at(g);
+        ASSERT_EQ(group.name, "braid strand " + std::to_string(g));
+        for (uint32_t w : select_wisps(group.selection, r.masters.roots, *builtin().scalp, frame))
+            for (const Vec3f& p : r.masters.strand(w)) {
+                const Vec3f d = p - start;
+                const float t = d.dot(axis);
+                const float across = d.dot(side), deep = d.dot(depth);
+                if (t < 0.f || t >= length || std::hypot(across, deep) > 4.f) continue;
+                const int bin = static_cast<int>(t / length * kBins);
+                sum[g][bin] += across;
+                ++count[g][bin];
+                if (t > 0.15f * length && t < 0.85f * length) {
+                    lo_side = std::min(lo_side, across), hi_side = std::max(hi_side, across);
+                    lo_depth = std::min(lo_depth, deep), hi_depth = std::max(hi_depth, deep);
+                }
+            }
+    }
+    int crossings = 0;
+    for (int a = 0; a < 3; ++a)
+        for (int b = a + 1; b < 3; ++b) {
+            int last = 0;
+            for (int k = 0; k < kBins; ++k) {
+                if (!count[a][k] || !count[b][k]) continue;
+                const double diff = sum[a][k] / count[a][k] - sum[b][k] / count[b][k];
+                const int sign = diff > 0.1 ? 1 : diff < -0.1 ? -1 : 0;
+                if (sign && last && sign != last) ++crossings;
+                if (sign) last = sign;
+            }
+        }
+    EXPECT_GE(crossings, 6);
+    EXPECT_LT(hi_side - lo_side, 6.f);    // cm across
+    EXPECT_LT(hi_depth - lo_depth, 5.f);  // cm deep: round, not a flat ribbon
+    EXPECT_GT(hi_depth - lo_depth, 1.f);  // strands pass over and under
+}
+
+// Fig. 15c: the updo's hair past the tie is wound round the bun's centre into a compact
+// mass, not hanging below it.
+TEST(Bun, HairIsWoundIntoACompactMass) {
+    Style style = load_preset("updo");
+    style.strands /= 5;
+    style.wisps /= 4;
+    const HairstyleResult r = generate_hairstyle(style, builtin());
+    const HeadFrame frame = head_frame(*builtin().scalp);
+    const Vec3f centre = frame.to_space(Vec3f(0.f, 0.55f, -1.05f));  // the preset's [[updo]]
+    const float bun_radius = 0.38f * frame.radius;
+    size_t near = 0, total = 0;
+    float lowest = INFINITY;
+    for (size_t w = 0; w < r.masters.count(); ++w) {
+        const auto s = r.masters.strand(w);
+        // The part of the wisp after it first comes within the tie's tolerance.
+        size_t k = 0;
+        while (k < s.size() && (s[k] - centre).norm() > 0.18f * frame.radius + 1.f)
+            ++k;
+        for (; k < s.size(); ++k) {
+            ++total;
+            near += (s[k] - centre).norm() < 1.6f * bun_radius;
+            lowest = std::min(lowest, s[k].y());
+        }
+    }
+    ASSERT_GT(total, 1000u);
+    EXPECT_GT(double(near) / double(total), 0.95);
+    EXPECT_GT(lowest, centre.y() - 1.6f * bun_radius);
 }
 
 }  // namespace
