@@ -41,30 +41,34 @@ Vec3f swept_toward(const HeadFrame& head, const Vec3f& p, const Vec3f& pole) {
 
 // The growth term: the scalp's growth direction at the point of the head's sphere under p,
 // handing over to gravity off the head; hair in front of the face (below the brows for a
-// fringe)
-// is carried sideways, away from the part, out of the face.
+// fringe) is carried sideways, away from the part, out of the face. Most of the grid lies
+// far from the head, where it is gravity alone: each part is skipped outside its region.
 Vec3f grown(const HeadFrame& head, const GrowthSpec& growth, const Vec3f& p) {
     const Vec3f down(0.f, -1.f, 0.f);
-    const Vec3f d = p - head.center;
-    const float dist = d.norm();
-    if (dist < 1e-4f) return down;
-    const Vec3f r = d / dist;
-    const float near = 1.f - smoothstep(1.15f, 1.6f, dist / head.radius);
-    Vec3f phi = (1.f - near) * down + near * growth_direction(growth, r);
+    const Vec3f q = (p - head.center) / head.radius;  // head units
+    const float dist2 = q.squaredNorm();
+    if (dist2 < 1e-8f) return down;
+    Vec3f phi = down;
+    if (dist2 < 1.6f * 1.6f) {
+        const float dist = std::sqrt(dist2);
+        const float near = 1.f - smoothstep(1.15f, 1.6f, dist);
+        phi = (1.f - near) * down + near * growth_direction(growth, q / dist);
+    }
     // Below the skull, hair leaving the head falls as a curtain about as wide as the head
     // instead of closing in on the neck (a V-shaped tail): close to the head's vertical axis
     // it is carried outward.
-    const Vec3f q = d / head.radius;  // head units
-    const float axis = std::hypot(q.x(), q.z());
-    if (axis > 1e-4f) {
+    const float axis2 = q.x() * q.x() + q.z() * q.z();
+    if (q.y() < -0.2f && axis2 < 1.15f * 1.15f && axis2 > 1e-8f && dist2 > 1.15f * 1.15f) {
+        const float axis = std::sqrt(axis2);
+        const float off_head = smoothstep(1.15f, 1.6f, std::sqrt(dist2));
         const float curtain =
-            (1.f - near) * smoothstep(-0.2f, -0.7f, q.y()) * (1.f - smoothstep(0.8f, 1.15f, axis));
+            off_head * smoothstep(-0.2f, -0.7f, q.y()) * (1.f - smoothstep(0.8f, 1.15f, axis));
         phi += (0.6f * curtain / axis) * Vec3f(q.x(), 0.f, q.z());
     }
-    {
-        // A fringe may reach the brows; other hair is cleared from the hairline down.
-        const bool fringe = growth.front == GrowthSpec::Front::kFringe;
-        const float top = fringe ? 0.1f : 0.55f, full = fringe ? -0.15f : 0.2f;
+    // A fringe may reach the brows; other hair is cleared from the hairline down.
+    const bool fringe = growth.front == GrowthSpec::Front::kFringe;
+    const float top = fringe ? 0.1f : 0.55f, full = fringe ? -0.15f : 0.2f;
+    if (q.z() > 0.1f && q.y() < top && q.y() > -1.9f && std::abs(q.x()) < 0.9f) {
         const float x = q.x() - part_x(growth);
         const float face = smoothstep(0.1f, 0.4f, q.z()) * smoothstep(top, full, q.y()) *
                            smoothstep(-1.9f, -1.4f, q.y()) *

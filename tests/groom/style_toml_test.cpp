@@ -710,7 +710,8 @@ TEST(StyleToml, HairdressingPresetsShowTheirOperation) {
     const Style combed = load_preset("combed-back");
     EXPECT_EQ(only_kinds(combed), (std::vector<std::vector<CK>>{{CK::kDirection}}));
     ASSERT_FALSE(combed.solve.field.empty());
-    EXPECT_EQ(combed.solve.field[0].kind, FieldTerm::Kind::kPulledBack);
+    EXPECT_EQ(combed.solve.field[0].kind, FieldTerm::Kind::kGrowth);
+    EXPECT_EQ(combed.growth.front, GrowthSpec::Front::kBack);
 
     const Style swept = load_preset("side-swept");
     ASSERT_FALSE(swept.solve.field.empty());
