@@ -34,14 +34,21 @@ struct Measured {
 
 const char* const kViews[4] = {"top", "back", "left", "right"};
 
-Measured measure(const std::string& preset, const Head& head) {
+// A preset with a fifth of its strands and a quarter of its wisps, which keeps the tests
+// quick; the wisps' shapes and the solver's work per wisp stay those of the preset.
+// `widths` receives the factor that gives the fewer strands the same hair area.
+Style reduced(const std::string& preset, float* widths = nullptr) {
     Style style = load_preset(preset);
-    // A fifth of the strands and a quarter of the wisps keeps the test quick; the wisps'
-    // shapes and the solver's work per wisp stay those of the preset.
     const int full = style.strands;
     style.strands = std::max(style.strands / 5, 1);
-    const float widths = float(full) / float(style.strands);  // the same hair area
     style.wisps = std::max(std::min(style.wisps / 4, style.strands), 1);
+    if (widths) *widths = float(full) / float(style.strands);
+    return style;
+}
+
+Measured measure(const std::string& preset, const Head& head) {
+    float widths = 1.f;
+    const Style style = reduced(preset, &widths);
     const HairstyleResult r = generate_hairstyle(style, head);
     Measured m;
     m.inside = r.points_inside_head;
@@ -171,9 +178,7 @@ namespace {
 // Fig. 11b, 15d: the braid preset's three strands cross over one another down the braid, at
 // least 6 times over its 20 cm, and the braid is tight and round in section.
 TEST(Braid, ThreeStrandsCrossDownAPlait) {
-    Style style = load_preset("braid");
-    style.strands /= 5;
-    style.wisps /= 4;
+    const Style style = reduced("braid");
     const HairstyleResult r = generate_hairstyle(style, builtin());
     const HeadFrame frame = head_frame(*builtin().scalp);
     // The preset's [[braid]]: start, axis and side in head units, about 2 head units long.
@@ -225,9 +230,7 @@ TEST(Braid, ThreeStrandsCrossDownAPlait) {
 // Fig. 15c: the updo's hair past the tie is wound round the bun's centre into a compact
 // mass, not hanging below it.
 TEST(Bun, HairIsWoundIntoACompactMass) {
-    Style style = load_preset("updo");
-    style.strands /= 5;
-    style.wisps /= 4;
+    const Style style = reduced("updo");
     const HairstyleResult r = generate_hairstyle(style, builtin());
     const HeadFrame frame = head_frame(*builtin().scalp);
     const Vec3f centre = frame.to_space(Vec3f(0.f, 0.55f, -1.05f));  // the preset's [[updo]]
