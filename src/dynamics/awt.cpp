@@ -602,12 +602,15 @@ void AwtSimulation::integrate() {
     }
 }
 
+// How far past a body sphere's surface collide_body() leaves a node (cm).
+constexpr float kBodyMargin = 2e-3f;
+
 bool AwtSimulation::collide_body(uint32_t c, uint32_t p) {
     bool any = false;
     // The child end must leave every sphere; so must the child half of the segment (the
     // parent half is its own parent segment's business, and roots sit on the scalp). A few
     // rounds: leaving one sphere may enter an overlapping one.
-    for (int round = 0; round < 4; ++round) {
+    for (int round = 0; round < 8; ++round) {
         bool moved = false;
         const Vec3f a = x_[p];
         // The child half of the segment lies within `reach` of its child end.
@@ -627,9 +630,13 @@ bool AwtSimulation::collide_body(uint32_t c, uint32_t p) {
             Vec3f normal = dist > 1e-6f ? Vec3f(d / dist) : Vec3f(b - sphere.center);
             if (normal.squaredNorm() < 1e-12f) normal = Vec3f::UnitY();
             normal.normalize();
-            Vec3f to = b + (sphere.radius - dist) / t * normal;
+            // A little past the surface: in the crease between two overlapping spheres, leaving
+            // each exactly for its surface lands inside the other by less each round without
+            // ever leaving both.
+            const float out = sphere.radius + kBodyMargin;
+            Vec3f to = b + (out - dist) / t * normal;
             const Vec3f e = to - sphere.center;
-            if (e.norm() < sphere.radius) to = sphere.center + sphere.radius * e.normalized();
+            if (e.norm() < out) to = sphere.center + out * e.normalized();
             x_[c] = to;
             reach = 0.5f * (to - a).norm();
             moved = any = true;
@@ -639,7 +646,29 @@ bool AwtSimulation::collide_body(uint32_t c, uint32_t p) {
             const RigidTransform& pose = sphere.head ? head_ : body_;
             v_[c] = (sphere.head ? head_velocity_ : body_velocity_).at(pose.to_local(x_[c]));
         }
-        if (!moved) break;
+        if (!moved) return any;
+    }
+    // Still moving after every round: caught where spheres meet at a sharp crease, each push
+    // out of one landing in another. Leave them all along one line instead, the deepest
+    // sphere's normal, to the farthest of their surfaces on it (a few steps at most: every
+    // step leaves the spheres it was in for good).
+    for (int step = 0; step < 8; ++step) {
+        const Sphere* deepest = nullptr;
+        float depth = 0.f;
+        for (const Sphere& sphere : world_spheres_) {
+            const float d = sphere.radius - (x_[c] - sphere.center).norm();
+            if (d > depth) depth = d, deepest = &sphere;
+        }
+        if (!deepest) break;
+        Vec3f n = x_[c] - deepest->center;
+        n = n.squaredNorm() > 1e-12f ? Vec3f(n.normalized()) : Vec3f::UnitY();
+        float t = 0.f;  // the farthest exit along n: |x + t·n − c| = r, larger root
+        for (const Sphere& sphere : world_spheres_) {
+            const Vec3f e = x_[c] - sphere.center;
+            const float b = e.dot(n), q = e.squaredNorm() - sphere.radius * sphere.radius;
+            if (q < 0.f) t = std::max(t, -b + std::sqrt(b * b - q));
+        }
+        x_[c] += (t + kBodyMargin) * n;
     }
     return any;
 }

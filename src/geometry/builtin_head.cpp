@@ -9,8 +9,8 @@
 namespace wisp {
 namespace {
 
-// ---- The implicit head: a smooth union of ellipsoids and capsules. Values are approximate
-// signed distances in cm (negative inside), accurate near the surface.
+// ---- The implicit head: a smooth union of ellipsoids, capsules and a few shaped parts.
+// Values are approximate signed distances in cm (negative inside), accurate near the surface.
 
 float smin(float a, float b, float k) {  // polynomial smooth minimum, blend width k
     const float h = std::max(k - std::abs(a - b), 0.f) / k;
@@ -18,6 +18,10 @@ float smin(float a, float b, float k) {  // polynomial smooth minimum, blend wid
 }
 float smax(float a, float b, float k) {
     return -smin(-a, -b, k);
+}
+float smoothstep(float e0, float e1, float x) {
+    const float t = std::clamp((x - e0) / (e1 - e0), 0.f, 1.f);
+    return t * t * (3.f - 2.f * t);
 }
 
 // Ellipsoid bound (Quilez): exact on the surface, good nearby.
@@ -27,89 +31,260 @@ float ellipsoid(const Vec3f& p, const Vec3f& c, const Vec3f& r) {
     const float k1 = q.cwiseQuotient(r.cwiseProduct(r)).norm();
     return k1 > 1e-12f ? k0 * (k0 - 1.f) / k1 : -r.minCoeff();
 }
-
-const Vec3f kEarCentre(7.3f, -0.2f, -0.9f);
-const Vec3f kEarRadii(0.9f, 2.9f, 1.8f);
-
-float capsule(const Vec3f& p, const Vec3f& a, const Vec3f& b, float r) {
-    const Vec3f pa = p - a, ba = b - a;
-    const float h = std::clamp(pa.dot(ba) / ba.squaredNorm(), 0.f, 1.f);
-    return (pa - h * ba).norm() - r;
+float ellipse(const Vec2f& q, const Vec2f& r) {  // the same in the plane
+    const float k0 = q.cwiseQuotient(r).norm();
+    const float k1 = q.cwiseQuotient(r.cwiseProduct(r)).norm();
+    return k1 > 1e-12f ? k0 * (k0 - 1.f) / k1 : -r.minCoeff();
 }
 
-// Head space: origin between the ears (ear-canal height, mid-depth), Y up, +Z forward.
-// Each part is blended in only where it can change the result: a part whose bounding sphere
-// is further than the blend width from the current value is skipped, which keeps the field
-// cheap away from its own parts (the union is exact there, smin(a, b, k) = a for b >= a + k).
+// A capsule whose radius goes from ra at a to rb at b (linearly along the axis).
+float cone_capsule(const Vec3f& p, const Vec3f& a, const Vec3f& b, float ra, float rb) {
+    const Vec3f pa = p - a, ba = b - a;
+    const float h = std::clamp(pa.dot(ba) / ba.squaredNorm(), 0.f, 1.f);
+    return (pa - h * ba).norm() - (ra + (rb - ra) * h);
+}
+
+// The cranium: a superellipsoid, squarer than an ellipsoid in the horizontal section (the
+// forehead is broad and the sides flat), with its own radius on each side of the centre.
+// Distance estimate (g - 1) / |∇g| of the implicit g = 1 surface.
+float cranium(const Vec3f& p) {
+    const Vec3f c(0.f, 3.0f, -0.7f);
+    const Vec3f q = p - c;
+    const float taper = 1.f - 0.08f * smoothstep(-2.f, 9.f, q.z());  // narrower at the brow
+    const float rx = 7.55f * taper;
+    const float ry = q.y() > 0.f ? 9.5f : 8.0f;
+    const float rz = q.z() > 0.f ? 9.55f : 9.1f;
+    const float ax = std::abs(q.x()) / rx, az = std::abs(q.z()) / rz, ay = q.y() / ry;
+    // The horizontal section: |x/rx|^n + |z/rz|^n = 1, n = 3 in front, 2 (an ellipse) behind;
+    // big_h = h^(2/n) is the squared horizontal "radius", dh = ∂big_h/∂a / (2a) per axis.
+    float big_h, dhx, dhz;
+    if (q.z() > 0.f) {
+        const float h = ax * ax * ax + az * az * az;
+        const float cb = std::cbrt(h);
+        big_h = cb * cb;
+        const float s = cb > 1e-6f ? 1.f / cb : 0.f;  // h^(2/3 - 1)
+        dhx = s * ax;
+        dhz = s * az;
+    } else {
+        big_h = ax * ax + az * az;
+        dhx = dhz = 1.f;
+    }
+    const float g = std::sqrt(big_h + ay * ay);
+    // ∇g = (dhx·ax/rx, ay/ry, dhz·az/rz) / g.
+    const float gx = dhx * ax / rx, gy = ay / ry, gz = dhz * az / rz;
+    const float grad = std::sqrt(gx * gx + gy * gy + gz * gz);
+    return grad > 1e-9f ? g * (g - 1.f) / grad : -8.f;
+}
+
+// ---- The ear: a flattened shell in its own plane, facing out and a little forward, its
+// front edge sunk into the side of the head and its back edge standing off it; a rolled rim
+// (the helix) around the top and back, a bowl inside the rim, a lobe and a tragus. Solid
+// everywhere (no holes), so the surface stays genus 0.
+struct EarFrame {
+    Vec3f origin;
+    Vec3f n, a, b;  // out of the ear's face, up its long axis, forward across it
+};
+EarFrame make_ear_frame() {
+    const float yaw = 0.6f;    // radians the face turns forward from +X (the back stands off)
+    const float tilt = 0.26f;  // radians the long axis leans back at the top
+    EarFrame f;
+    f.origin = Vec3f(7.55f, 0.35f, -1.45f);
+    f.n = Vec3f(std::cos(yaw), 0.f, std::sin(yaw));
+    const Vec3f up(0.f, std::cos(tilt), -std::sin(tilt));
+    f.a = (up - up.dot(f.n) * f.n).normalized();
+    f.b = f.n.cross(f.a);  // forward-ish
+    return f;
+}
+const EarFrame kEar = make_ear_frame();
+const Vec3f kEarCentre = kEar.origin;  // for bounds and the scalp's ear test
+constexpr float kEarRadius = 3.8f;
+
+// The ear's outline in its plane: an egg 6.2 cm tall and 3.5 cm across, narrower at the lobe.
+float ear_outline(float b, float a) {
+    const float narrow = 1.f - 0.22f * smoothstep(0.5f, -3.f, a);
+    return ellipse(Vec2f(b / narrow, a), Vec2f(1.75f, 3.1f));
+}
+
+float ear(const Vec3f& m) {
+    const Vec3f q = m - kEar.origin;
+    const float n = q.dot(kEar.n), a = q.dot(kEar.a), b = q.dot(kEar.b);
+    const float outline = ear_outline(b, a);
+    auto at = [&](const Vec3f& c, const Vec3f& r) { return ellipsoid(Vec3f(b, a, n), c, r); };
+    // The plate: 1.5 cm thick (the outline extruded to 0.4 cm, its edges rounded by 0.55 cm),
+    // thick as a mannequin's, so that hair collisions, which see the head through a 0.75 cm
+    // grid, see it.
+    const float inner = outline + 0.55f, slab = std::abs(n + 0.15f) - 0.2f;
+    const float plate = std::hypot(std::max(inner, 0.f), std::max(slab, 0.f)) +
+                        std::min(std::max(inner, slab), 0.f) - 0.55f;
+    // The helix: a broad roll just inside the outline, raised on the outer face (its top flat
+    // enough for the collision grid, radius ~1.2 cm across), lower at the front where the ear
+    // meets the head.
+    const float rise = 0.45f - 0.15f * smoothstep(-0.2f, 1.4f, b) * smoothstep(-1.f, 1.5f, a) -
+                       0.15f * smoothstep(0.5f, -1.5f, a);
+    const float rim = ellipse(Vec2f(outline + 0.75f, n - 0.55f), Vec2f(0.75f, rise));
+    float d = smin(plate, rim, 0.3f);
+    // The lobe, fuller and rounder at the bottom, and the back of the ear's root, which fills
+    // the narrow of the fold between the ear and the head.
+    d = smin(d, at({0.15f, -2.55f, -0.1f}, {0.95f, 0.8f, 0.7f}), 0.4f);
+    d = smin(d, at({0.7f, -0.6f, -1.f}, {1.1f, 2.1f, 0.8f}), 0.8f);
+    // The bowl inside the rim (scapha and concha), deepest near the ear canal; its floor stays
+    // 1.2 cm thick.
+    d = smax(d, -at({0.05f, 0.15f, 1.f}, {1.1f, 2.2f, 0.62f}), 0.6f);
+    d = smax(d, -at({0.45f, -0.6f, 0.95f}, {0.75f, 0.85f, 0.55f}), 0.5f);
+    // The tragus: a small flap in front of the concha.
+    d = smin(d, at({1.35f, -0.75f, 0.55f}, {0.45f, 0.55f, 0.45f}), 0.25f);
+    return d;
+}
+
+// ---- The lips, in coordinates that wrap around the dental arch: s is the arc length along
+// the arch from the midline (cm), t the distance out of it, y the height.
+Vec3f arch_coordinates(const Vec3f& p) {
+    constexpr float kArchRadius = 5.0f, kArchZ = 4.45f;  // the arch's front is at z = 9.45
+    const float dz = p.z() - kArchZ;
+    const float rho = std::hypot(p.x(), dz);
+    return {kArchRadius * std::atan2(p.x(), dz), p.y(), rho - kArchRadius};
+}
+
+float lips(const Vec3f& p) {
+    const Vec3f q = arch_coordinates(p);
+    const float s = std::abs(q.x()), y = q.y(), t = q.z();
+    // Each lip is, at arc length s, an ellipse in the (y, t) section between its edge and the
+    // line of the mouth, thinning and sinking toward the corners (s = 2.7 cm).
+    const float w = std::clamp(s / 2.7f, 0.f, 1.f), w2 = w * w;
+    const float mouth = -4.95f + 0.1f * w2;  // the line between the lips, rising a little
+    // The upper edge: a Cupid's bow, two peaks 0.55 cm either side of the middle.
+    const float bow =
+        0.1f * std::exp(-(s - 0.55f) * (s - 0.55f) / 0.1f) - 0.06f * smoothstep(0.45f, 0.f, s);
+    const float top = -4.2f + bow - 0.45f * w2;
+    const float bottom = -5.95f + 0.6f * w2;  // the lower edge
+    auto lip = [&](float y0, float y1, float depth, float forward) {
+        const float d = ellipse(Vec2f(y - 0.5f * (y0 + y1), t - forward),
+                                Vec2f(0.5f * (y1 - y0), depth * (1.f - 0.5f * w2)));
+        return smax(d, s - 2.7f, 0.5f);
+    };
+    const float upper = lip(top, mouth, 0.4f, -0.25f - 0.25f * w2);
+    const float lower = lip(mouth, bottom, 0.45f, -0.35f - 0.3f * w2);
+    return smin(upper, lower, 0.2f);
+}
+
+// ---- The eyes: a ball in each socket behind lids that leave an almond-shaped opening.
+const Vec3f kEyeCentre(3.15f, 1.3f, 6.65f);  // right eye mirrored; pupils 6.3 cm apart
+constexpr float kEyeRadius = 1.15f;
+
+float eye_and_lids(const Vec3f& m) {
+    const Vec3f q = m - kEyeCentre;
+    const float r = q.norm();
+    // The lids: shells over the ball parted by an almond 2.8 cm wide and 1.05 cm tall whose
+    // edges are arcs through the corners (the outer corner a little higher). Each lid thickens
+    // away from its edge, the upper to 0.3 cm, the lower to 0.2 cm.
+    const float x = q.x(), y = q.y() - 0.06f * q.x();
+    constexpr float kHalfWidth = 1.4f, kTop = 0.5f, kBottom = 0.55f;
+    auto arc = [](float half_width, float height) {  // radius of the arc through the corners
+        return (half_width * half_width + height * height) / (2.f * height);
+    };
+    const float ru = arc(kHalfWidth, kTop), rl = arc(kHalfWidth, kBottom);
+    // > 0 inside the almond's upper arc (under the upper lid's edge), likewise the lower.
+    const float under_upper = ru - std::hypot(x, y - (kTop - ru));
+    const float over_lower = rl - std::hypot(x, y + (kBottom - rl));
+    const float upper =
+        std::max(r - kEyeRadius - 0.06f - 0.24f * smoothstep(0.f, 0.6f, -under_upper), under_upper);
+    const float lower =
+        std::max(r - kEyeRadius - 0.05f - 0.15f * smoothstep(0.f, 0.5f, -over_lower), over_lower);
+    return smin(r - kEyeRadius, std::min(upper, lower), 0.08f);
+}
+
+// ---- The whole head and bust, in head space: origin between the ears at ear-canal height, Y
+// up, +Z forward, cm. Each part is blended in only where it can change the result: a part
+// whose bounding sphere is further than the blend width from the current value is skipped,
+// which keeps the field cheap away from its own parts (the union is exact there, smin(a, b, k)
+// = a for b >= a + k).
 float head_field(const Vec3f& p) {
     const Vec3f m(std::abs(p.x()), p.y(), p.z());  // mirror: the head is symmetric in x
-    auto near = [](const Vec3f& q, const Vec3f& c, float radius, float bound) {
-        return (q - c).squaredNorm() < (radius + bound) * (radius + bound);
-    };
     float d = 1e3f;
+    // Blends part() (bounded by the sphere (c, radius)) into d with width k, or removes it.
     auto add = [&](const Vec3f& q, const Vec3f& c, float radius, float k, auto&& part) {
-        if (d > 1e2f || near(q, c, radius, d + k + 0.5f)) d = smin(d, part(), k);
+        const float reach = radius + d + k + 0.5f;
+        if (d > 1e2f || (q - c).squaredNorm() < reach * reach) d = smin(d, part(), k);
     };
     auto carve = [&](const Vec3f& q, const Vec3f& c, float radius, float k, auto&& part) {
-        if (near(q, c, radius, k - d + 0.5f)) d = smax(d, -part(), k);
+        const float reach = radius + k - d + 0.5f;
+        if (reach > 0.f && (q - c).squaredNorm() < reach * reach) d = smax(d, -part(), k);
+    };
+    auto add_ellipsoid = [&](const Vec3f& q, const Vec3f& c, const Vec3f& r, float k) {
+        add(q, c, r.maxCoeff(), k, [&] { return ellipsoid(q, c, r); });
+    };
+    auto carve_ellipsoid = [&](const Vec3f& q, const Vec3f& c, const Vec3f& r, float k) {
+        carve(q, c, r.maxCoeff(), k, [&] { return ellipsoid(q, c, r); });
+    };
+    auto add_capsule = [&](const Vec3f& q, const Vec3f& a, const Vec3f& b, float ra, float rb,
+                           float k) {
+        add(q, 0.5f * (a + b), 0.5f * (b - a).norm() + std::max(ra, rb), k,
+            [&] { return cone_capsule(q, a, b, ra, rb); });
     };
 
-    // Chest and back, cut flat at the bottom.
-    add(p, {0.f, -32.f, -0.6f}, 16.f, 5.f, [&] {
-        return smax(ellipsoid(p, {0.f, -32.f, -0.6f}, {16.f, 11.5f, 10.f}), -38.f - p.y(), 1.5f);
+    // -- The big forms first, so that the small ones are skipped wherever they cannot matter.
+    // Cranium and the back of the skull.
+    add(p, {0.f, 3.f, -0.7f}, 10.f, 2.f, [&] { return cranium(p); });
+    add_ellipsoid(p, {0.f, 1.8f, -4.6f}, {6.3f, 6.8f, 4.8f}, 2.f);
+
+    // -- Face: the mass of the face from the brow to the jaw, full in the cheeks, cut below by
+    // the plane through the angles of the jaw and the bottom of the chin, so the jaw line
+    // shows above the neck.
+    add(p, {0.f, -2.2f, 2.8f}, 7.3f, 2.f, [&] {
+        const float under_jaw = -(0.899f * (p.y() + 10.1f) + 0.437f * (p.z() - 7.f));
+        return smax(ellipsoid(p, {0.f, -2.2f, 2.8f}, {6.3f, 7.3f, 6.2f}), under_jaw, 1.f);
     });
-    // Shoulders' trapezius slope and the neck, slightly forward-leaning.
-    add(m, {8.f, -23.75f, -1.5f}, 11.5f, 5.f, [&] {
-        return capsule(m, {1.5f, -22.5f, -1.5f}, {14.5f, -25.0f, -1.5f}, 4.8f);
+    // -- Neck: an oval column leaning forward, the sternocleidomastoid muscles running from
+    // behind the ears to the top of the breastbone.
+    add(p, {0.f, -12.f, -1.6f}, 13.f, 2.5f, [&] {
+        const Vec3f s(p.x(), p.y(), p.z() * 0.92f);
+        return cone_capsule(s, {0.f, -19.f, -2.8f * 0.92f}, {0.f, -5.f, -0.6f * 0.92f}, 5.6f, 4.9f);
     });
-    add(p, {0.f, -12.5f, -1.2f}, 14.f, 2.f, [&] {
-        return capsule(p, {0.f, -4.f, -1.6f}, {0.f, -21.f, -0.8f}, 5.6f);
+    add_capsule(m, {4.9f, -3.4f, -2.6f}, {1.5f, -19.0f, 4.0f}, 1.2f, 0.9f, 1.6f);
+
+    // -- Bust: the rib cage cut flat at the bottom, the shoulder girdle across its top (the
+    // collarbones and shoulder blades, so the shoulders are one mass with the chest, not balls
+    // beside it), chest and back muscles, collarbones.
+    add(p, {0.f, -31.f, -0.8f}, 13.5f, 5.f, [&] {
+        return smax(ellipsoid(p, {0.f, -31.f, -0.8f}, {13.5f, 13.f, 9.6f}), -38.f - p.y(), 1.5f);
     });
-    // Cranium: longer than wide, fuller at the back (occiput) than at the forehead.
-    add(p, {0.f, 2.6f, -1.0f}, 9.4f, 2.f, [&] {
-        return ellipsoid(p, {0.f, 2.6f, -1.0f}, {7.5f, 9.4f, 9.3f});
-    });
-    add(p, {0.f, 1.6f, -3.6f}, 8.f, 2.f, [&] {
-        return ellipsoid(p, {0.f, 1.6f, -3.6f}, {7.3f, 8.0f, 7.3f});
-    });
-    // Face: forehead down to the jaw, narrowing toward the chin.
-    add(p, {0.f, -1.4f, 2.6f}, 8.2f, 2.5f, [&] {
-        const float taper = 1.f + 0.45f * std::clamp((-p.y() - 1.f) / 9.f, 0.f, 1.f);
-        const Vec3f pf(p.x() * taper, p.y(), p.z());
-        return ellipsoid(pf, {0.f, -1.4f, 2.6f}, {6.6f, 8.2f, 6.2f});
-    });
-    // Chin and jaw angles.
-    add(p, {0.f, -8.3f, 6.2f}, 2.7f, 1.5f, [&] {
-        return ellipsoid(p, {0.f, -8.3f, 6.2f}, {2.7f, 1.9f, 2.3f});
-    });
-    add(m, {4.6f, -5.6f, 1.2f}, 3.2f, 2.f, [&] {
-        return ellipsoid(m, {4.6f, -5.6f, 1.2f}, {1.7f, 2.2f, 3.2f});
-    });
-    // Cheekbones and brow.
-    add(m, {4.3f, -0.8f, 5.6f}, 2.f, 1.5f, [&] {
-        return ellipsoid(m, {4.3f, -0.8f, 5.6f}, {2.0f, 1.4f, 2.0f});
-    });
-    add(p, {0.f, 2.6f, 7.6f}, 5.2f, 1.5f, [&] {
-        return ellipsoid(p, {0.f, 2.6f, 7.6f}, {5.2f, 1.4f, 1.5f});
-    });
-    // Eye sockets, shallow so the surface stays a sphere topologically.
-    carve(m, {3.1f, 1.1f, 9.5f}, 1.5f, 1.f, [&] {
-        return ellipsoid(m, {3.1f, 1.1f, 9.5f}, {1.5f, 1.0f, 1.2f});
-    });
-    // Nose: bridge and tip with nostrils.
-    add(p, {0.f, -0.3f, 9.6f}, 3.0f, 1.2f, [&] {
-        return capsule(p, {0.f, 1.6f, 8.6f}, {0.f, -2.2f, 10.6f}, 0.75f);
-    });
-    add(p, {0.f, -2.5f, 9.7f}, 1.6f, 0.8f, [&] {
-        return ellipsoid(p, {0.f, -2.5f, 9.7f}, {1.6f, 0.9f, 1.2f});
-    });
-    // Lips.
-    add(p, {0.f, -5.0f, 8.4f}, 2.4f, 0.8f, [&] {
-        return ellipsoid(p, {0.f, -5.0f, 8.4f}, {2.4f, 1.1f, 1.0f});
-    });
-    // Ears.
-    add(m, kEarCentre, kEarRadii.maxCoeff(), 0.8f,
-        [&] { return ellipsoid(m, kEarCentre, kEarRadii); });
+    add_ellipsoid(p, {0.f, -23.5f, -1.3f}, {17.f, 4.8f, 7.0f}, 4.f);
+    add_ellipsoid(m, {5.8f, -27.f, 4.6f}, {6.2f, 4.2f, 4.6f}, 3.f);
+    add_ellipsoid(m, {6.5f, -26.5f, -5.6f}, {6.0f, 6.0f, 4.5f}, 3.f);
+    // Shoulders: the trapezius sloping from the neck to the point of the shoulder, the deltoid
+    // rounding it.
+    add_capsule(m, {2.5f, -15.5f, -3.2f}, {16.f, -21.6f, -2.2f}, 3.4f, 2.6f, 3.f);
+    add_ellipsoid(m, {16.4f, -24.4f, -1.2f}, {4.0f, 4.6f, 4.6f}, 4.f);
+    add_capsule(m, {1.7f, -20.4f, 4.3f}, {15.2f, -21.4f, -0.6f}, 0.75f, 0.75f, 1.5f);
+    // The arms cut off flat through the shoulders, as on a display bust.
+    d = smax(d, (m.x() - 18.6f) * 0.944f - (m.y() + 24.4f) * 0.33f, 1.2f);
+
+    // -- The forms of the face: cheekbones, the jaw (ramus, body, chin), the muzzle around the
+    // mouth, brow ridges.
+    add_ellipsoid(m, {4.7f, -0.3f, 5.2f}, {1.9f, 1.3f, 2.0f}, 1.5f);
+    add_capsule(m, {4.9f, -6.8f, -0.3f}, {5.4f, -2.0f, -0.6f}, 0.95f, 0.95f, 1.5f);
+    add_capsule(m, {4.9f, -6.9f, -0.3f}, {1.9f, -9.1f, 6.4f}, 0.9f, 0.85f, 1.8f);
+    add_ellipsoid(p, {0.f, -8.3f, 7.6f}, {2.2f, 1.6f, 1.5f}, 1.5f);
+    add_ellipsoid(p, {0.f, -4.7f, 5.5f}, {3.6f, 2.6f, 3.5f}, 1.5f);
+    add_ellipsoid(m, {2.6f, 3.3f, 7.7f}, {2.4f, 0.9f, 1.4f}, 1.2f);
+
+    // -- Eye sockets, then the eyes in them.
+    carve_ellipsoid(m, {3.2f, 1.5f, 8.4f}, {1.7f, 1.2f, 1.3f}, 1.5f);
+    add(m, kEyeCentre, kEyeRadius + 0.5f, 0.2f, [&] { return eye_and_lids(m); });
+
+    // -- Nose: bridge from the root between the eyes to the tip, its sides, the wings of the
+    // nostrils and the column under the tip.
+    add_capsule(p, {0.f, 2.3f, 8.35f}, {0.f, -1.35f, 10.5f}, 0.45f, 0.7f, 0.8f);
+    add_ellipsoid(p, {0.f, -0.9f, 9.3f}, {1.2f, 1.9f, 1.1f}, 0.8f);
+    add_ellipsoid(p, {0.f, -1.65f, 10.55f}, {0.8f, 0.75f, 0.85f}, 0.6f);
+    add_ellipsoid(m, {1.15f, -2.1f, 9.5f}, {0.6f, 0.55f, 0.8f}, 0.6f);
+    add_capsule(p, {0.f, -2.1f, 10.6f}, {0.f, -2.75f, 9.65f}, 0.35f, 0.35f, 0.4f);
+
+    // -- Mouth.
+    add(p, {0.f, -5.1f, 8.8f}, 3.4f, 0.35f, [&] { return lips(p); });
+
+    // -- Ears.
+    add(m, kEarCentre, kEarRadius, 0.9f, [&] { return ear(m); });
     return d;
 }
 
@@ -120,48 +295,140 @@ Vec3f field_gradient(const Vec3f& p, float f0) {
            h;
 }
 
-// Moves p onto the zero set with Newton steps along the gradient.
-Vec3f project_to_surface(Vec3f p) {
-    for (int it = 0; it < 1; ++it) {
-        const float f = head_field(p);
-        const Vec3f g = field_gradient(p, f);
-        const float g2 = g.squaredNorm();
-        if (g2 < 1e-8f) break;
-        p -= (f / g2) * g;
-    }
-    return p;
+// ---- Marching tetrahedra on the Freudenthal (Kuhn) split of a rectilinear grid: every cell is
+// cut into six tetrahedra along its main diagonal, consistently across neighbours, so the
+// piecewise linear zero set is a closed 2-manifold whenever no node value is exactly zero (no
+// table ambiguities, unlike marching cubes); where the surface leaves the grid it is cut open
+// along the grid's side.
+//
+// Two grids: a fine one over the head down to the neck, a coarse one over the bust up to just
+// below it, so the small forms of the face and ears get a fine cell without spending one on the
+// chest. The neck leaves each grid through one flat side, and a strip of triangles joins the two
+// rims (join_rims).
+
+constexpr float kHeadCell = 0.35f, kBodyCell = 0.8f;     // cm
+constexpr float kSeamHead = -11.2f, kSeamBody = -11.8f;  // y of the rims, under the chin
+
+struct Grid {
+    std::vector<float> x, y, z;  // node coordinates, cm; x symmetric about 0
+    Vec3f node(int i, int j, int k) const { return {x[i], y[j], z[k]}; }
+};
+
+// Nodes from lo by step until past hi.
+std::vector<float> axis(float lo, float hi, float step) {
+    std::vector<float> a;
+    for (int i = 0; lo + step * (i - 1) < hi; ++i)
+        a.push_back(lo + step * i);
+    return a;
+}
+// Nodes symmetric about 0 (x_i = -x_{n-1-i} exactly), covering [-half, half].
+std::vector<float> symmetric_axis(float half, float step) {
+    const int n = static_cast<int>(std::ceil(half / step));
+    std::vector<float> a;
+    for (int i = -n; i <= n; ++i)
+        a.push_back(step * i);
+    return a;
 }
 
-// ---- Marching tetrahedra on the Freudenthal (Kuhn) split of the grid: every cube is cut into
-// six tetrahedra along its main diagonal, consistently across neighbours, so the piecewise
-// linear zero set is a closed 2-manifold whenever no node value is exactly zero (no table
-// ambiguities, unlike marching cubes).
-
-constexpr float kCell = 0.75f;                     // cm
-const Vec3f kLo(-30 * kCell, -40.f, -18 * kCell);  // x symmetric about the midline
-const Vec3f kHi(30 * kCell, 13.5f, 18 * kCell);
+Grid head_grid() {
+    Grid g;
+    g.x = symmetric_axis(10.6f, kHeadCell);
+    g.y = axis(kSeamHead, 13.4f, kHeadCell);  // the first layer is the rim's plane
+    g.z = axis(-11.6f, 12.4f, kHeadCell);
+    return g;
+}
+Grid body_grid() {
+    Grid g;
+    g.x = symmetric_axis(22.5f, kBodyCell);
+    g.y = axis(-40.f, kSeamBody, kBodyCell);
+    // The last layer is the rim's plane: shift the axis so it ends exactly there.
+    const float shift = kSeamBody - g.y.back();
+    for (float& y : g.y)
+        y += shift;
+    g.z = axis(-13.f, 12.f, kBodyCell);
+    return g;
+}
 
 // Corner c of a cube: bit 0 = +x, bit 1 = +y, bit 2 = +z. Tetrahedra 0-a-b-7.
 constexpr int kTets[6][4] = {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7},
                              {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}};
 
-Mesh polygonize() {
-    const Vec3i dims = ((kHi - kLo) / kCell).array().ceil().cast<int>() + 1;
-    const int nx = dims.x(), ny = dims.y(), nz = dims.z();
-    const size_t nodes = static_cast<size_t>(nx) * ny * nz;
-    std::vector<float> value(nodes);
-    parallel_for(static_cast<size_t>(nz), [&](size_t k) {
-        for (int j = 0; j < ny; ++j)
-            for (int i = 0; i < nx; ++i) {
-                float f = head_field(kLo + kCell * Vec3f(i, j, static_cast<float>(k)));
-                if (f == 0.f) f = 1e-6f;  // keep the zero set off the nodes
-                value[(k * ny + j) * nx + i] = f;
+// The field at every node, index (k·ny + j)·nx + i. Only the half x >= 0 is evaluated (the
+// field is symmetric, so is the grid) and the other mirrored. Blocks of kBlock³ cells whose
+// centre is far from the surface (by a safe bound on the field's slope) give their nodes the
+// centre's value, which has the right sign and never makes a crossing; the other nodes are
+// evaluated one by one.
+std::vector<float> node_values(const Grid& g) {
+    const int nx = static_cast<int>(g.x.size()), ny = static_cast<int>(g.y.size()),
+              nz = static_cast<int>(g.z.size());
+    const int i0 = nx / 2;  // the first node with x >= 0
+    const int hx = nx - i0;
+    constexpr int kBlock = 4;
+    auto block_count = [](int n) { return (n - 2) / kBlock + 1; };
+    const int bx = block_count(hx), by = block_count(ny), bz = block_count(nz);
+    std::vector<float> block_value(static_cast<size_t>(bx) * by * bz);
+    std::vector<char> block_far(block_value.size());
+    parallel_for(static_cast<size_t>(bz), [&](size_t kb) {
+        for (int jb = 0; jb < by; ++jb)
+            for (int ib = 0; ib < bx; ++ib) {
+                const int k0 = static_cast<int>(kb) * kBlock, j0 = jb * kBlock, ia = ib * kBlock;
+                const Vec3f lo = g.node(i0 + ia, j0, k0);
+                const Vec3f hi =
+                    g.node(i0 + std::min(ia + kBlock, hx - 1), std::min(j0 + kBlock, ny - 1),
+                           std::min(k0 + kBlock, nz - 1));
+                const float f = head_field(0.5f * (lo + hi));
+                const size_t b = (kb * by + jb) * bx + ib;
+                block_value[b] = f;
+                // The field's slope stays under ~1.5 (tapers and warps stretch distances); the
+                // margin covers the parts head_field skips.
+                block_far[b] = std::abs(f) > 0.75f * (hi - lo).norm() + 0.6f;
             }
     });
-    auto node = [&](int i, int j, int k) { return (static_cast<size_t>(k) * ny + j) * nx + i; };
+    // The blocks a node touches along an axis: one, or two on a block boundary.
+    auto blocks = [](int i, int count) {
+        const int b = std::min(i / kBlock, count - 1);
+        return std::pair<int, int>(i % kBlock == 0 && i > 0 ? i / kBlock - 1 : b, b);
+    };
+    std::vector<float> value(static_cast<size_t>(nx) * ny * nz);
+    parallel_for(static_cast<size_t>(nz), [&](size_t k) {
+        const auto [kb0, kb1] = blocks(static_cast<int>(k), bz);
+        for (int j = 0; j < ny; ++j) {
+            const auto [jb0, jb1] = blocks(j, by);
+            float* row = &value[(k * ny + j) * nx];
+            for (int ih = 0; ih < hx; ++ih) {
+                const auto [ib0, ib1] = blocks(ih, bx);
+                bool far = true;
+                float f = 0.f;
+                for (int kb = kb0; kb <= kb1 && far; ++kb)
+                    for (int jb = jb0; jb <= jb1 && far; ++jb)
+                        for (int ib = ib0; ib <= ib1 && far; ++ib) {
+                            const size_t b = (static_cast<size_t>(kb) * by + jb) * bx + ib;
+                            far = block_far[b];
+                            f = block_value[b];
+                        }
+                if (!far) f = head_field(g.node(i0 + ih, j, static_cast<int>(k)));
+                if (f == 0.f) f = 1e-6f;  // keep the zero set off the nodes
+                row[i0 + ih] = f;
+                row[nx - 1 - (i0 + ih)] = f;
+            }
+        }
+    });
+    return value;
+}
+
+// The zero set of the field over grid g, open where it leaves the grid.
+Mesh march(const Grid& g) {
+    const int nx = static_cast<int>(g.x.size()), ny = static_cast<int>(g.y.size()),
+              nz = static_cast<int>(g.z.size());
+    const size_t nodes = static_cast<size_t>(nx) * ny * nz;
+    const std::vector<float> value = node_values(g);
+    auto position = [&](size_t n) {
+        return g.node(static_cast<int>(n % nx), static_cast<int>((n / nx) % ny),
+                      static_cast<int>(n / (static_cast<size_t>(nx) * ny)));
+    };
 
     Mesh mesh;
-    std::vector<int32_t> edge_vertex(nodes * 8, -1);  // (node, direction bits) -> vertex
+    std::vector<int32_t> edge_vertex(nodes * 7, -1);  // (node, direction bits - 1) -> vertex
     const size_t corner_offset[8] = {0,
                                      1,
                                      static_cast<size_t>(nx),
@@ -173,16 +440,12 @@ Mesh polygonize() {
     auto edge_point = [&](size_t base, int cu, int cv) -> int32_t {
         // cu ⊂ cv bitwise, so the edge runs from node base+off[cu] in direction cv ^ cu.
         const size_t a = base + corner_offset[cu], b = base + corner_offset[cv];
-        int32_t& slot = edge_vertex[a * 8 + (cv ^ cu)];
+        int32_t& slot = edge_vertex[a * 7 + (cv ^ cu) - 1];
         if (slot < 0) {
             const float fa = value[a], fb = value[b];
             const float t = fa / (fa - fb);
-            auto pos = [&](size_t n) {
-                const size_t i = n % nx, j = (n / nx) % ny, k = n / (static_cast<size_t>(nx) * ny);
-                return Vec3f(kLo + kCell * Vec3f(i, j, k));
-            };
             slot = static_cast<int32_t>(mesh.vertices.size());
-            mesh.vertices.push_back(pos(a) + t * (pos(b) - pos(a)));
+            mesh.vertices.push_back(position(a) + t * (position(b) - position(a)));
         }
         return slot;
     };
@@ -198,7 +461,7 @@ Mesh polygonize() {
     for (int k = 0; k + 1 < nz; ++k)
         for (int j = 0; j + 1 < ny; ++j)
             for (int i = 0; i + 1 < nx; ++i) {
-                const size_t base = node(i, j, k);
+                const size_t base = (static_cast<size_t>(k) * ny + j) * nx + i;
                 float v[8];
                 int inside = 0;
                 for (int c = 0; c < 8; ++c) {
@@ -206,9 +469,9 @@ Mesh polygonize() {
                     inside += v[c] < 0.f;
                 }
                 if (inside == 0 || inside == 8) continue;
-                const Vec3f origin = kLo + kCell * Vec3f(i, j, k);
+                const Vec3f lo = g.node(i, j, k), size = g.node(i + 1, j + 1, k + 1) - lo;
                 auto corner_pos = [&](int c) {
-                    return Vec3f(origin + kCell * Vec3f(c & 1, (c >> 1) & 1, (c >> 2) & 1));
+                    return Vec3f(lo + Vec3f(c & 1, (c >> 1) & 1, (c >> 2) & 1).cwiseProduct(size));
                 };
                 for (const auto& tet : kTets) {
                     int in[4], out[4], ni = 0, no = 0;
@@ -240,8 +503,301 @@ Mesh polygonize() {
     return mesh;
 }
 
-// Uniform Laplacian smoothing followed by projection back onto the implicit surface: evens out
-// the slivers of marching tetrahedra without changing the connectivity.
+// The rim of an open mesh on the plane y = y0 (its vertices there lie on it exactly), as the
+// vertex loop that follows the faces' boundary edges. Empty unless it is a single loop.
+std::vector<int32_t> rim(const Mesh& mesh, float y0) {
+    std::vector<int32_t> after(mesh.vertices.size(), -1);
+    size_t edges = 0;
+    for (const Vec3i& t : mesh.faces)
+        for (int e = 0; e < 3; ++e)
+            if (mesh.vertices[t[e]].y() == y0 && mesh.vertices[t[(e + 1) % 3]].y() == y0) {
+                after[t[e]] = t[(e + 1) % 3];
+                ++edges;
+            }
+    std::vector<int32_t> loop;
+    int32_t start = -1;
+    for (size_t v = 0; v < after.size() && start < 0; ++v)
+        if (after[v] >= 0) start = static_cast<int32_t>(v);
+    for (int32_t v = start; v >= 0 && loop.size() <= edges;) {
+        loop.push_back(v);
+        v = after[v];
+        if (v == start) break;
+    }
+    if (loop.size() != edges) loop.clear();
+    return loop;
+}
+
+// Appends `lower` to `upper` and joins their rims (upper's at y = kSeamHead, lower's at
+// kSeamBody, both around the neck) with a strip of triangles, in order of the angle around the
+// neck's axis, oriented to match both. Each rim must be one loop around the neck, and the two
+// must run opposite ways, as they do when only the neck crosses the seam (the built-in head's
+// tests check the result is closed and of genus 0); otherwise the rims stay open.
+void join_rims(Mesh& upper, const Mesh& lower) {
+    std::vector<int32_t> a = rim(upper, kSeamHead), b = rim(lower, kSeamBody);
+    if (a.size() < 3 || b.size() < 3) return;
+    const int32_t offset = static_cast<int32_t>(upper.vertices.size());
+    upper.vertices.insert(upper.vertices.end(), lower.vertices.begin(), lower.vertices.end());
+    for (const Vec3i& t : lower.faces)
+        upper.faces.push_back(t + Vec3i::Constant(offset));
+    for (int32_t& v : b)
+        v += offset;
+
+    const Vec3f axis(0.f, 0.f, -1.5f);
+    auto angle = [&](int32_t v) {
+        const Vec3f& p = upper.vertices[v];
+        return std::atan2(p.x() - axis.x(), p.z() - axis.z());
+    };
+    // Each rim in order of increasing angle from its lowest, and whether its boundary edges run
+    // that way.
+    auto order = [&](std::vector<int32_t>& loop) {
+        double turn = 0;
+        for (size_t i = 0; i < loop.size(); ++i) {
+            float d = angle(loop[(i + 1) % loop.size()]) - angle(loop[i]);
+            d -= 2.f * kPi * std::round(d / (2.f * kPi));
+            turn += d;
+        }
+        const bool forward = turn > 0;
+        if (!forward) std::reverse(loop.begin(), loop.end());
+        size_t lowest = 0;
+        for (size_t i = 1; i < loop.size(); ++i)
+            if (angle(loop[i]) < angle(loop[lowest])) lowest = i;
+        std::rotate(loop.begin(), loop.begin() + lowest, loop.end());
+        return forward;
+    };
+    const bool a_forward = order(a), b_forward = order(b);
+    if (a_forward == b_forward) return;
+    const size_t na = a.size(), nb = b.size();
+    auto unwrapped = [&](const std::vector<int32_t>& loop, size_t i) {
+        float t = angle(loop[i % loop.size()]);
+        if (i > 0 && t < angle(loop[0])) t += 2.f * kPi;
+        return i >= loop.size() ? angle(loop[0]) + 2.f * kPi : t;
+    };
+    size_t i = 0, j = 0;
+    while (i < na || j < nb) {
+        const bool advance_a = j == nb || (i < na && unwrapped(a, i + 1) < unwrapped(b, j + 1));
+        if (advance_a) {
+            const int32_t p = a[i % na], q = a[(i + 1) % na], r = b[j % nb];
+            upper.faces.push_back(a_forward ? Vec3i(q, p, r) : Vec3i(p, q, r));
+            ++i;
+        } else {
+            const int32_t p = b[j % nb], q = b[(j + 1) % nb], r = a[i % na];
+            upper.faces.push_back(b_forward ? Vec3i(q, p, r) : Vec3i(p, q, r));
+            ++j;
+        }
+    }
+}
+
+Mesh polygonize() {
+    Mesh mesh = march(head_grid());
+    join_rims(mesh, march(body_grid()));
+    return mesh;
+}
+
+// Collapses edges shorter than max_length(midpoint), roughly shortest first, each into its
+// midpoint, wherever that keeps the mesh a closed, oriented 2-manifold of the same genus, the
+// surface nearly flat there and no triangle turned over: the endpoints must share exactly the
+// two neighbours opposite the edge (the link condition) and neither of those may be left with
+// fewer than three triangles. Marching tetrahedra leaves many tiny edges where the surface
+// passes close to a grid node; removing them evens out the triangles and saves most of them.
+// Deterministic: `passes` passes over the faces in memory order, each with a longer limit.
+constexpr int kMaxValence = 16;         // triangles around a vertex; more are never made
+constexpr float kFlatCos = 0.85f;       // a fan within ~30° of its mean normal is flat
+constexpr float kFlatMinArea = 0.004f;  // cm², twice the area of a triangle whose normal counts
+template <typename MaxLength>
+void collapse_short_edges(Mesh& mesh, MaxLength&& max_length, int passes) {
+    const size_t nv = mesh.vertices.size(), nf = mesh.faces.size();
+    // The triangles around each vertex, kMaxValence slots a vertex; a vertex with more (rare in
+    // marching tetrahedra output) is never collapsed.
+    std::vector<int32_t> ring_faces(nv * kMaxValence), valence(nv, 0);
+    std::vector<char> face_dead(nf, 0), vertex_dead(nv, 0), frozen(nv, 0);
+    for (size_t f = 0; f < nf; ++f)
+        for (int c = 0; c < 3; ++c) {
+            const int v = mesh.faces[f][c];
+            if (valence[v] < kMaxValence)
+                ring_faces[v * kMaxValence + valence[v]] = static_cast<int32_t>(f);
+            else
+                frozen[v] = 1;
+            ++valence[v];
+        }
+    auto contains = [](const Vec3i& t, int w) { return t[0] == w || t[1] == w || t[2] == w; };
+    auto remove_face = [&](int w, int32_t f) {
+        int32_t* r = &ring_faces[w * kMaxValence];
+        for (int i = 0; i < valence[w]; ++i)
+            if (r[i] == f) {
+                r[i] = r[--valence[w]];
+                return;
+            }
+    };
+
+    auto try_collapse = [&](int u, int v) {
+        if (frozen[u] || frozen[v]) return false;
+        const int nu = valence[u], nvv = valence[v];
+        if (nu + nvv - 4 > kMaxValence) return false;
+        const int32_t* fu = &ring_faces[u * kMaxValence];
+        const int32_t* fv = &ring_faces[v * kMaxValence];
+        // The faces on the edge, their opposite corners, and the link condition.
+        int shared = 0, opposite[2] = {-1, -1};
+        int32_t shared_face[2] = {-1, -1};
+        for (int i = 0; i < nu; ++i) {
+            const Vec3i& t = mesh.faces[fu[i]];
+            if (!contains(t, v)) continue;
+            if (shared == 2) return false;
+            for (int c = 0; c < 3; ++c)
+                if (t[c] != u && t[c] != v) opposite[shared] = t[c];
+            shared_face[shared++] = fu[i];
+        }
+        if (shared != 2 || opposite[0] == opposite[1]) return false;
+        if (valence[opposite[0]] <= 3 || valence[opposite[1]] <= 3) return false;
+        // Neighbours, each once: the corner after the vertex in each of its faces.
+        auto after = [&](int w, int32_t f) {
+            const Vec3i& t = mesh.faces[f];
+            return t[0] == w ? t[1] : (t[1] == w ? t[2] : t[0]);
+        };
+        int32_t rv[kMaxValence];
+        for (int j = 0; j < nvv; ++j)
+            rv[j] = after(v, fv[j]);
+        int common = 0;
+        for (int i = 0; i < nu; ++i) {
+            const int w = after(u, fu[i]);
+            for (int j = 0; j < nvv; ++j)
+                common += w == rv[j];
+        }
+        if (common != 2) return false;
+
+        // Only where the surface is nearly flat (the fan's triangles within ~30° of their mean
+        // normal; slivers too small to have a reliable normal do not count), so the detail of
+        // lips, nostrils, lids and ears keeps its triangles; and no triangle may turn over.
+        const Vec3f p = 0.5f * (mesh.vertices[u] + mesh.vertices[v]);
+        std::array<Vec3f, 2 * kMaxValence> before, after_move;
+        Vec3f mean = Vec3f::Zero();
+        int n = 0;
+        auto gather = [&](const int32_t* fw, int count) {
+            for (int i = 0; i < count; ++i) {
+                const Vec3i& t = mesh.faces[fw[i]];
+                Vec3f c[3];
+                for (int k = 0; k < 3; ++k)
+                    c[k] = mesh.vertices[t[k]];
+                before[n] = (c[1] - c[0]).cross(c[2] - c[0]);
+                mean += before[n];
+                if (contains(t, u) && contains(t, v)) {
+                    after_move[n] = before[n];  // removed: no constraint
+                    ++n;
+                    continue;
+                }
+                for (int k = 0; k < 3; ++k)
+                    if (t[k] == u || t[k] == v) c[k] = p;
+                after_move[n++] = (c[1] - c[0]).cross(c[2] - c[0]);
+            }
+        };
+        gather(fu, nu);
+        gather(fv, nvv);
+        // Compared squared, without roots: x·y >= c |x| |y| as x·y >= 0 and (x·y)² >= c² |x|² |y|².
+        const float mean2 = mean.squaredNorm();
+        for (int i = 0; i < n; ++i) {
+            const float b2 = before[i].squaredNorm(), a2 = after_move[i].squaredNorm();
+            const float bm = before[i].dot(mean), ab = after_move[i].dot(before[i]);
+            if (b2 > kFlatMinArea * kFlatMinArea &&
+                (bm < 0.f || bm * bm < kFlatCos * kFlatCos * b2 * mean2))
+                return false;
+            // Nor turn away from the fan's mean normal (an estimate of the surface's), so that
+            // collapses in a row cannot fold the surface a little at a time.
+            const float am = after_move[i].dot(mean);
+            if (a2 < 1e-10f || ab < 0.f || ab * ab < 0.25f * a2 * b2 || am < 0.f ||
+                am * am < 0.5f * a2 * mean2)
+                return false;
+        }
+
+        // u merges into v: the two faces on the edge go, u's others move to v.
+        for (int s = 0; s < 2; ++s) {
+            face_dead[shared_face[s]] = 1;
+            remove_face(opposite[s], shared_face[s]);
+        }
+        int32_t merged[kMaxValence];
+        int count = 0;
+        for (int j = 0; j < nvv; ++j)
+            if (fv[j] != shared_face[0] && fv[j] != shared_face[1]) merged[count++] = fv[j];
+        for (int i = 0; i < nu; ++i) {
+            const int32_t f = fu[i];
+            if (f == shared_face[0] || f == shared_face[1]) continue;
+            Vec3i& t = mesh.faces[f];
+            for (int c = 0; c < 3; ++c)
+                if (t[c] == u) t[c] = v;
+            merged[count++] = f;
+        }
+        std::copy(merged, merged + count, &ring_faces[v * kMaxValence]);
+        valence[v] = count;
+        valence[u] = 0;
+        vertex_dead[u] = 1;
+        mesh.vertices[v] = p;
+        return true;
+    };
+
+    // The halves x < 0 and x > 0 in parallel, then what is left along the midline. A face is
+    // on one side if its corners are (collapses never move a vertex across x = 0, nor a face
+    // off its side); a collapse within a half touches only faces of that side, so the halves
+    // share nothing, and the result does not depend on the thread count.
+    std::vector<int8_t> side(nf);
+    std::vector<char> border(nv, 0);  // has a face on both sides
+    for (size_t f = 0; f < nf; ++f) {
+        const Vec3i& t = mesh.faces[f];
+        int neg = 0, pos = 0;
+        for (int c = 0; c < 3; ++c)
+            (mesh.vertices[t[c]].x() < 0.f ? neg : pos) += 1;
+        side[f] = pos == 0 ? -1 : (neg == 0 ? 1 : 0);
+        if (side[f] == 0)
+            for (int c = 0; c < 3; ++c)
+                border[t[c]] = 1;
+    }
+    // The side of each vertex whose faces are all on it (0 for the others); it never changes:
+    // only a collapse within a side gives a vertex more faces.
+    std::vector<int8_t> vertex_side(nv, 0);
+    for (size_t v = 0; v < nv; ++v)
+        if (!border[v] && valence[v] > 0) vertex_side[v] = side[ring_faces[v * kMaxValence]];
+    auto sweep = [&](float fraction, int8_t s) {
+        for (size_t f = 0; f < nf; ++f) {
+            if (s != 0 && side[f] != s) continue;
+            for (int e = 0; e < 3 && !face_dead[f]; ++e) {
+                const int a = mesh.faces[f][e], b = mesh.faces[f][(e + 1) % 3];
+                if (a > b) continue;  // each edge once: the neighbour has it as (b, a)
+                if (s == 0 ? !(border[a] || border[b])
+                           : (vertex_side[a] != s || vertex_side[b] != s))
+                    continue;
+                const Vec3f pa = mesh.vertices[a], pb = mesh.vertices[b];
+                const float limit = fraction * max_length(0.5f * (pa + pb));
+                if ((pb - pa).squaredNorm() >= limit * limit) continue;
+                try_collapse(a, b);
+            }
+        }
+    };
+    for (int pass = 1; pass <= passes; ++pass) {
+        const float fraction = static_cast<float>(pass) / passes;
+        parallel_for(2, [&](size_t h) { sweep(fraction, h == 0 ? -1 : 1); });
+        sweep(fraction, 0);
+    }
+
+    // Compact.
+    std::vector<int32_t> index(nv, -1);
+    std::vector<Vec3f> vertices;
+    for (size_t v = 0; v < nv; ++v)
+        if (!vertex_dead[v]) {
+            index[v] = static_cast<int32_t>(vertices.size());
+            vertices.push_back(mesh.vertices[v]);
+        }
+    std::vector<Vec3i> faces;
+    for (size_t f = 0; f < nf; ++f)
+        if (!face_dead[f]) {
+            const Vec3i& t = mesh.faces[f];
+            faces.emplace_back(index[t[0]], index[t[1]], index[t[2]]);
+        }
+    mesh.vertices.swap(vertices);
+    mesh.faces.swap(faces);
+}
+
+// Tangential Laplacian smoothing with projection onto the implicit surface: each vertex moves
+// halfway to its neighbours' centroid within its tangent plane (the field's gradient gives the
+// normal) and a Newton step takes it onto the zero set. Evens out the triangles of marching
+// tetrahedra without changing the connectivity; moving only along the surface keeps vertices
+// from being pulled across creases (the lips, the lids) and projected onto the wrong side.
 void relax(Mesh& mesh, int iterations) {
     const size_t nv = mesh.vertices.size();
     // Vertex neighbours in CSR form from the (directed) triangle edges; each undirected edge
@@ -257,20 +813,52 @@ void relax(Mesh& mesh, int iterations) {
         for (int e = 0; e < 3; ++e)
             adj[fill[t[e]]++] = t[(e + 1) % 3];
 
-    std::vector<Vec3f> next(nv);
+    // The gradient is taken once: the later steps are short, and it changes little over them.
+    std::vector<Vec3f> next(nv), gradient(nv), normal(nv);
     for (int it = 0; it < iterations; ++it) {
         parallel_for(
             nv,
             [&](size_t v) {
+                const Vec3f x = mesh.vertices[v];
                 Vec3f c = Vec3f::Zero();
                 for (uint32_t a = start[v]; a < start[v + 1]; ++a)
                     c += mesh.vertices[adj[a]];
                 const uint32_t n = start[v + 1] - start[v];
-                const Vec3f p =
-                    n ? Vec3f(0.5f * mesh.vertices[v] + 0.5f * c / n) : mesh.vertices[v];
-                next[v] = project_to_surface(p);
+                const float f = head_field(x);
+                if (it == 0) {
+                    gradient[v] = field_gradient(x, f);
+                    const float len = gradient[v].norm();
+                    normal[v] = len > 0.f ? Vec3f(gradient[v] / len) : Vec3f::Zero();
+                }
+                const Vec3f& g = gradient[v];
+                const float g2 = g.squaredNorm();
+                if (n == 0 || g2 < 1e-8f) {
+                    next[v] = x;
+                    return;
+                }
+                const Vec3f lap = c / static_cast<float>(n) - x;
+                next[v] = x + 0.5f * (lap - (lap.dot(g) / g2) * g) - (f / g2) * g;
             },
             256);
+        // Where a triangle would turn over, against its old self or against the surface (the
+        // field's gradient at its corners) — neighbours moving at once can fold a thin one —
+        // its corners stay where they were, until none does.
+        for (int round = 0; round < 8; ++round) {
+            size_t kept = 0;
+            for (const Vec3i& t : mesh.faces) {
+                const Vec3f before = (mesh.vertices[t[1]] - mesh.vertices[t[0]])
+                                         .cross(mesh.vertices[t[2]] - mesh.vertices[t[0]]);
+                const Vec3f after = (next[t[1]] - next[t[0]]).cross(next[t[2]] - next[t[0]]);
+                const Vec3f surface = normal[t[0]] + normal[t[1]] + normal[t[2]];
+                if (after.dot(before) > 0.f && after.dot(surface) > 0.f) continue;
+                for (int k = 0; k < 3; ++k)
+                    if (next[t[k]] != mesh.vertices[t[k]]) {
+                        next[t[k]] = mesh.vertices[t[k]];
+                        ++kept;
+                    }
+            }
+            if (kept == 0) break;
+        }
         mesh.vertices.swap(next);
     }
 }
@@ -282,9 +870,10 @@ float hairline_height(float phi) {
     struct Key {
         float deg, y;
     };
-    static constexpr Key kKeys[] = {{0.f, 5.4f},    {30.f, 5.0f},  {50.f, 3.6f},  {62.f, -0.6f},
-                                    {72.f, 1.6f},   {90.f, 3.0f},  {108.f, 1.6f}, {125.f, -1.8f},
-                                    {150.f, -3.6f}, {180.f, -4.2f}};
+    static constexpr Key kKeys[] = {{0.f, 6.2f},    {22.f, 6.0f},   {38.f, 5.4f},   {50.f, 4.6f},
+                                    {58.f, 2.0f},   {63.f, 0.3f},   {72.f, 0.0f},   {77.f, 1.5f},
+                                    {82.f, 4.4f},   {100.f, 4.7f},  {110.f, 4.2f},  {118.f, 2.0f},
+                                    {126.f, -1.0f}, {140.f, -3.6f}, {160.f, -5.0f}, {180.f, -5.4f}};
     const float a = std::min(std::abs(phi) * 180.f / kPi, 180.f);
     for (size_t i = 0; i + 1 < std::size(kKeys); ++i) {
         if (a <= kKeys[i + 1].deg) {
@@ -300,25 +889,32 @@ float hairline_height(float phi) {
 
 Mesh builtin_head_mesh() {
     Mesh mesh = polygonize();
+    // Slivers everywhere; on the bust, whose forms are broad, edges up to 0.7 cm.
+    collapse_short_edges(
+        mesh, [](const Vec3f& p) { return 0.2f + 0.5f * smoothstep(-10.f, -14.f, p.y()); }, 2);
     relax(mesh, 2);
 
     // Groups: the scalp is above the hairline and off the ears.
     mesh.group_names = {"scalp", "body"};
     mesh.face_group.resize(mesh.faces.size());
-    const Vec3f axis(0.f, 0.f, -1.0f);  // the vertical axis of the cranium passes (x, z) = (0, -1)
-    for (size_t f = 0; f < mesh.faces.size(); ++f) {
-        const Vec3i& t = mesh.faces[f];
-        const Vec3f c = (mesh.vertices[t[0]] + mesh.vertices[t[1]] + mesh.vertices[t[2]]) / 3.f;
-        const float phi = std::atan2(c.x() - axis.x(), c.z() - axis.z());
-        const Vec3f m(std::abs(c.x()), c.y(), c.z());
-        const bool ear = ellipsoid(m, kEarCentre, kEarRadii) < 0.5f;
-        const bool scalp = c.y() > hairline_height(phi) && !ear && c.y() > -8.f;
-        mesh.face_group[f] = scalp ? 0 : 1;
-    }
+    const Vec3f axis(0.f, 0.f,
+                     -0.7f);  // the vertical axis of the cranium passes (x, z) = (0, -0.7)
+    parallel_for(
+        mesh.faces.size(),
+        [&](size_t f) {
+            const Vec3i& t = mesh.faces[f];
+            const Vec3f c = (mesh.vertices[t[0]] + mesh.vertices[t[1]] + mesh.vertices[t[2]]) / 3.f;
+            const float phi = std::atan2(c.x() - axis.x(), c.z() - axis.z());
+            const Vec3f m(std::abs(c.x()), c.y(), c.z());
+            const bool on_ear = (m - kEarCentre).norm() < kEarRadius + 1.f && ear(m) < 0.4f;
+            const bool scalp = c.y() > hairline_height(phi) && !on_ear && c.y() > -8.f;
+            mesh.face_group[f] = scalp ? 0 : 1;
+        },
+        1024);
 
     // UVs: the polar map around the cranium centre (crown at (0.5, 0.5), front toward v = 1,
     // +X toward u = 1, radius = polar angle / π · 0.5), one UV per vertex.
-    const Vec3f centre(0.f, 2.f, -1.f);
+    const Vec3f centre(0.f, 3.f, -0.7f);
     mesh.uvs.resize(mesh.vertices.size());
     for (size_t v = 0; v < mesh.vertices.size(); ++v) {
         const Vec3f d = mesh.vertices[v] - centre;

@@ -1,24 +1,35 @@
 #pragma once
-// The built-in procedural head, neck and shoulders: smooth, closed, about 22 cm from chin
-// to crown, in centimetres, Y up, facing +Z, so that no file is needed for the default run.
+// The built-in procedural head and bust: a smooth mannequin, 22.8 cm from chin to crown, with
+// ears, eyes in their sockets, nose, lips, jaw and chin, a forward-leaning neck, trapezius,
+// shoulders cut off flat like a display bust's, chest and back; in centimetres, Y up, facing
+// +Z, so that no file is needed for the default run.
 #include "geometry/mesh.hpp"
 
 namespace wisp {
 
-// Builds the built-in mesh: a closed, manifold, genus-0 triangle mesh (~29k vertices, ~58k
+// Builds the built-in mesh: a closed, manifold, genus-0 triangle mesh (~18k vertices, ~36k
 // triangles, counter-clockwise seen from outside) with face groups "scalp" (the hair-bearing
-// cap above a hairline: ~6.5 cm below the crown at the forehead, above the ears, down to the
-// nape ~16 cm below the crown) and "body" for the rest, and UVs (the polar map about the
-// cranium centre (0, 2, -1): crown at (0.5, 0.5), +Z toward v = 1, +X toward u = 1, radius
-// = polar angle / 2π). Deterministic; about 50 ms.
+// cap above a hairline: 6.3 cm below the crown at the forehead, receding at the temples,
+// sideburns in front of the ears down to about the ear canal, around and above the ears,
+// never on them, down to the nape 18 cm below the crown) and "body" for the rest, and UVs (the
+// polar map about the cranium centre (0, 3, -0.7): crown at (0.5, 0.5), +Z toward v = 1, +X
+// toward u = 1, radius = polar angle / 2π). Deterministic; about 100 ms on two cores.
+//
+// It is the zero set of a signed distance field (a smooth union of ellipsoids, capsules and a
+// few shaped parts), polygonized by marching tetrahedra on a 0.35 cm grid over the head and a
+// 0.8 cm grid over the bust, joined under the chin, then thinned of short edges where the
+// surface is flat and relaxed onto the field.
 //
 // Head space, centimetres, Y up, facing +Z (the nose points along +Z), symmetric in x. The
-// origin is the centre of the head between the ears at ear-canal height:
-//   crown (top of the head)   y ≈ +12       chin               y ≈ -10
-//   brow / occiput            z ≈ +9.3 / -11.1 (≈20 cm deep, 15.5 cm wide above the ears)
-//   nose tip                  (0, -2.4, 11.4)
-//   neck, 11.2 cm wide        y ≈ -8 … -17  neck base (trapezius) y ≈ -18
-//   shoulders, 38.6 cm wide   y ≈ -25       flat bottom of the chest y = -38
+// origin is the centre of the head between the ears at ear-canal height. Landmarks, measured:
+//   crown (top of the head)      y = 12.5          chin (lowest point)   y = -10.3
+//   brow (glabella)              (0, 3.2, 9.1)     back of the head      z = -10.1
+//     (19.2 cm from brow to back; 14.9 cm wide above the ears)
+//   eyes, 6.3 cm apart           centres (±3.15, 1.3, 6.65), fronts at z ≈ 7.8
+//   nose tip                     (0, -1.45, 11.45) mouth line           y ≈ -4.95, z ≈ 9.4
+//   ears, 6.1 cm tall            y = -2.5 … 3.5, out to |x| = 9.0, z ≈ -3.3 … 0
+//   neck, 11.2 cm wide           y ≈ -10 … -17     shoulders, 39 cm wide y ≈ -19 … -28
+//   flat bottom of the chest     y = -38
 Mesh builtin_head_mesh();
 
 }  // namespace wisp

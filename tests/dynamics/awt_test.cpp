@@ -153,7 +153,9 @@ TEST(Awt, NoSegmentEndsInsideTheBody) {
             for (uint32_t i : sim.active()) {
                 int nearest = -1;
                 ASSERT_GE(sphere_distance(spheres, sim.positions()[i], &nearest), -1e-3f)
-                    << motion << " step " << step << " node " << i;
+                    << motion << " step " << step << " node " << i << " held " << int(h.held[i])
+                    << " section " << h.section_of(i) << " sphere " << nearest << " head "
+                    << spheres[nearest].head;
             }
         }
     }

@@ -6,14 +6,17 @@
 #include <cstdio>
 #include <map>
 
-#include "core/timer.hpp"
-
 namespace wisp {
 namespace {
 
 const Mesh& head() {
     static const Mesh mesh = builtin_head_mesh();
     return mesh;
+}
+
+Vec3f centroid(const Mesh& m, size_t f) {
+    const Vec3i& t = m.faces[f];
+    return (m.vertices[t[0]] + m.vertices[t[1]] + m.vertices[t[2]]) / 3.f;
 }
 
 // The x, y or z extent of the vertices inside a slab lo <= p[axis] <= hi.
@@ -25,6 +28,65 @@ float extent_in_slab(const Mesh& m, int axis, float lo, float hi, int measured) 
             b = std::max(b, p[measured]);
         }
     return b - a;
+}
+
+// Where the ray from (x, y, +∞) toward −Z first meets the mesh: the largest z of the surface
+// over (x, y), −∞ if none.
+float front_z(const Mesh& m, float x, float y) {
+    float best = -INFINITY;
+    for (const Vec3i& t : m.faces) {
+        const Vec3f &a = m.vertices[t[0]], &b = m.vertices[t[1]], &c = m.vertices[t[2]];
+        const float det = (b.y() - c.y()) * (a.x() - c.x()) + (c.x() - b.x()) * (a.y() - c.y());
+        if (std::abs(det) < 1e-12f) continue;
+        const float l0 = ((b.y() - c.y()) * (x - c.x()) + (c.x() - b.x()) * (y - c.y())) / det;
+        const float l1 = ((c.y() - a.y()) * (x - c.x()) + (a.x() - c.x()) * (y - c.y())) / det;
+        const float l2 = 1.f - l0 - l1;
+        if (l0 < 0.f || l1 < 0.f || l2 < 0.f) continue;
+        best = std::max(best, l0 * a.z() + l1 * b.z() + l2 * c.z());
+    }
+    return best;
+}
+
+// Landmarks measured on the mesh (cm, head space).
+struct Landmarks {
+    float crown = 0, chin = 0;             // y of the top of the head, of the bottom of the chin
+    float breadth = 0;                     // widest x extent of the cranium above the ears
+    float glabella_z = 0, glabella_y = 0;  // the brow's most forward point on the midline
+    float occiput_z = 0;                   // the back of the head
+    Vec3f nose;                            // the frontmost point
+    float ear_top = 0, ear_bottom = 0;     // y extent of what stands out of the head at the sides
+    float ear_out = 0;                     // |x| of the ear's outermost point
+};
+
+Landmarks measure(const Mesh& m) {
+    Landmarks l;
+    l.crown = m.bounds().hi.y();
+    l.chin = INFINITY;  // lowest point of the face in front of the neck
+    for (const Vec3f& p : m.vertices)
+        if (p.z() > 5.f && std::abs(p.x()) < 2.f && p.y() > -16.f) l.chin = std::min(l.chin, p.y());
+    l.breadth = extent_in_slab(m, 1, 4.5f, 9.f, 0);
+    l.glabella_z = -INFINITY;
+    l.occiput_z = INFINITY;
+    for (const Vec3f& p : m.vertices) {
+        // Above the root of the nose, below the hairline.
+        if (std::abs(p.x()) < 1.f && p.y() > 2.8f && p.y() < 6.f && p.z() > l.glabella_z) {
+            l.glabella_z = p.z();
+            l.glabella_y = p.y();
+        }
+        if (p.y() > -2.f && p.y() < 10.f) l.occiput_z = std::min(l.occiput_z, p.z());
+    }
+    l.nose = *std::max_element(m.vertices.begin(), m.vertices.end(),
+                               [](const Vec3f& a, const Vec3f& c) { return a.z() < c.z(); });
+    // The ears: whatever lies more than 8 cm out from the midline beside the head.
+    l.ear_top = -INFINITY;
+    l.ear_bottom = INFINITY;
+    for (const Vec3f& p : m.vertices)
+        if (std::abs(p.x()) > 8.f && p.y() > -8.f && p.y() < 8.f) {
+            l.ear_top = std::max(l.ear_top, p.y());
+            l.ear_bottom = std::min(l.ear_bottom, p.y());
+            l.ear_out = std::max(l.ear_out, std::abs(p.x()));
+        }
+    return l;
 }
 
 TEST(BuiltinHead, ClosedOrientedManifoldOfGenusZero) {
@@ -47,6 +109,12 @@ TEST(BuiltinHead, ClosedOrientedManifoldOfGenusZero) {
     const long euler = static_cast<long>(m.vertices.size()) - static_cast<long>(undirected) +
                        static_cast<long>(m.faces.size());
     EXPECT_EQ(euler, 2);
+    // Every vertex is used, and no triangle is degenerate.
+    std::vector<char> used(m.vertices.size(), 0);
+    for (const Vec3i& t : m.faces)
+        for (int k = 0; k < 3; ++k)
+            used[t[k]] = 1;
+    EXPECT_EQ(std::count(used.begin(), used.end(), 0), 0);
     for (size_t f = 0; f < m.faces.size(); ++f)
         ASSERT_GT(m.face_area(f), 0.f) << "face " << f;
 }
@@ -76,35 +144,79 @@ TEST(BuiltinHead, NormalsPointOutward) {
 
 TEST(BuiltinHead, HumanProportionsFacingPlusZ) {
     const Mesh& m = head();
-    const Box3 b = m.bounds();
-    // Crown at about y = 12, chin at about y = -10: 22 cm of head.
-    EXPECT_NEAR(b.hi.y(), 12.f, 0.5f);
-    float chin = INFINITY;  // lowest point of the face in front of the neck
-    for (const Vec3f& p : m.vertices)
-        if (p.z() > 6.f && std::abs(p.x()) < 2.f && p.y() > -16.f) chin = std::min(chin, p.y());
-    EXPECT_NEAR(b.hi.y() - chin, 22.f, 1.f);
-    // Head 15-16 cm wide, 19-20 cm deep (without the nose) above the ears.
-    EXPECT_NEAR(extent_in_slab(m, 1, 4.f, 5.f, 0), 15.5f, 0.8f);
-    float back = INFINITY, forehead = -INFINITY;
-    for (const Vec3f& p : m.vertices)
-        if (p.y() > 3.f && p.y() < 6.f) {
-            back = std::min(back, p.z());
-            forehead = std::max(forehead, p.z());
-        }
-    EXPECT_NEAR(forehead - back, 19.5f, 1.f);
-    // The nose is the frontmost point, on the midline.
-    const auto nose =
-        *std::max_element(m.vertices.begin(), m.vertices.end(),
-                          [](const Vec3f& a, const Vec3f& c) { return a.z() < c.z(); });
-    EXPECT_LT(std::abs(nose.x()), 0.5f);
-    EXPECT_GT(nose.y(), -5.f);
-    EXPECT_LT(nose.y(), 2.f);
-    EXPECT_GT(nose.z(), -back);  // nose ahead of the occiput's distance behind
-    // Neck about 11-12 cm wide; shoulders about 40 cm.
-    EXPECT_NEAR(extent_in_slab(m, 1, -14.5f, -13.5f, 0), 11.5f, 1.f);
-    EXPECT_NEAR(b.size().x(), 39.f, 2.f);
+    const Landmarks l = measure(m);
+    std::printf(
+        "crown %.2f, chin %.2f (chin to crown %.2f), breadth %.2f, glabella (y %.2f, z %.2f), "
+        "occiput z %.2f (length %.2f), nose tip (%.2f, %.2f, %.2f), ears y %.2f..%.2f out to "
+        "|x| %.2f\n",
+        l.crown, l.chin, l.crown - l.chin, l.breadth, l.glabella_y, l.glabella_z, l.occiput_z,
+        l.glabella_z - l.occiput_z, l.nose.x(), l.nose.y(), l.nose.z(), l.ear_bottom, l.ear_top,
+        l.ear_out);
+    // Crown at about y = 12.5; 22-23 cm from chin to crown.
+    EXPECT_NEAR(l.crown, 12.5f, 0.5f);
+    EXPECT_NEAR(l.crown - l.chin, 22.5f, 0.5f);
+    // The cranium about 15 cm wide above the ears and 19 cm from the brow to the back of the head.
+    EXPECT_NEAR(l.breadth, 15.f, 0.6f);
+    EXPECT_NEAR(l.glabella_z - l.occiput_z, 19.f, 0.6f);
+    // The origin between the ears at the height of the ear canal: the brow is about as far in
+    // front of it as the back of the head is behind it.
+    EXPECT_NEAR(l.glabella_z, -l.occiput_z, 2.f);
+    // The nose is the frontmost point, on the midline, 2-3 cm ahead of the brow.
+    EXPECT_LT(std::abs(l.nose.x()), 0.5f);
+    EXPECT_GT(l.nose.y(), -3.f);
+    EXPECT_LT(l.nose.y(), 0.f);
+    EXPECT_GT(l.nose.z() - l.glabella_z, 1.8f);
+    EXPECT_LT(l.nose.z() - l.glabella_z, 3.2f);
+    // Neck about 11-12 cm wide under the jaw; shoulders about 40 cm.
+    EXPECT_NEAR(extent_in_slab(m, 1, -12.f, -11.f, 0), 11.5f, 1.f);
+    EXPECT_NEAR(m.bounds().size().x(), 40.f, 2.f);
+    // A bust, not a column: the chest juts in front of the neck, the shoulders spread wide of it.
+    EXPECT_GT(extent_in_slab(m, 1, -28.f, -27.f, 2), extent_in_slab(m, 1, -12.f, -11.f, 2) + 6.f);
+    EXPECT_GT(extent_in_slab(m, 1, -22.f, -21.f, 0), 2.5f * extent_in_slab(m, 1, -12.f, -11.f, 0));
     // Symmetric in x.
+    const Box3 b = m.bounds();
     EXPECT_NEAR(b.lo.x(), -b.hi.x(), 0.05f);
+}
+
+TEST(BuiltinHead, EarsStandOutBetweenTheBrowAndTheNose) {
+    const Mesh& m = head();
+    const Landmarks l = measure(m);
+    // About 6 cm tall, from the line of the brow to the bottom of the nose.
+    EXPECT_NEAR(l.ear_top - l.ear_bottom, 6.f, 0.6f);
+    EXPECT_NEAR(l.ear_top, l.glabella_y, 1.f);
+    EXPECT_GT(l.ear_bottom, l.nose.y() - 2.f);
+    EXPECT_LT(l.ear_bottom, l.nose.y());
+    // Seen from the front they stand out beyond the side of the head.
+    EXPECT_GT(l.ear_out, 0.5f * l.breadth + 1.f);
+    // Beside the ear canal, behind it (the origin), on both sides.
+    for (float side : {-1.f, 1.f}) {
+        float z_lo = INFINITY, z_hi = -INFINITY;
+        for (const Vec3f& p : m.vertices)
+            if (side * p.x() > 8.f && std::abs(p.y()) < 8.f) {
+                z_lo = std::min(z_lo, p.z());
+                z_hi = std::max(z_hi, p.z());
+            }
+        EXPECT_LT(z_hi, 1.f) << "side " << side;
+        EXPECT_GT(z_lo, -5.f) << "side " << side;
+        EXPECT_GT(z_hi - z_lo, 1.5f) << "side " << side;  // a shell seen from the side
+    }
+}
+
+TEST(BuiltinHead, EyesSitInTheirSockets) {
+    const Mesh& m = head();
+    const Landmarks l = measure(m);
+    for (float side : {-1.f, 1.f}) {
+        const float x = side * 3.15f, y = 1.3f;  // the pupils, 6.3 cm apart
+        const float eye = front_z(m, x, y);
+        // The eye is behind the brow and the nose, in front of the sides of the face...
+        EXPECT_LT(eye, l.glabella_z - 0.8f) << "side " << side;
+        EXPECT_GT(eye, 6.5f) << "side " << side;
+        // ...under a brow that stands over it (the socket)...
+        EXPECT_GT(front_z(m, x, y + 2.f), eye + 0.6f) << "side " << side;
+        // ...and it is a ball: between the lids, the surface falls away to either side.
+        for (float dx : {-0.7f, 0.7f})
+            EXPECT_LT(front_z(m, x + dx, y), eye - 0.1f) << "side " << side << " offset " << dx;
+    }
 }
 
 TEST(BuiltinHead, ScalpGroupIsAPlausibleCap) {
@@ -113,26 +225,38 @@ TEST(BuiltinHead, ScalpGroupIsAPlausibleCap) {
     ASSERT_EQ(m.face_group.size(), m.faces.size());
     const int scalp = m.group_names[0] == "scalp" ? 0 : 1;
     EXPECT_EQ(m.group_names[1 - scalp], "body");
+    const float crown = m.bounds().hi.y();
     double area = 0;
-    float lowest = INFINITY;
+    float lowest = INFINITY, forehead = INFINITY, sideburn = INFINITY;
     for (size_t f = 0; f < m.faces.size(); ++f) {
+        const Vec3f c = centroid(m, f);
+        // The ears are never scalp, nor anything that stands out beside the head.
+        if (std::abs(c.x()) > 8.f && c.y() < 5.f) {
+            EXPECT_NE(m.face_group[f], scalp) << "scalp on the ear at " << c.transpose();
+        }
         if (m.face_group[f] != scalp) continue;
         area += m.face_area(f);
-        const Vec3i& t = m.faces[f];
-        const Vec3f c = (m.vertices[t[0]] + m.vertices[t[1]] + m.vertices[t[2]]) / 3.f;
         lowest = std::min(lowest, c.y());
         // No scalp on the face: nothing in front below the forehead hairline.
         if (c.z() > 6.f) {
-            EXPECT_GT(c.y(), 4.f);
+            EXPECT_GT(c.y(), 5.f);
         }
+        if (std::abs(c.x()) < 1.f && c.z() > 0.f) forehead = std::min(forehead, c.y());
+        if (std::abs(c.x()) > 5.f && c.z() > 0.5f) sideburn = std::min(sideburn, c.y());
     }
     EXPECT_GT(area, 450.0);
     EXPECT_LT(area, 800.0);
-    EXPECT_GT(lowest, -6.f);  // the nape
-    EXPECT_LT(lowest, 0.f);
+    // The forehead hairline 6-7 cm below the crown, sideburns in front of the ears down to
+    // about the ear canal, the nape hairline 16-19 cm below the crown.
+    EXPECT_GT(crown - forehead, 5.8f);
+    EXPECT_LT(crown - forehead, 7.f);
+    EXPECT_LT(sideburn, 1.5f);
+    EXPECT_GT(sideburn, -1.f);
+    EXPECT_GT(crown - lowest, 16.f);
+    EXPECT_LT(crown - lowest, 19.f);
 }
 
-TEST(BuiltinHead, EveryVertexHasAUv) {
+TEST(BuiltinHead, EveryVertexHasAPolarUv) {
     const Mesh& m = head();
     ASSERT_GE(m.uvs.size(), m.vertices.size());
     ASSERT_EQ(m.face_uvs.size(), m.faces.size());
@@ -140,18 +264,27 @@ TEST(BuiltinHead, EveryVertexHasAUv) {
         ASSERT_TRUE(uv.allFinite());
         ASSERT_LE((uv - Vec2f(0.5f, 0.5f)).norm(), 0.5f + 1e-5f);
     }
+    // The crown maps near the centre, the front toward v = 1, +X toward u = 1, and the radius
+    // grows from the crown down.
+    size_t top = 0, front = 0, left = 0;
+    for (size_t v = 0; v < m.vertices.size(); ++v) {
+        const Vec3f& p = m.vertices[v];
+        if (p.y() > m.vertices[top].y()) top = v;
+        if (p.y() > 6.f && p.z() > m.vertices[front].z()) front = v;
+        if (p.y() > 6.f && p.x() > m.vertices[left].x()) left = v;
+    }
+    EXPECT_LT((m.uvs[top] - Vec2f(0.5f, 0.5f)).norm(), 0.03f);
+    EXPECT_GT(m.uvs[front].y(), 0.6f);
+    EXPECT_GT(m.uvs[left].x(), 0.6f);
 }
 
-TEST(BuiltinHead, DeterministicAndFast) {
-    Stopwatch watch;
+// Its speed is BM_BuiltinHead's (bench/generate_bench.cpp).
+TEST(BuiltinHead, Deterministic) {
     const Mesh again = builtin_head_mesh();
-    const double ms = watch.ms();
-    std::printf("built-in head: %zu vertices, %zu triangles in %.1f ms\n", again.vertices.size(),
-                again.faces.size(), ms);
-    EXPECT_LT(ms, 1000.0);  // loose: shared machines; typically ~50 ms
     ASSERT_EQ(again.vertices.size(), head().vertices.size());
     EXPECT_TRUE(again.vertices == head().vertices);
     EXPECT_TRUE(again.faces == head().faces);
+    EXPECT_TRUE(again.face_group == head().face_group);
 }
 
 }  // namespace
