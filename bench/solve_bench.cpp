@@ -32,7 +32,8 @@ void BM_Solve2000Wisps(benchmark::State& state) {
         state.PauseTiming();
         Masters m = fresh;
         state.ResumeTiming();
-        const StylingField phi(style.solve.field, frame, style.growth, bounds, style.solve.cell);
+        const StylingField phi(style.solve.field, frame, GrowthField(style.growth, *head.scalp),
+                               bounds, style.solve.cell);
         Grid3<float> density(phi.grid().origin(), phi.grid().cell(), phi.grid().dims());
         SolveInput in;
         in.field = &phi;

@@ -25,25 +25,33 @@ float GrayImage::sample(float u, float v) const {
            (at(x0, y1) * (1 - fx) + at(x1, y1) * fx) * fy;
 }
 
-GrayImage read_gray_image(const std::filesystem::path& path) {
+std::vector<GrayImage> read_image_planes(const std::filesystem::path& path, int channels) {
     const std::string bytes = read_file(path);
-    int w = 0, h = 0, channels = 0;
+    int w = 0, h = 0, file_channels = 0;
     const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
     const int len = static_cast<int>(bytes.size());
-    if (!stbi_info_from_memory(data, len, &w, &h, &channels))
+    if (!stbi_info_from_memory(data, len, &w, &h, &file_channels))
         fail(path.string(), ": not a readable image (", stbi_failure_reason(), ")");
     if (w <= 0 || h <= 0 || static_cast<int64_t>(w) * h > (int64_t{1} << 26))
         fail(path.string(), ": image size ", w, "x", h, " is out of range (at most 64 Mpixel)");
-    stbi_us* pixels = stbi_load_16_from_memory(data, len, &w, &h, &channels, 1);
+    stbi_us* pixels = stbi_load_16_from_memory(data, len, &w, &h, &file_channels, channels);
     if (!pixels) fail(path.string(), ": cannot decode image (", stbi_failure_reason(), ")");
-    GrayImage img;
-    img.width = w;
-    img.height = h;
-    img.values.resize(static_cast<size_t>(w) * h);
-    for (size_t i = 0; i < img.values.size(); ++i)
-        img.values[i] = pixels[i] / 65535.f;
+    std::vector<GrayImage> planes(static_cast<size_t>(channels));
+    const size_t count = static_cast<size_t>(w) * h;
+    for (int c = 0; c < channels; ++c) {
+        GrayImage& img = planes[static_cast<size_t>(c)];
+        img.width = w;
+        img.height = h;
+        img.values.resize(count);
+        for (size_t i = 0; i < count; ++i)
+            img.values[i] = pixels[i * channels + c] / 65535.f;
+    }
     stbi_image_free(pixels);
-    return img;
+    return planes;
+}
+
+GrayImage read_gray_image(const std::filesystem::path& path) {
+    return std::move(read_image_planes(path, 1).front());
 }
 
 void write_png(const std::filesystem::path& path, const RgbImage& image) {

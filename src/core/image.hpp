@@ -22,6 +22,11 @@ struct GrayImage {
 // converted by luminance. Throws wisp::Error naming the file if it cannot.
 GrayImage read_gray_image(const std::filesystem::path& path);
 
+// Reads the same files as `channels` planes (1: gray, 2: gray and alpha, 3: RGB, 4: RGBA;
+// stb converts: a gray file read as RGB has three equal planes, a file without alpha reads
+// alpha 1). Throws wisp::Error naming the file if it cannot.
+std::vector<GrayImage> read_image_planes(const std::filesystem::path& path, int channels);
+
 // An 8-bit RGB image.
 struct RgbImage {
     int width = 0, height = 0;

@@ -35,6 +35,7 @@ Masters synthesize_masters(const Style& style, const Head& head, const Roots& ro
     const Scalp& scalp = *head.scalp;
     const MapSampler length_map(style.length, scalp);
     const MapSampler protrusion_map(style.protrusion, scalp);
+    const GrowthField growth_field(style.growth, scalp);
     const size_t w_count = roots.masters.size();
     const int n = style.points_per_strand;
     const int h = style.prototype.window;
@@ -78,8 +79,7 @@ Masters synthesize_masters(const Style& style, const Head& head, const Roots& ro
             const SurfacePoint& root = m.roots[w];
             const float protrusion = protrusion_map(root);
             const Vec3f from_centre = root.position - scalp.center();
-            const Vec3f growth = growth_direction(
-                style.growth,
+            const Vec3f growth = growth_field(
                 from_centre.norm() > 1e-6f ? Vec3f(from_centre.normalized()) : Vec3f::UnitY());
             const Vec3f dir = protrusion_direction(root, growth, protrusion);
             m.direction[w] = dir;

@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/error.hpp"
+#include "core/image.hpp"
+#include "geometry/scalp.hpp"
+
 namespace wisp {
 namespace {
 
@@ -42,6 +46,10 @@ float part_end(const GrowthSpec& spec) {
 
 }  // namespace
 
+float fringe_sector(const Vec3f& r) {
+    return smoothstep(-0.3f, -0.05f, r.z()) * (1.f - smoothstep(0.36f, 0.48f, std::abs(r.x())));
+}
+
 float part_x(const GrowthSpec& spec) {
     return spec.part == GrowthSpec::Part::kSide ? spec.part_offset : 0.f;
 }
@@ -78,18 +86,13 @@ Vec3f growth_direction(const GrowthSpec& spec, const Vec3f& r) {
     const Vec3f sides(
         spec.part == GrowthSpec::Part::kNone ? std::clamp(r.x() / 0.12f, -1.f, 1.f) : sigma, -0.2f,
         -0.5f);
-    Vec3f front = sides;
-    switch (spec.front) {
-        case GrowthSpec::Front::kSides:
-            break;
-        case GrowthSpec::Front::kBack:
-            front = Vec3f(0.25f * std::clamp(r.x() / 0.2f, -1.f, 1.f), 0.f, -1.f);
-            break;
-        case GrowthSpec::Front::kFringe:  // over the forehead; at the temples still to the sides
-            front = lerp(Vec3f(0.f, -0.5f, 1.f), sides, smoothstep(0.12f, 0.28f, std::abs(r.x())));
-            break;
-    }
+    const Vec3f front = spec.front == GrowthSpec::Front::kBack
+                            ? Vec3f(0.25f * std::clamp(r.x() / 0.2f, -1.f, 1.f), 0.f, -1.f)
+                            : sides;
     d = lerp(d, front, smoothstep(0.2f, 0.65f, r.z()));
+    // A fringe grows forward over the forehead, fanning out a little toward the temples.
+    if (spec.front == GrowthSpec::Front::kFringe)
+        d = lerp(d, Vec3f(0.25f * r.x(), -0.8f, 0.8f), fringe_sector(r));
     // Low on the sides and at the nape hair grows down, a little outward (so it does not
     // close in on the nape) and, in front of the ears, a little back.
     const float h = std::hypot(r.x(), r.z());
@@ -98,6 +101,41 @@ Vec3f growth_direction(const GrowthSpec& spec, const Vec3f& r) {
         -Vec3f::UnitY() + 0.3f * outward - 0.4f * std::max(r.z(), 0.f) * Vec3f::UnitZ();
     d = lerp(d, low, 0.7f * smoothstep(0.15f, -0.35f, r.y()));
     return unit_or(tangent(d, r), away);
+}
+
+GrowthField::GrowthField(const GrowthSpec& spec) : spec_(spec) {
+    if (!spec.map.empty()) fail("growth.map: a growth map needs a scalp");
+}
+
+GrowthField::GrowthField(const GrowthSpec& spec, const Scalp& scalp) : spec_(spec), scalp_(&scalp) {
+    if (!spec.map.empty()) {
+        auto planes = read_image_planes(spec.map, 3);
+        planes.resize(2);
+        map_ = std::make_shared<const std::vector<GrayImage>>(std::move(planes));
+    }
+}
+
+Vec3f GrowthField::operator()(const Vec3f& r) const {
+    const Vec3f base = growth_direction(spec_, r);
+    if (!map_ || !(spec_.map_strength > 0.f)) return base;
+    const Vec2f uv = scalp_->uv_of(scalp_->center() + r);
+    const float mu = 2.f * (*map_)[0].sample(uv.x(), uv.y()) - 1.f;
+    const float mv = 2.f * (*map_)[1].sample(uv.x(), uv.y()) - 1.f;
+    const float s = std::min(spec_.map_strength, 1.f) * smoothstep(0.05f, 0.5f, std::hypot(mu, mv));
+    if (!(s > 0.f)) return base;
+    // The map's direction as a horizontal direction of the top view: the image's right is the
+    // subject's right (−X), its top the front (+Z). Its part away from the crown runs down the
+    // sphere, its part around the crown around it.
+    const Vec3f flat(-mu, 0.f, mv);
+    const float h = std::hypot(r.x(), r.z());
+    Vec3f d = flat;
+    if (h > 1e-3f) {
+        const Vec3f radial(r.x() / h, 0.f, r.z() / h);
+        const float away = flat.dot(radial);
+        d = away * unit_or(tangent(-Vec3f::UnitY(), r), radial) + (flat - away * radial);
+    }
+    d = unit_or(tangent(d, r), base);
+    return unit_or(tangent(lerp(base, d, s), r), base);
 }
 
 }  // namespace wisp

@@ -9,9 +9,16 @@
 // frame of solve/styling_field.hpp), in head space: Y up, +Z forward, +X the subject's left.
 // The styling field's "growth" term carries the same directions off the scalp, so the
 // hair's flow over the head continues what its roots start.
+#include <filesystem>
+#include <memory>
+#include <vector>
+
 #include "core/math.hpp"
 
 namespace wisp {
+
+class Scalp;
+struct GrayImage;
 
 struct GrowthSpec {
     enum class Part { kNone, kCentre, kSide };
@@ -31,11 +38,45 @@ struct GrowthSpec {
     Vec3f whorl = Vec3f(0.f, 0.93f, -0.37f);
     float whorl_turn = 1.f;
     float whorl_swirl = 0.6f;  // how strongly hair turns about the whorl near it, in [0, 2]
+    // A growth-direction map (empty: none): an image in scalp UV (the top view of the head,
+    // face up, as the scalar maps) whose red and green give the direction hair grows in that
+    // view, 2·(R, G) − 1 toward the image's right and top. Neutral grey (0.5, 0.5, within 0.025)
+    // leaves the directions above; a stronger colour takes over from them, fully at |2·(R, G) − 1|
+    // ≥ 0.5, times `map_strength` in [0, 1]. A direction pointing away from the image centre runs
+    // down the head from the crown; one around it, around the head.
+    std::filesystem::path map;
+    float map_strength = 1.f;
 };
 
 // The growth direction at unit direction r from the head centre: a unit vector tangent to the
-// sphere at r (⟂ r).
+// sphere at r (⟂ r). Without the map.
 Vec3f growth_direction(const GrowthSpec& spec, const Vec3f& r);
+
+// The growth directions of a style on a scalp: growth_direction() with the growth map, if
+// any, loaded once. Cheap to copy.
+class GrowthField {
+  public:
+    // Loads spec.map (throws wisp::Error naming it if unreadable). `scalp` gives the UV of
+    // a direction and must outlive the field when there is a map.
+    GrowthField(const GrowthSpec& spec, const Scalp& scalp);
+    // Without a scalp: no map (spec.map must be empty).
+    explicit GrowthField(const GrowthSpec& spec);
+
+    const GrowthSpec& spec() const { return spec_; }
+    // The growth direction at unit direction r from the scalp's centre.
+    Vec3f operator()(const Vec3f& r) const;
+
+  private:
+    GrowthSpec spec_;
+    const Scalp* scalp_ = nullptr;
+    std::shared_ptr<const std::vector<GrayImage>> map_;  // red, green
+};
+
+// How much unit direction r lies in the fringe sector, the front of the top of the head whose
+// hair grows forward over the forehead when front = kFringe: 1 across the forehead between
+// the temples, falling to 0 at the temples and toward the crown. The fringe map and a fringe
+// cut ([cut] region = "fringe") use the same sector.
+float fringe_sector(const Vec3f& r);
 
 // The part line's x (head units) at the front of the head, signed; 0 for a centre part.
 float part_x(const GrowthSpec& spec);

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "groom/growth.hpp"
 
 namespace wisp {
 namespace {
@@ -14,8 +15,10 @@ float smoothstep(float e0, float e1, float x) {
 }
 
 // A procedural map from the scalp's polar UV: r in [0,1] from crown to hairline, (x, z) the
-// unit direction on the map (x toward the character's left, z toward the front).
-float procedural(int which, const Vec2f& uv) {
+// unit direction on the map (x toward the character's left, z toward the front). Maps that
+// follow the growth directions' regions take the point's direction from the scalp's centre
+// (`dir`) instead, so that they cover the same roots.
+float procedural(int which, const Vec2f& uv, const Vec3f& dir) {
     const float du = uv.x() - 0.5f, dv = uv.y() - 0.5f;
     const float r = std::min(1.f, 2.f * std::sqrt(du * du + dv * dv));
     const float len = std::sqrt(du * du + dv * dv);
@@ -54,8 +57,8 @@ float procedural(int which, const Vec2f& uv) {
             return smoothstep(0.55f, 0.85f, r) * smoothstep(0.35f, 0.75f, -z);
         case 11:  // sides: above and behind the ears
             return smoothstep(0.55f, 0.85f, r) * smoothstep(0.55f, 0.85f, std::abs(x));
-        case 12:  // fringe: 0 over the forehead sector by the hairline, 1 elsewhere
-            return 1.f - smoothstep(0.35f, 0.6f, z) * smoothstep(0.4f, 0.7f, r);
+        case 12:  // fringe: 0 over the sector that grows a fringe (groom/growth.hpp), 1 elsewhere
+            return 1.f - fringe_sector(dir);
     }
     return 1.f;
 }
@@ -87,8 +90,13 @@ float MapSampler::operator()(const SurfacePoint& p) const {
             return map_.value;
         case ScalarMap::Kind::kImage:
             return map_.low + (map_.high - map_.low) * image_->sample(p.uv.x(), p.uv.y());
-        case ScalarMap::Kind::kProcedural:
-            return map_.low + (map_.high - map_.low) * procedural(procedural_, p.uv);
+        case ScalarMap::Kind::kProcedural: {
+            const Vec3f d = p.position - scalp_->center();
+            const float n = d.norm();
+            return map_.low +
+                   (map_.high - map_.low) *
+                       procedural(procedural_, p.uv, n > 1e-6f ? Vec3f(d / n) : Vec3f::UnitY());
+        }
     }
     return map_.value;
 }

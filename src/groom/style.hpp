@@ -149,7 +149,11 @@ struct SolveSpec {
 
 // Cutting (§6.2) beyond the length map: hair past the plane n·p > offset is cut off.
 struct CutSpec {
+    enum class Region { kAll, kFringe };
     bool enabled = false;
+    // Which strands the plane cuts: all, or those rooted in the fringe sector
+    // (groom/growth.hpp fringe_sector > 0.05): a fringe cut at the brows.
+    Region region = Region::kAll;
     Vec3f normal{0, -1, 0};  // unit on use, non-zero
     float offset = 0.f;      // cm, or head units (along normal, from the scalp centre)
     bool head_relative = true;

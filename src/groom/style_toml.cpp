@@ -53,7 +53,8 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& schema() {
         {"roots", {"wisps", "strands", "points_per_strand"}},
         {"maps", {"density", "length", "protrusion"}},
         {"growth",
-         {"part", "part_offset", "part_length", "front", "whorl", "whorl_turn", "whorl_swirl"}},
+         {"part", "part_offset", "part_length", "front", "whorl", "whorl_turn", "whorl_swirl",
+          "map", "map_strength"}},
         {"strand", {"root_width", "tip_width"}},
         {"prototype",
          {"shape", "amplitude", "period", "length", "points", "window", "temperature", "roll"}},
@@ -63,7 +64,7 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& schema() {
         {"solve",
          {"enabled", "stiffness", "threshold", "cell", "full_density", "bend_step", "max_tries",
           "order", "head_margin", "field"}},
-        {"cut", {"enabled", "normal", "offset", "head_relative"}},
+        {"cut", {"enabled", "region", "normal", "offset", "head_relative"}},
         {"dynamics", {"levels",           "wisps_per_group", "sub_wisps",       "sections",
                       "strands_per_wisp", "links",           "stiffness",       "stretch",
                       "damping",          "air_drag",        "split_threshold", "merge_velocity",
@@ -797,6 +798,8 @@ void Parser::read_growth(const toml::table* root, Style& style) const {
         spec.whorl_turn = choice<float>(*n, "growth.whorl_turn",
                                         {{"clockwise", 1.f}, {"counter-clockwise", -1.f}});
     opt_real(growth, "growth", "whorl_swirl", spec.whorl_swirl, Range{0, 2});
+    if (const toml::node* n = growth->get("map")) spec.map = path(*n, "growth.map");
+    opt_real(growth, "growth", "map_strength", spec.map_strength, Range{0, 1});
 }
 
 void Parser::read_strand(const toml::table* root, Style& style) const {
@@ -1011,6 +1014,10 @@ void Parser::read_cut(const toml::table* root, Style& style) const {
     CutSpec& spec = style.cut;
     spec.enabled = true;
     opt_bool(cut, "cut", "enabled", spec.enabled);
+    if (const toml::node* n = cut->get("region"))
+        spec.region = choice<CutSpec::Region>(
+            *n, "cut.region",
+            {{"all", CutSpec::Region::kAll}, {"fringe", CutSpec::Region::kFringe}});
     opt_vec3(cut, "cut", "normal", spec.normal, true);
     opt_real(cut, "cut", "offset", spec.offset, Range{-kMaxCoordinate, kMaxCoordinate});
     opt_bool(cut, "cut", "head_relative", spec.head_relative);

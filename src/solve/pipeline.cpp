@@ -6,13 +6,17 @@
 
 #include "core/parallel.hpp"
 #include "groom/color.hpp"
+#include "groom/growth.hpp"
 
 namespace wisp {
 namespace {
 
 // How far member points keep off the head (cm): more than the head field's interpolation
-// error near curved skin, so that the exact surface is never crossed.
-constexpr float kClearance = 0.2f;
+// error near curved skin, so that the exact surface is never crossed. That error grows as
+// the skin's radius of curvature shrinks below the field's cell: 0.2 cm was enough for heads
+// without small forms, not for the rims of the built-in head's ears (radius ~0.6 cm under
+// a 0.75 cm grid, where it reaches ~0.25 cm).
+constexpr float kClearance = 0.3f;
 
 }  // namespace
 
@@ -27,7 +31,8 @@ float head_field_cell(const SolveSpec& spec) {
     return std::min(0.75f, 0.75f * spec.cell);
 }
 
-size_t cut_hair(Hair& hair, const Vec3f& normal, float offset, size_t* removed) {
+size_t cut_hair(Hair& hair, const Vec3f& normal, float offset, size_t* removed,
+                const std::vector<uint8_t>* only) {
     const size_t s_count = hair.strand_count();
     std::vector<uint32_t> keep(s_count, 0);  // points kept per strand (0: removed)
     std::vector<uint8_t> cut(s_count, 0);
@@ -37,6 +42,9 @@ size_t cut_hair(Hair& hair, const Vec3f& normal, float offset, size_t* removed) 
         s_count,
         [&](size_t i) {
             const auto s = hair.strand(i);
+            keep[i] = static_cast<uint32_t>(s.size());
+            if (s.empty() || (only && !(*only)[i])) return;
+            keep[i] = 0;
             if (normal.dot(s[0]) > offset) return;
             size_t k = 1;
             while (k < s.size() && normal.dot(s[k]) <= offset)
@@ -153,7 +161,8 @@ HairstyleResult generate_hairstyle(const Style& style, const Head& head,
         reach.lo -= Vec3f::Constant(longest);
         reach.hi += Vec3f::Constant(longest);
         bounds.extend(reach);
-        const StylingField field(style.solve.field, frame, style.growth, bounds, style.solve.cell);
+        const StylingField field(style.solve.field, frame, GrowthField(style.growth, *head.scalp),
+                                 bounds, style.solve.cell);
         Grid3<float> density(field.grid().origin(), field.grid().cell(), field.grid().dims());
         lap("field");
 
@@ -190,7 +199,20 @@ HairstyleResult generate_hairstyle(const Style& style, const Head& head,
         const float offset = style.cut.head_relative
                                  ? n.dot(frame.center) + style.cut.offset * frame.radius
                                  : style.cut.offset;
-        r.strands_cut = cut_hair(r.hair, n, offset, &r.strands_removed);
+        std::vector<uint8_t> fringe;  // kFringe: the strands rooted in the fringe sector
+        if (style.cut.region == CutSpec::Region::kFringe) {
+            fringe.resize(r.hair.strand_count());
+            parallel_for(
+                fringe.size(),
+                [&](size_t i) {
+                    const auto s = r.hair.strand(i);
+                    const Vec3f d = s.empty() ? Vec3f::Zero() : Vec3f(s[0] - frame.center);
+                    fringe[i] = d.norm() > 1e-6f && fringe_sector(d.normalized()) > 0.05f;
+                },
+                4096);
+        }
+        r.strands_cut =
+            cut_hair(r.hair, n, offset, &r.strands_removed, fringe.empty() ? nullptr : &fringe);
         lap("cut");
     }
     {

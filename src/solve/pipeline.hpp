@@ -2,6 +2,8 @@
 // The whole grooming pipeline of DESIGN.md with the solver in place:
 // roots → masters → head field → styling field → solve → members → cut → collide → color.
 #include <cstddef>
+#include <cstdint>
+#include <vector>
 
 #include "core/hair.hpp"
 #include "core/timer.hpp"
@@ -27,8 +29,10 @@ HeadFrame head_frame(const Scalp& scalp);
 
 // Shortens every strand at the plane n·p = offset (n unit): points beyond it go, and the
 // strand ends on the plane. Strands whose root is beyond are removed. Returns the number of
-// strands shortened; `removed` receives the number removed.
-size_t cut_hair(Hair& hair, const Vec3f& normal, float offset, size_t* removed);
+// strands shortened; `removed` receives the number removed. With `only` (#strands), only the
+// strands it flags are cut.
+size_t cut_hair(Hair& hair, const Vec3f& normal, float offset, size_t* removed,
+                const std::vector<uint8_t>* only = nullptr);
 
 // Moves every non-root point whose head distance is below `clearance` cm out along the
 // head's gradient to that clearance. Returns the number of points moved. With `near`

@@ -28,7 +28,12 @@ Vec3f swept_toward(const HeadFrame& head, const Vec3f& p, const Vec3f& pole) {
     const float dist = d.norm();
     if (dist < 1e-4f) return down;
     const Vec3f r = d / dist;
-    Vec3f along = pole - pole.dot(r) * r;
+    // Every great circle from the point opposite the pole leads to it; near there, take the
+    // one over the top of the head (hair combed back from the forehead goes up and over, not
+    // down the face).
+    const Vec3f up(0.f, 1.f, 0.f);
+    const float opposite = smoothstep(0.8f, 1.f, -r.dot(pole));
+    Vec3f along = pole - pole.dot(r) * r + 0.3f * opposite * (up - up.dot(r) * r);
     const float n = along.norm();
     if (n < 1e-4f) return down;
     along /= n;
@@ -43,7 +48,7 @@ Vec3f swept_toward(const HeadFrame& head, const Vec3f& p, const Vec3f& pole) {
 // handing over to gravity off the head; hair in front of the face (below the brows for a
 // fringe) is carried sideways, away from the part, out of the face. Most of the grid lies
 // far from the head, where it is gravity alone: each part is skipped outside its region.
-Vec3f grown(const HeadFrame& head, const GrowthSpec& growth, const Vec3f& p) {
+Vec3f grown(const HeadFrame& head, const GrowthField& growth, const Vec3f& p) {
     const Vec3f down(0.f, -1.f, 0.f);
     const Vec3f q = (p - head.center) / head.radius;  // head units
     const float dist2 = q.squaredNorm();
@@ -52,7 +57,7 @@ Vec3f grown(const HeadFrame& head, const GrowthSpec& growth, const Vec3f& p) {
     if (dist2 < 1.6f * 1.6f) {
         const float dist = std::sqrt(dist2);
         const float near = 1.f - smoothstep(1.15f, 1.6f, dist);
-        phi = (1.f - near) * down + near * growth_direction(growth, q / dist);
+        phi = (1.f - near) * down + near * growth(q / dist);
     }
     // Below the skull, hair leaving the head falls as a curtain about as wide as the head
     // instead of closing in on the neck (a V-shaped tail): close to the head's vertical axis
@@ -66,10 +71,10 @@ Vec3f grown(const HeadFrame& head, const GrowthSpec& growth, const Vec3f& p) {
         phi += (0.6f * curtain / axis) * Vec3f(q.x(), 0.f, q.z());
     }
     // A fringe may reach the brows; other hair is cleared from the hairline down.
-    const bool fringe = growth.front == GrowthSpec::Front::kFringe;
+    const bool fringe = growth.spec().front == GrowthSpec::Front::kFringe;
     const float top = fringe ? 0.1f : 0.55f, full = fringe ? -0.15f : 0.2f;
     if (q.z() > 0.1f && q.y() < top && q.y() > -1.9f && std::abs(q.x()) < 0.9f) {
-        const float x = q.x() - part_x(growth);
+        const float x = q.x() - part_x(growth.spec());
         const float face = smoothstep(0.1f, 0.4f, q.z()) * smoothstep(top, full, q.y()) *
                            smoothstep(-1.9f, -1.4f, q.y()) *
                            (1.f - smoothstep(0.55f, 0.9f, std::abs(q.x())));
@@ -80,7 +85,7 @@ Vec3f grown(const HeadFrame& head, const GrowthSpec& growth, const Vec3f& p) {
 
 }  // namespace
 
-Vec3f field_term(const FieldTerm& term, const HeadFrame& head, const GrowthSpec& growth,
+Vec3f field_term(const FieldTerm& term, const HeadFrame& head, const GrowthField& growth,
                  const Vec3f& p) {
     const Vec3f down(0.f, -1.f, 0.f);
     switch (term.kind) {
@@ -169,7 +174,7 @@ Grid3<Vec3f> read_field_file(const std::filesystem::path& path) {
 }
 
 StylingField::StylingField(std::span<const FieldTerm> terms, const HeadFrame& head,
-                           const GrowthSpec& growth, const Box3& bounds, float cell) {
+                           const GrowthField& growth, const Box3& bounds, float cell) {
     Vec3i dims;
     for (int a = 0; a < 3; ++a)
         dims[a] = std::max(2, static_cast<int>(std::ceil(bounds.size()[a] / cell)) + 1);

@@ -20,13 +20,14 @@ struct HeadFrame {
 // The value of one predefined term at p (before its weight):
 //   gravity      (0, −1, 0)
 //   pulled-back  hair swept over the head toward the nape, along the great circles of the
-//                head's sphere, turning to gravity as it leaves the head
+//                head's sphere (near the point opposite the nape, where they all meet, the
+//                one over the crown), turning to gravity as it leaves the head
 //   side-part    the same toward the side −side·X (the part on the other side)
 //   wind         the term's direction, normalized
 //   growth       on the head, the scalp's growth direction (groom/growth.hpp) where p lies,
 //                turning to gravity as hair leaves the head; hair in front of the face (below
 //                the brows when the front hairline grows a fringe) is carried sideways out
-Vec3f field_term(const FieldTerm& term, const HeadFrame& head, const GrowthSpec& growth,
+Vec3f field_term(const FieldTerm& term, const HeadFrame& head, const GrowthField& growth,
                  const Vec3f& p);
 
 // Reads a field file (the format of docs/style.md "Field files"):
@@ -42,7 +43,7 @@ class StylingField {
   public:
     StylingField() = default;
     // Samples Σ weight·term over `bounds` with the given cell size.
-    StylingField(std::span<const FieldTerm> terms, const HeadFrame& head, const GrowthSpec& growth,
+    StylingField(std::span<const FieldTerm> terms, const HeadFrame& head, const GrowthField& growth,
                  const Box3& bounds, float cell);
     Vec3f operator()(const Vec3f& p) const { return grid_.trilinear(p); }
     const Grid3<Vec3f>& grid() const { return grid_; }

@@ -2,8 +2,13 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include "core/error.hpp"
+#include "core/image.hpp"
 #include "core/rng.hpp"
+#include "geometry/scalp.hpp"
+#include "groom/head.hpp"
 #include "groom/style_toml.hpp"
 
 namespace wisp {
@@ -87,6 +92,8 @@ front = "fringe"
 whorl = [0.1, 1.0, -0.3]
 whorl_turn = "counter-clockwise"
 whorl_swirl = 1.2
+map = "flow.png"
+map_strength = 0.5
 )",
                                 "growth.toml");
     EXPECT_EQ(s.growth.part, GrowthSpec::Part::kSide);
@@ -96,6 +103,8 @@ whorl_swirl = 1.2
     EXPECT_FLOAT_EQ(s.growth.whorl.x(), 0.1f);
     EXPECT_FLOAT_EQ(s.growth.whorl_turn, -1.f);
     EXPECT_FLOAT_EQ(s.growth.whorl_swirl, 1.2f);
+    EXPECT_EQ(s.growth.map.filename(), "flow.png");
+    EXPECT_FLOAT_EQ(s.growth.map_strength, 0.5f);
     // The default field now includes the growth term.
     const Style empty = parse_style("", "empty.toml");
     ASSERT_EQ(empty.solve.field.size(), 2u);
@@ -103,6 +112,47 @@ whorl_swirl = 1.2
     EXPECT_THROW(parse_style("[growth]\npart = \"middle\"\n", "bad.toml"), Error);
     EXPECT_THROW(parse_style("[growth]\nwhorl = [0, 0, 0]\n", "bad.toml"), Error);
     EXPECT_THROW(parse_style("[growth]\npart_offset = 2\n", "bad.toml"), Error);
+}
+
+// A growth map in the top view that points every root toward the image's right (the subject's
+// right, −X) on the left half of the image and leaves the right half neutral grey.
+TEST(Growth, MapTakesOverWhereItIsStrong) {
+    namespace fs = std::filesystem;
+    const fs::path file = fs::temp_directory_path() / "wisp_growth_map_test.png";
+    RgbImage img;
+    img.width = img.height = 64;
+    img.rgb.resize(64 * 64 * 3);
+    for (int j = 0; j < 64; ++j)
+        for (int i = 0; i < 64; ++i) {
+            uint8_t* px = &img.rgb[(static_cast<size_t>(j) * 64 + i) * 3];
+            px[0] = i < 32 ? 255 : 128;  // right on the image's left half (the subject's left)
+            px[1] = 128;
+            px[2] = 128;
+        }
+    write_png(file, img);
+    const Head head = load_head(HeadSpec{});
+    GrowthSpec spec;
+    spec.map = file;
+    const GrowthField with_map(spec, *head.scalp);
+    const GrowthField without(GrowthSpec{}, *head.scalp);
+    // On the top of the subject's left (+X, image left), hair now grows toward −X over the
+    // crown; on the right, the map is neutral and the procedural directions stay.
+    const Vec3f left = dir(0.5f, 0.8f, 0.1f), right = dir(-0.5f, 0.8f, 0.1f);
+    EXPECT_LT(with_map(left).x(), -0.5f);
+    EXPECT_GT(without(left).x(), 0.3f);
+    EXPECT_TRUE(with_map(right).isApprox(without(right), 1e-5f));
+    EXPECT_NEAR(with_map(left).dot(left), 0.f, 1e-4f);
+    spec.map_strength = 0.f;
+    EXPECT_TRUE(GrowthField(spec, *head.scalp)(left).isApprox(without(left), 1e-5f));
+    // A map that cannot be read names itself.
+    spec.map = file.string() + ".missing";
+    try {
+        GrowthField bad(spec, *head.scalp);
+        ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find(".missing"), std::string::npos) << e.what();
+    }
+    fs::remove(file);
 }
 
 }  // namespace
