@@ -2,7 +2,9 @@
 
 #include <tiny_obj_loader.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <iomanip>
 #include <sstream>
 #include <string_view>
@@ -253,6 +255,81 @@ void write_obj_mesh(const std::filesystem::path& path, const Mesh& mesh) {
             out << '\n';
         }
     });
+}
+
+void close_holes(const Mesh& mesh, Mesh* closed, Mesh* caps) {
+    Mesh unused;
+    if (!caps) caps = &unused;
+    closed->vertices = mesh.vertices;
+    closed->faces = mesh.faces;
+    // Half-edges a→b grouped by a (counting sort), to find those without a twin b→a.
+    const size_t nv = mesh.vertices.size();
+    std::vector<uint32_t> first(nv + 1, 0), to(3 * mesh.faces.size());
+    for (const Vec3i& f : mesh.faces)
+        for (int k = 0; k < 3; ++k)
+            ++first[f[k] + 1];
+    for (size_t v = 0; v < nv; ++v)
+        first[v + 1] += first[v];
+    std::vector<uint32_t> fill(first.begin(), first.end() - 1);
+    for (const Vec3i& f : mesh.faces)
+        for (int k = 0; k < 3; ++k)
+            to[fill[f[k]]++] = static_cast<uint32_t>(f[(k + 1) % 3]);
+    auto has_edge = [&](int a, int b) {
+        return std::find(to.begin() + first[a], to.begin() + first[a + 1],
+                         static_cast<uint32_t>(b)) != to.begin() + first[a + 1];
+    };
+    std::vector<std::pair<int, int>> boundary;  // half-edges without a twin, sorted by start
+    for (const Vec3i& f : mesh.faces)
+        for (int k = 0; k < 3; ++k) {
+            const int a = f[k], b = f[(k + 1) % 3];
+            if (a != b && !has_edge(b, a)) boundary.emplace_back(a, b);
+        }
+    std::sort(boundary.begin(), boundary.end());
+    boundary.erase(std::unique(boundary.begin(), boundary.end()), boundary.end());
+
+    std::vector<uint8_t> used(boundary.size(), 0);
+    auto next_from = [&](int v) -> int {  // the first unused boundary edge leaving v, or -1
+        auto it = std::lower_bound(boundary.begin(), boundary.end(), std::make_pair(v, INT32_MIN));
+        for (; it != boundary.end() && it->first == v; ++it) {
+            const auto i = static_cast<size_t>(it - boundary.begin());
+            if (!used[i]) return static_cast<int>(i);
+        }
+        return -1;
+    };
+    std::vector<int> loop;
+    for (size_t start = 0; start < boundary.size(); ++start) {
+        if (used[start]) continue;
+        loop.clear();
+        for (int e = static_cast<int>(start); e >= 0; e = next_from(boundary[e].second)) {
+            used[e] = 1;
+            loop.push_back(e);
+        }
+        // The centroid of the loop as a curve (edge midpoints weighted by length), so that
+        // uneven vertex spacing along the cut does not pull it aside.
+        Vec3d sum = Vec3d::Zero();
+        double length = 0;
+        for (int e : loop) {
+            const Vec3d a = mesh.vertices[boundary[e].first].cast<double>();
+            const Vec3d b = mesh.vertices[boundary[e].second].cast<double>();
+            sum += (b - a).norm() * 0.5 * (a + b);
+            length += (b - a).norm();
+        }
+        if (!(length > 0)) continue;
+        const Vec3f centroid = (sum / length).cast<float>();
+        // The face beside the hole runs a→b, so the cap runs b→a to face outward.
+        const int c = static_cast<int>(closed->vertices.size());
+        closed->vertices.push_back(centroid);
+        const int cc = static_cast<int>(caps->vertices.size());
+        caps->vertices.push_back(centroid);
+        for (int e : loop) {
+            const auto [a, b] = boundary[e];
+            closed->faces.emplace_back(b, a, c);
+            const int k = static_cast<int>(caps->vertices.size());
+            caps->vertices.push_back(mesh.vertices[b]);
+            caps->vertices.push_back(mesh.vertices[a]);
+            caps->faces.emplace_back(k, k + 1, cc);
+        }
+    }
 }
 
 }  // namespace wisp

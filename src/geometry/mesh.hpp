@@ -33,4 +33,10 @@ Mesh read_obj_mesh(const std::filesystem::path& path, float scale = 1.f);
 // Writes an OBJ atomically with `g NAME` blocks per face group and `vt` when present.
 void write_obj_mesh(const std::filesystem::path& path, const Mesh& mesh);
 
+// `mesh` with every boundary loop closed by a fan about the loop's centroid (the loop as a
+// curve: edge midpoints weighted by length), into `closed`; the fans alone into `caps` (may
+// be null). A head mesh cut open at the neck or chest encloses its inside only once closed:
+// its winding number is ambiguous near the cut, and its distance ignores it.
+void close_holes(const Mesh& mesh, Mesh* closed, Mesh* caps = nullptr);
+
 }  // namespace wisp

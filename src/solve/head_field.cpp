@@ -9,7 +9,13 @@
 
 namespace wisp {
 
-HeadField::HeadField(const Mesh& mesh, float cell) {
+HeadField::HeadField(const Mesh& open_mesh, float cell) {
+    // A head cut open at the neck or chest (most head meshes) encloses its inside only once
+    // closed: otherwise the inside far from the skin is one region with the outside, through
+    // the cut, and takes its sign, so hair that crossed the skin's band could pass through
+    // the head.
+    Mesh mesh;
+    close_holes(open_mesh, &mesh);
     const Box3 b = mesh.bounds();
     const Vec3f pad = Vec3f::Constant(3.f * cell);
     const Vec3f lo = b.lo - pad;

@@ -13,7 +13,9 @@ class HeadField {
     // Samples the signed distance of `mesh` (negative inside) on a grid of `cell` cm over its
     // bounding box grown by 3 cells. Near the surface (within 1.5 cells) distances are exact
     // (MeshDistance); further in or out only their sign matters, found by flood-filling the
-    // far nodes and classifying each connected region once by its winding number.
+    // far nodes and classifying each connected region once by its winding number. An open
+    // mesh (a head cut at the neck or chest) is first closed by a fan over each hole
+    // (close_holes), so that its inside is inside everywhere.
     HeadField(const Mesh& mesh, float cell);
 
     // Trilinear signed distance, cm; points outside the grid get a large positive value.

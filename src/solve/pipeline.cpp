@@ -110,8 +110,9 @@ size_t push_out_of_head(Hair& hair, const HeadField& head, float clearance,
                 Vec3f g = head.gradient(s[k]);
                 if (!(g.norm() > 1e-6f)) continue;
                 g.normalize();
-                // Two steps: the gradient of a trilinear field is only piecewise exact.
-                for (int it = 0; it < 3; ++it) {
+                // A few steps: the gradient of a trilinear field is only piecewise exact, and
+                // least so at sharp edges (the rim where an open bust is closed).
+                for (int it = 0; it < 6; ++it) {
                     const float di = head.sdf(s[k]);
                     if (di >= clearance) break;
                     s[k] += (clearance - di + 1e-3f) * g;

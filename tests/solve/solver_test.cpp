@@ -311,6 +311,25 @@ TEST(Constraint, ForcesFollowSectionFour) {
     EXPECT_EQ(constrained_field(Vec3f(0, -1, 0), Vec3f(1, 0, 0), 0.25f), Vec3f(0.25f, -0.75f, 0));
 }
 
+// A head cut open at the chest (most head meshes, the MakeHuman bust among them): far
+// from its skin, its inside must still be inside, not one region with the outside through
+// the cut, or hair could pass through the head.
+TEST(HeadField, InsideOfAnOpenMeshIsInside) {
+    // The built-in bust with its flat bottom (y = -38) cut away.
+    const Mesh& whole = *builtin().mesh;
+    Mesh bust;
+    bust.vertices = whole.vertices;
+    for (size_t f = 0; f < whole.faces.size(); ++f)
+        if (whole.face_normal(f).y() > -0.9f || whole.vertices[whole.faces[f][0]].y() > -37.f)
+            bust.faces.push_back(whole.faces[f]);
+    ASSERT_LT(bust.faces.size(), whole.faces.size());
+    const HeadField field(bust, 0.75f);
+    EXPECT_LT(field.sdf(Vec3f(0, -28, 0)), -3.f);  // the chest, far from the skin
+    EXPECT_LT(field.sdf(Vec3f(0, 2, 0)), -3.f);    // the head
+    EXPECT_GT(field.sdf(Vec3f(0, -42, 0)), 1.f);   // below the cut
+    EXPECT_GT(field.sdf(Vec3f(30, 0, 0)), 3.f);    // beside the head
+}
+
 TEST(Cut, PlaneShortensAndRemoves) {
     Hair hair;
     hair.add_strand(std::vector<Vec3f>{{0, 0, 0}, {0, -2, 0}, {0, -4, 0}});
