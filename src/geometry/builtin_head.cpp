@@ -802,16 +802,9 @@ void relax(Mesh& mesh, int iterations) {
     const size_t nv = mesh.vertices.size();
     // Vertex neighbours in CSR form from the (directed) triangle edges; each undirected edge
     // appears once per direction in a closed manifold, so neighbours are listed once.
-    std::vector<uint32_t> start(nv + 1, 0), adj(mesh.faces.size() * 3);
-    for (const Vec3i& t : mesh.faces)
-        for (int e = 0; e < 3; ++e)
-            ++start[t[e] + 1];
-    for (size_t i = 0; i < nv; ++i)
-        start[i + 1] += start[i];
-    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
-    for (const Vec3i& t : mesh.faces)
-        for (int e = 0; e < 3; ++e)
-            adj[fill[t[e]]++] = t[(e + 1) % 3];
+    const VertexLists neighbours = vertex_edges(mesh);
+    const std::vector<uint32_t>& start = neighbours.first;
+    const std::vector<uint32_t>& adj = neighbours.items;
 
     // The gradient is taken once: the later steps are short, and it changes little over them.
     std::vector<Vec3f> next(nv), gradient(nv), normal(nv);

@@ -257,23 +257,47 @@ void write_obj_mesh(const std::filesystem::path& path, const Mesh& mesh) {
     });
 }
 
+namespace {
+
+// Lists per vertex by a counting sort over the face corners: item(f, k) for corner k of face f
+// goes to vertex faces[f][k].
+template <typename Item>
+VertexLists corner_lists(const Mesh& mesh, Item&& item) {
+    VertexLists out;
+    out.first.assign(mesh.vertices.size() + 1, 0);
+    out.items.resize(3 * mesh.faces.size());
+    for (const Vec3i& f : mesh.faces)
+        for (int k = 0; k < 3; ++k)
+            ++out.first[f[k] + 1];
+    for (size_t v = 0; v < mesh.vertices.size(); ++v)
+        out.first[v + 1] += out.first[v];
+    std::vector<uint32_t> fill(out.first.begin(), out.first.end() - 1);
+    for (size_t f = 0; f < mesh.faces.size(); ++f)
+        for (int k = 0; k < 3; ++k)
+            out.items[fill[mesh.faces[f][k]]++] = item(f, k);
+    return out;
+}
+
+}  // namespace
+
+VertexLists vertex_edges(const Mesh& mesh) {
+    return corner_lists(
+        mesh, [&](size_t f, int k) { return static_cast<uint32_t>(mesh.faces[f][(k + 1) % 3]); });
+}
+
+VertexLists vertex_faces(const Mesh& mesh) {
+    return corner_lists(mesh, [](size_t f, int) { return static_cast<uint32_t>(f); });
+}
+
 void close_holes(const Mesh& mesh, Mesh* closed, Mesh* caps) {
     Mesh unused;
     if (!caps) caps = &unused;
     closed->vertices = mesh.vertices;
     closed->faces = mesh.faces;
-    // Half-edges a→b grouped by a (counting sort), to find those without a twin b→a.
-    const size_t nv = mesh.vertices.size();
-    std::vector<uint32_t> first(nv + 1, 0), to(3 * mesh.faces.size());
-    for (const Vec3i& f : mesh.faces)
-        for (int k = 0; k < 3; ++k)
-            ++first[f[k] + 1];
-    for (size_t v = 0; v < nv; ++v)
-        first[v + 1] += first[v];
-    std::vector<uint32_t> fill(first.begin(), first.end() - 1);
-    for (const Vec3i& f : mesh.faces)
-        for (int k = 0; k < 3; ++k)
-            to[fill[f[k]]++] = static_cast<uint32_t>(f[(k + 1) % 3]);
+    // Half-edges a→b grouped by a, to find those without a twin b→a.
+    const VertexLists edges = vertex_edges(mesh);
+    const std::vector<uint32_t>& first = edges.first;
+    const std::vector<uint32_t>& to = edges.items;
     auto has_edge = [&](int a, int b) {
         return std::find(to.begin() + first[a], to.begin() + first[a + 1],
                          static_cast<uint32_t>(b)) != to.begin() + first[a + 1];

@@ -33,6 +33,17 @@ Mesh read_obj_mesh(const std::filesystem::path& path, float scale = 1.f);
 // Writes an OBJ atomically with `g NAME` blocks per face group and `vt` when present.
 void write_obj_mesh(const std::filesystem::path& path, const Mesh& mesh);
 
+// Per-vertex lists in CSR form: vertex v's entries are items[first[v]] … items[first[v+1]−1].
+struct VertexLists {
+    std::vector<uint32_t> first;  // #vertices + 1
+    std::vector<uint32_t> items;
+};
+// For each vertex, the far end of every directed triangle edge leaving it (in a closed
+// manifold, each neighbour once).
+VertexLists vertex_edges(const Mesh& mesh);
+// For each vertex, the faces that use it.
+VertexLists vertex_faces(const Mesh& mesh);
+
 // `mesh` with every boundary loop closed by a fan about the loop's centroid (the loop as a
 // curve: edge midpoints weighted by length), into `closed`; the fans alone into `caps` (may
 // be null). A head mesh cut open at the neck or chest encloses its inside only once closed:

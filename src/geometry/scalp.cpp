@@ -137,16 +137,9 @@ std::vector<uint32_t> select_by_hairline(const Mesh& mesh, const ScalpSpec& spec
     if (top_face == nf) return {};
 
     // Flood fill over faces sharing a vertex, from the topmost candidate.
-    std::vector<uint32_t> start(nv + 1, 0), incident(nf * 3);
-    for (const Vec3i& t : mesh.faces)
-        for (int k = 0; k < 3; ++k)
-            ++start[t[k] + 1];
-    for (size_t v = 0; v < nv; ++v)
-        start[v + 1] += start[v];
-    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
-    for (size_t f = 0; f < nf; ++f)
-        for (int k = 0; k < 3; ++k)
-            incident[fill[mesh.faces[f][k]]++] = static_cast<uint32_t>(f);
+    const VertexLists around = vertex_faces(mesh);
+    const std::vector<uint32_t>& start = around.first;
+    const std::vector<uint32_t>& incident = around.items;
     std::vector<uint32_t> faces, stack{static_cast<uint32_t>(top_face)};
     candidate[top_face] = 2;
     while (!stack.empty()) {
