@@ -78,9 +78,7 @@ Masters synthesize_masters(const Style& style, const Head& head, const Roots& ro
         [&](size_t w) {
             const SurfacePoint& root = m.roots[w];
             const float protrusion = protrusion_map(root);
-            const Vec3f from_centre = root.position - scalp.center();
-            const Vec3f growth = growth_field(
-                from_centre.norm() > 1e-6f ? Vec3f(from_centre.normalized()) : Vec3f::UnitY());
+            const Vec3f growth = growth_field(scalp_direction(scalp, root.position));
             const Vec3f dir = protrusion_direction(root, growth, protrusion);
             m.direction[w] = dir;
             // Details turn with the head: the normal starts horizontal, around the head.

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/error.hpp"
 #include "core/image.hpp"
 #include "geometry/scalp.hpp"
 
@@ -103,8 +102,8 @@ Vec3f growth_direction(const GrowthSpec& spec, const Vec3f& r) {
     return unit_or(tangent(d, r), away);
 }
 
-GrowthField::GrowthField(const GrowthSpec& spec) : spec_(spec) {
-    if (!spec.map.empty()) fail("growth.map: a growth map needs a scalp");
+Vec3f scalp_direction(const Scalp& scalp, const Vec3f& p) {
+    return unit_or(Vec3f(p - scalp.center()), Vec3f::UnitY());
 }
 
 GrowthField::GrowthField(const GrowthSpec& spec, const Scalp& scalp) : spec_(spec), scalp_(&scalp) {

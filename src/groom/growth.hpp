@@ -52,6 +52,10 @@ struct GrowthSpec {
 // sphere at r (⟂ r). Without the map.
 Vec3f growth_direction(const GrowthSpec& spec, const Vec3f& r);
 
+// The unit direction of p from the scalp's centre (+Y at the centre itself): where
+// growth_direction, fringe_sector and the growth field are evaluated.
+Vec3f scalp_direction(const Scalp& scalp, const Vec3f& p);
+
 // The growth directions of a style on a scalp: growth_direction() with the growth map, if
 // any, loaded once. Cheap to copy.
 class GrowthField {
@@ -59,8 +63,6 @@ class GrowthField {
     // Loads spec.map (throws wisp::Error naming it if unreadable). `scalp` gives the UV of
     // a direction and must outlive the field when there is a map.
     GrowthField(const GrowthSpec& spec, const Scalp& scalp);
-    // Without a scalp: no map (spec.map must be empty).
-    explicit GrowthField(const GrowthSpec& spec);
 
     const GrowthSpec& spec() const { return spec_; }
     // The growth direction at unit direction r from the scalp's centre.

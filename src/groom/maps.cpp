@@ -90,13 +90,10 @@ float MapSampler::operator()(const SurfacePoint& p) const {
             return map_.value;
         case ScalarMap::Kind::kImage:
             return map_.low + (map_.high - map_.low) * image_->sample(p.uv.x(), p.uv.y());
-        case ScalarMap::Kind::kProcedural: {
-            const Vec3f d = p.position - scalp_->center();
-            const float n = d.norm();
+        case ScalarMap::Kind::kProcedural:
             return map_.low +
                    (map_.high - map_.low) *
-                       procedural(procedural_, p.uv, n > 1e-6f ? Vec3f(d / n) : Vec3f::UnitY());
-        }
+                       procedural(procedural_, p.uv, scalp_direction(*scalp_, p.position));
     }
     return map_.value;
 }

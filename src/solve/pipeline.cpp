@@ -207,8 +207,8 @@ HairstyleResult generate_hairstyle(const Style& style, const Head& head,
                 fringe.size(),
                 [&](size_t i) {
                     const auto s = r.hair.strand(i);
-                    const Vec3f d = s.empty() ? Vec3f::Zero() : Vec3f(s[0] - frame.center);
-                    fringe[i] = d.norm() > 1e-6f && fringe_sector(d.normalized()) > 0.05f;
+                    fringe[i] =
+                        !s.empty() && fringe_sector(scalp_direction(*head.scalp, s[0])) > 0.05f;
                 },
                 4096);
         }
