@@ -66,6 +66,7 @@ Masters synthesize_masters(const Style& style, const Head& head, const Roots& ro
     if (proto_spec.kind != PrototypeSpec::Kind::kPolyline)
         proto_spec.length = std::max(proto_spec.length, static_cast<float>(h + 16) * longest);
     const PrototypeCurve curve = make_prototype_curve(proto_spec);
+    const bool straight = is_straight(proto_spec);
     if (proto_spec.kind == PrototypeSpec::Kind::kPolyline &&
         curve.centre_arc.back() < static_cast<float>(h + 2) * longest)
         fail("prototype.points: the polyline's outline is ", curve.centre_arc.back(),
@@ -91,12 +92,13 @@ Masters synthesize_masters(const Style& style, const Head& head, const Roots& ro
             f.b = f.t.cross(f.n);
             m.root_frame[w] = f;
 
-            const std::vector<Vec3f> proto = decompose(curve, m.segment[w]);
-            std::vector<double> scratch;
-            std::span<Vec3f> details(m.details.data() + w * n, static_cast<size_t>(n));
             SynthesisParams sp;
             sp.window = h;
+            sp.substeps = straight ? 1 : synthesis_substeps(m.segment[w], style.prototype.period);
             sp.temperature = style.prototype.temperature;
+            const std::vector<Vec3f> proto = decompose(curve, m.segment[w] / sp.substeps);
+            SynthesisScratch scratch;
+            std::span<Vec3f> details(m.details.data() + w * n, static_cast<size_t>(n));
             sp.scale = synthesis_scale(proto, h);
             Rng srng(style.seed, Stream::kMaster, w);
             synthesize_details(proto, sp, srng, details, {}, scratch);

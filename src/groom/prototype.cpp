@@ -11,8 +11,7 @@ std::vector<Vec3f> prototype_polyline(const PrototypeSpec& spec) {
     using Kind = PrototypeSpec::Kind;
     if (spec.kind == Kind::kPolyline) return spec.polyline;
     const float length = spec.length;
-    if (spec.kind == Kind::kStraight || spec.amplitude <= 0.f)
-        return {Vec3f::Zero(), Vec3f(0.f, length, 0.f)};
+    if (is_straight(spec)) return {Vec3f::Zero(), Vec3f(0.f, length, 0.f)};
     const float period = spec.kind == Kind::kKinky ? 0.5f * spec.period : spec.period;
     // 64 samples a period resolve every preset far below a hair's width.
     const int count = std::clamp(static_cast<int>(64.f * length / period), 64, 1 << 18);
@@ -56,7 +55,7 @@ PrototypeCurve make_prototype_curve(const PrototypeSpec& spec) {
             : 0.f;
     for (size_t k = 0; k < out.curve.size(); ++k)
         out.centre[k] = Vec3f(axis_x, out.curve[k].y(), 0.f);
-    if (spec.kind == Kind::kStraight || spec.amplitude <= 0.f) {
+    if (is_straight(spec)) {
         // Two points are enough for a line, but decompose() walks samples: densify.
         const size_t count = 257;
         out.curve.resize(count);
@@ -132,7 +131,12 @@ std::vector<Vec3f> decompose(const PrototypeCurve& proto, float segment) {
         const size_t s = std::min(i, n - 2);
         Vec3f t = c[s + 1] - c[s];
         t = t.norm() > 0.f ? Vec3f(t.normalized()) : Vec3f::UnitY();
-        frame = i == 0 ? frame_from(t, Vec3f::UnitX()) : transport(frame, t);
+        // Most centre lines are straight (every preset's): skip the rotation where the
+        // tangent does not turn.
+        if (i == 0)
+            frame = frame_from(t, Vec3f::UnitX());
+        else if (t != frame.t)
+            frame = transport(frame, t);
         details[i] = frame.to_local(p[i] - c[i]);
     }
     return details;

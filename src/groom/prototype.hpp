@@ -17,6 +17,13 @@ namespace wisp {
 //             zig-zag riding on it, as in type-4 hair
 std::vector<Vec3f> prototype_polyline(const PrototypeSpec& spec);
 
+// True for a prototype without details: the straight preset, or a wave or coil of no
+// amplitude.
+inline bool is_straight(const PrototypeSpec& spec) {
+    return spec.kind == PrototypeSpec::Kind::kStraight ||
+           (spec.kind != PrototypeSpec::Kind::kPolyline && spec.amplitude <= 0.f);
+}
+
 // A polyline resampled at even arc length and its low-pass centre line, from which
 // outlines of any segment length are cut (decompose() below).
 struct PrototypeCurve {

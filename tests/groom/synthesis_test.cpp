@@ -10,41 +10,69 @@
 namespace wisp {
 namespace {
 
-std::vector<Vec3f> wavy_details(float segment) {
+constexpr float kAmplitude = 0.8f;
+constexpr float kSegment = 0.5f;  // cm between output details: 6 a period
+constexpr int kSubsteps = 4;
+
+// The prototype's details at 1/kSubsteps of the output spacing.
+std::vector<Vec3f> wavy_details() {
     PrototypeSpec spec;
     spec.kind = PrototypeSpec::Kind::kWavy;
-    spec.amplitude = 0.8f;
+    spec.amplitude = kAmplitude;
     spec.period = 3.f;
     spec.length = 40.f;
     const PrototypeCurve curve = make_prototype_curve(spec);
-    return decompose(curve, segment);
+    return decompose(curve, kSegment / kSubsteps);
 }
 
-// Mean distance between each synthesized detail and the detail that would simply continue
-// the prototype from the previous choice (0 for a perfect copy), in cm.
-double jump_rate(const std::vector<Vec3f>& proto, float temperature, int strands) {
+SynthesisParams params(const std::vector<Vec3f>& proto, float temperature) {
     SynthesisParams p;
     p.window = 4;
+    p.substeps = kSubsteps;
     p.temperature = temperature;
     p.scale = synthesis_scale(proto, p.window);
-    std::vector<Vec3f> out(32);
-    std::vector<int32_t> chosen(32);
-    std::vector<double> scratch;
-    double jumps = 0;
-    int steps = 0;
+    return p;
+}
+
+struct Spread {
+    double departure = 0;  // RMS distance from the prototype continued from the chain's start
+    double roughness = 0;  // RMS second difference of the details
+};
+
+// Fig. 7's measures over `strands` synthesized strands of 48 details, in cm.
+Spread spread(const std::vector<Vec3f>& proto, float temperature, int strands) {
+    const SynthesisParams p = params(proto, temperature);
+    std::vector<Vec3f> out(48);
+    std::vector<int32_t> chosen(48);
+    SynthesisScratch scratch;
+    double departure = 0, roughness = 0;
+    size_t d_count = 0, r_count = 0;
     for (int s = 0; s < strands; ++s) {
         Rng rng(5, Stream::kMaster, s);
         synthesize_details(proto, p, rng, out, chosen, scratch);
-        for (size_t i = p.window; i < out.size(); ++i) {
-            // A jump back by a whole number of periods continues the pattern just as well,
-            // so compare the details themselves.
-            const size_t next = chosen[i - 1] + 1;
-            if (next >= proto.size()) continue;
-            jumps += (out[i] - proto[next]).norm();
-            ++steps;
+        for (size_t i = 0; i < out.size(); ++i) {
+            const size_t copy = chosen[0] + i * kSubsteps;
+            if (copy >= proto.size()) break;
+            departure += (out[i] - proto[copy]).squaredNorm();
+            ++d_count;
+        }
+        for (size_t i = 1; i + 1 < out.size(); ++i) {
+            roughness += (out[i - 1] - 2.f * out[i] + out[i + 1]).squaredNorm();
+            ++r_count;
         }
     }
-    return jumps / steps;
+    return {std::sqrt(departure / d_count), std::sqrt(roughness / r_count)};
+}
+
+// The prototype's own RMS second difference at the output spacing.
+double prototype_roughness(const std::vector<Vec3f>& proto) {
+    double sum = 0;
+    size_t count = 0;
+    for (size_t k = kSubsteps; k + kSubsteps < proto.size(); ++k) {
+        sum += (proto[k - kSubsteps] - 2.f * proto[k] + proto[k + kSubsteps]).squaredNorm();
+        ++count;
+    }
+    return std::sqrt(sum / count);
 }
 
 }  // namespace
@@ -56,53 +84,101 @@ TEST(Synthesis, WindowDistanceIsEquationTwo) {
     EXPECT_NEAR(window_distance(a, 3, b, 3, 3), std::sqrt(5.f), 1e-6f);
 }
 
+TEST(Synthesis, WindowDistanceStridesThroughThePrototype) {
+    const std::vector<Vec3f> out = {{1, 0, 0}, {2, 0, 0}, {0, 0, 0}};
+    std::vector<Vec3f> proto(8, Vec3f::Zero());
+    proto[3] = {1, 0, 0};  // k − 2·stride for k = 7, stride 2
+    proto[5] = {2, 0, 3};  // k − stride
+    EXPECT_NEAR(window_distance(out, 2, proto, 7, 2, 2), 3.f, 1e-6f);
+}
+
+TEST(Synthesis, SubstepsSampleAboutTwentyFourTimesAPeriod) {
+    EXPECT_EQ(synthesis_substeps(1.f, 8.f), 3);  // 8 steps a period, 24 samples
+    EXPECT_EQ(synthesis_substeps(0.1f, 8.f), 1);
+    EXPECT_EQ(synthesis_substeps(5.f, 1.f), 4);  // capped
+    EXPECT_EQ(synthesis_substeps(1.f, 0.f), 1);
+}
+
 TEST(Synthesis, ZeroTemperatureReproducesThePrototype) {
-    const std::vector<Vec3f> proto = wavy_details(0.5f);
-    ASSERT_GT(proto.size(), 40u);
-    SynthesisParams p;
-    p.window = 4;
-    p.temperature = 0.f;
-    p.scale = synthesis_scale(proto, p.window);
+    const std::vector<Vec3f> proto = wavy_details();
+    ASSERT_GT(proto.size(), 200u);
+    const SynthesisParams p = params(proto, 0.f);
     std::vector<Vec3f> out(32);
     std::vector<int32_t> chosen(32);
-    std::vector<double> scratch;
+    SynthesisScratch scratch;
     for (int s = 0; s < 50; ++s) {
         Rng rng(1, Stream::kMaster, s);
         synthesize_details(proto, p, rng, out, chosen, scratch);
         // Every step continues the prototype exactly (the argmin window has ε = 0) until
-        // the prototype's end, where the chain must jump back.
+        // the prototype's end, where the chain must jump back (and feathers the seam).
         for (size_t i = 1; i < out.size(); ++i) {
-            const size_t next = chosen[i - 1] + 1;
-            if (next >= proto.size()) continue;
+            const size_t next = chosen[i - 1] + kSubsteps;
+            if (next >= proto.size()) break;
+            EXPECT_EQ(chosen[i], static_cast<int32_t>(next)) << "strand " << s << " step " << i;
             EXPECT_LT((out[i] - proto[next]).norm(), 1e-5f) << "strand " << s << " step " << i;
         }
     }
 }
 
-TEST(Synthesis, SmallTemperatureStaysCloseToThePrototype) {
-    const std::vector<Vec3f> proto = wavy_details(0.5f);
-    EXPECT_LT(jump_rate(proto, 0.001f, 100), 0.01 * 0.8);  // 1% of the amplitude
+TEST(Synthesis, EveryStepTakesAWindowThatMatchesBest) {
+    // The chain updates its window distances step to step; they must stay eq. (2)'s. A
+    // short, aperiodic prototype makes the chain jump back often, to imperfect matches.
+    PrototypeSpec spec;
+    spec.kind = PrototypeSpec::Kind::kPolyline;
+    spec.period = 2.f;
+    for (int j = 0; j <= 120; ++j) {
+        const float y = 0.1f * j;
+        spec.polyline.emplace_back(0.5f * std::sin(3.1f * y) + 0.3f * std::sin(7.7f * y), y,
+                                   0.4f * std::cos(4.3f * y));
+    }
+    const std::vector<Vec3f> proto = decompose(make_prototype_curve(spec), kSegment / kSubsteps);
+    const SynthesisParams p = params(proto, 0.f);
+    std::vector<Vec3f> out(64), chain(64);
+    std::vector<int32_t> chosen(64);
+    SynthesisScratch scratch;
+    const size_t span = p.window * kSubsteps;
+    for (int s = 0; s < 20; ++s) {
+        Rng rng(2, Stream::kMaster, s);
+        synthesize_details(proto, p, rng, out, chosen, scratch);
+        for (size_t i = 0; i < out.size(); ++i)
+            chain[i] = proto[chosen[i]];
+        for (size_t i = p.window; i < out.size(); ++i) {
+            float least = INFINITY;
+            for (size_t k = span; k < proto.size(); ++k)
+                least = std::min(least, window_distance(chain, i, proto, k, p.window, kSubsteps));
+            EXPECT_LE(window_distance(chain, i, proto, chosen[i], p.window, kSubsteps),
+                      least + 1e-4f)
+                << "strand " << s << " step " << i;
+        }
+    }
 }
 
-TEST(Synthesis, DiversityGrowsWithTemperature) {
-    // Figure 7: T = 0.01, 0.03, 0.07, 0.12 give increasingly diverse strands.
-    const std::vector<Vec3f> proto = wavy_details(0.5f);
+TEST(Synthesis, SmallTemperatureCopiesThePrototype) {
+    // Fig. 7b: T = 0.01 gives strands that are the prototype.
+    const std::vector<Vec3f> proto = wavy_details();
+    EXPECT_LT(spread(proto, 0.01f, 100).departure, 0.02 * kAmplitude);
+}
+
+TEST(Synthesis, DiversityGrowsSmoothlyWithTemperature) {
+    // Fig. 7: T = 0.01, 0.03, 0.07, 0.12 give increasingly diverse strands, whose waves
+    // wander from the prototype's rather than break into zig-zags.
+    const std::vector<Vec3f> proto = wavy_details();
+    const double smooth = prototype_roughness(proto);
     double last = -1.0;
     for (float t : {0.01f, 0.03f, 0.07f, 0.12f}) {
-        const double rate = jump_rate(proto, t, 200);
-        EXPECT_GT(rate, last) << "T = " << t;
-        last = rate;
+        const Spread s = spread(proto, t, 200);
+        EXPECT_GT(s.departure, 1.5 * last) << "T = " << t;
+        EXPECT_LT(s.roughness, 1.25 * smooth) << "T = " << t;
+        last = s.departure;
     }
-    EXPECT_GT(last, 0.1 * 0.8);  // at T = 0.12 details stray by over 10% of the amplitude
+    EXPECT_GT(last, 0.3 * kAmplitude);  // at T = 0.12 the waves are well out of phase
 }
 
 TEST(Synthesis, DeterministicForASeed) {
-    const std::vector<Vec3f> proto = wavy_details(0.7f);
-    SynthesisParams p;
-    p.temperature = 0.05f;
-    p.scale = synthesis_scale(proto, p.window);
+    const std::vector<Vec3f> proto = wavy_details();
+    const SynthesisParams p = params(proto, 0.05f);
     std::vector<Vec3f> a(32), b(32);
-    std::vector<double> scratch;
+    SynthesisScratch scratch;
     Rng r1(9, Stream::kMaster, 3), r2(9, Stream::kMaster, 3);
     synthesize_details(proto, p, r1, a, {}, scratch);
     synthesize_details(proto, p, r2, b, {}, scratch);
