@@ -15,10 +15,12 @@ const HeadField& builtin_field() {
 }
 
 // The solver alone (Algorithm 1 with the styling field), masters re-synthesized outside the
-// timing each iteration.
+// timing each iteration. Threads, then the field: 0 the default (growth and gravity), 1
+// gravity alone (the workload of the figures before the growth field, Fig. 9's).
 void BM_Solve2000Wisps(benchmark::State& state) {
     const ThreadLimit limit(static_cast<int>(state.range(0)));
-    const Style style = bench_style();
+    Style style = bench_style();
+    if (state.range(1) == 1) style.solve.field = {FieldTerm{}};
     const Head& head = bench_head();
     const HeadField& field = builtin_field();
     const Roots roots = grow_roots(style, head);
@@ -49,7 +51,11 @@ void BM_Solve2000Wisps(benchmark::State& state) {
     state.counters["joints"] = static_cast<double>(stats.joints);
     state.counters["collision_iterations"] = static_cast<double>(stats.bends);
 }
-BENCHMARK(BM_Solve2000Wisps)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Solve2000Wisps)
+    ->ArgsProduct({{1, 2}, {0, 1}})
+    ->ArgNames({"threads", "gravity"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 // The whole pipeline (roots → color) for 100,000 strands, with the head's field built once
 // per head (as the editor keeps it) and, second, built in the run as the command line does.
