@@ -9,6 +9,10 @@
 namespace wisp {
 namespace {
 
+// How much each Δθ bend must thin the hair's density ahead (the fraction) for the solver to
+// bend on (see place()).
+constexpr float kProgress = 0.01f;
+
 struct Splat {
     int i[3];
     float f[3];
@@ -239,7 +243,7 @@ class Solver {
         int tries = 0;
         bool collided = false;
         Vec3f best_q = q;
-        float best_density = INFINITY;
+        float best_density = INFINITY, last_worst = INFINITY;
         for (; !following;) {
             const Vec3f end = x + s * q, mid = x + 0.5f * s * q;
             const float d_end = total_density(end), d_mid = total_density(mid);
@@ -250,7 +254,14 @@ class Solver {
             }
             if (worst + rho_delta <= spec_.threshold) break;
             collided = true;
-            if (tries >= spec_.max_tries) {
+            // Among hair alone (the head is always escaped), a bend that no longer thins the
+            // density ahead by kProgress means the hair around is packed as far as it goes:
+            // bending on would only splay the wisp sideways (at a small τ, into a lampshade).
+            const bool packed = tries > 0 && worst > (1.f - kProgress) * last_worst &&
+                                in_.head->density(end, spec_.head_margin) == 0.f &&
+                                in_.head->density(mid, spec_.head_margin) == 0.f;
+            last_worst = worst;
+            if (tries >= spec_.max_tries || packed) {
                 // Still colliding: keep the least dense direction tried.
                 ++stats_.unresolved;
                 q = best_q;
