@@ -11,7 +11,7 @@ namespace {
 
 // How much each Δθ bend must thin the hair's density ahead (the fraction) for the solver to
 // bend on (see place()).
-constexpr float kProgress = 0.01f;
+constexpr float kProgress = 0.05f;
 
 struct Splat {
     int i[3];

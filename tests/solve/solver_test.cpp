@@ -96,8 +96,8 @@ TEST(Solver, StifferHairBendsLess) {
 TEST(Solver, LowerThresholdGivesMoreVolume) {
     // Fig. 9a/c: τ = 0.1 makes the hair occupy a larger volume than τ = 0.9.
     Style flat = small_style(), full = small_style();
-    flat.wisps = full.wisps = 1000;
-    flat.strands = full.strands = 40000;  // enough hair to fill space
+    flat.wisps = full.wisps = 2000;
+    flat.strands = full.strands = 100000;  // a full head of hair, enough to fill space
     flat.solve.threshold = 0.9f;
     full.solve.threshold = 0.1f;
     const double v_flat =
