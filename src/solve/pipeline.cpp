@@ -111,16 +111,24 @@ size_t push_out_of_head(Hair& hair, const HeadField& head, float clearance,
                 if (!(g.norm() > 1e-6f)) continue;
                 g.normalize();
                 // A few steps: the gradient of a trilinear field is only piecewise exact, and
-                // least so at sharp edges (the rim where an open bust is closed).
+                // least so at sharp edges (the rim where an open bust is closed). The gradient
+                // is taken again only for a step that needs it.
+                float di = d;
+                bool out = false;
                 for (int it = 0; it < 6; ++it) {
-                    const float di = head.sdf(s[k]);
-                    if (di >= clearance) break;
+                    if (it > 0) {
+                        di = head.sdf(s[k]);
+                        if (di >= clearance) {
+                            out = true;
+                            break;
+                        }
+                        const Vec3f g2 = head.gradient(s[k]);
+                        if (g2.norm() > 1e-6f) g = g2.normalized();
+                    }
                     s[k] += (clearance - di + 1e-3f) * g;
-                    const Vec3f g2 = head.gradient(s[k]);
-                    if (g2.norm() > 1e-6f) g = g2.normalized();
                 }
                 ++local;
-                local_inside += head.sdf(s[k]) < 0.f;
+                local_inside += !out && head.sdf(s[k]) < 0.f;
             }
             moved += local;
             still_inside += local_inside;
