@@ -32,6 +32,20 @@ Splat locate(const Grid3<float>& g, const Vec3f& p) {
     return s;
 }
 
+// The trilinear value at a located point: Grid3::trilinear's arithmetic, without locating p
+// again.
+float sample(const Grid3<float>& g, const Splat& s) {
+    const int i = s.i[0], j = s.i[1], k = s.i[2];
+    const float* f = s.f;
+    const float c00 = g.at(i, j, k) * (1 - f[0]) + g.at(i + 1, j, k) * f[0];
+    const float c10 = g.at(i, j + 1, k) * (1 - f[0]) + g.at(i + 1, j + 1, k) * f[0];
+    const float c01 = g.at(i, j, k + 1) * (1 - f[0]) + g.at(i + 1, j, k + 1) * f[0];
+    const float c11 = g.at(i, j + 1, k + 1) * (1 - f[0]) + g.at(i + 1, j + 1, k + 1) * f[0];
+    const float c0 = c00 * (1 - f[1]) + c10 * f[1];
+    const float c1 = c01 * (1 - f[1]) + c11 * f[1];
+    return c0 * (1 - f[2]) + c1 * f[2];
+}
+
 // Adds `amount` at p with trilinear weights (the density a wisp segment creates).
 void deposit(Grid3<float>& g, const Vec3f& p, float amount) {
     const Splat s = locate(g, p);
@@ -138,8 +152,7 @@ class Solver {
   private:
     float hair_density(const Vec3f& p) const {
         const Splat s = locate(rho_, p);
-        if (!s.inside) return 0.f;
-        return rho_.trilinear(p);
+        return s.inside ? sample(rho_, s) : 0.f;
     }
     float total_density(const Vec3f& p) const {
         const float head = in_.head->density(p, spec_.head_margin);
