@@ -87,6 +87,7 @@ struct LookArgs {
     std::string eye, target, background;
     float fov = 30.f;
     float specular_exponent = 80.f, specular_strength = -1.f;
+    std::string shading = "hair";
     bool no_shadows = false;
 
     void add_to(CLI::App* cmd) {
@@ -96,10 +97,17 @@ struct LookArgs {
             ->check(CLI::Range(1.f, 170.f))
             ->capture_default_str();
         cmd->add_option("--background", background, "Background linear RGB r,g,b in [0,1]");
+        cmd->add_option("--shading", shading,
+                        "hair: the highlights of real hair (Marschner's shifted lobes); "
+                        "kajiya-kay: the paper's model")
+            ->check(CLI::IsMember({"hair", "kajiya-kay"}))
+            ->capture_default_str();
         cmd->add_option("--specular-exponent", specular_exponent, "Kajiya-Kay specular exponent")
             ->check(CLI::Range(1.f, 10000.f))
             ->capture_default_str();
-        cmd->add_option("--specular", specular_strength, "Kajiya-Kay specular strength")
+        cmd->add_option("--specular", specular_strength,
+                        "Highlight strength: Kajiya-Kay's k_s (0.5), or a factor on the hair "
+                        "shading's highlights (1; 0 shows the hair's own colour)")
             ->check(CLI::Range(0.f, 100.f));
         cmd->add_flag("--no-shadows", no_shadows, "Render without self-shadowing");
     }
@@ -110,8 +118,14 @@ struct LookArgs {
             o.look_at = LookAt{parse_vec3("--eye", eye), parse_vec3("--target", target)};
         o.fov_y_degrees = fov;
         if (!background.empty()) o.background = parse_vec3("--background", background);
+        o.shading = shading == "kajiya-kay" ? RenderOptions::Shading::kKajiyaKay
+                                            : RenderOptions::Shading::kHair;
         o.specular_exponent = specular_exponent;
-        if (specular_strength >= 0.f) o.specular_strength = specular_strength;
+        if (specular_strength >= 0.f) {
+            o.specular_strength = specular_strength;
+            o.hair.primary *= specular_strength;
+            o.hair.secondary *= specular_strength;
+        }
         o.shadows = !no_shadows;
     }
 };

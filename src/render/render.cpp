@@ -11,6 +11,7 @@
 
 #include "core/error.hpp"
 #include "core/parallel.hpp"
+#include "core/rng.hpp"
 #include "render/kajiya_kay.hpp"
 #include "render/opacity_shadow_map.hpp"
 #include "render/shadow_depth_map.hpp"
@@ -167,12 +168,17 @@ struct Scene {
     }
 };
 
-// Kajiya-Kay under the key light (visible fraction `shadow`), the fill light and ambient.
+// The hair's reflectance under the key light (visible fraction `shadow`), the fill light and
+// ambient: the lobes of real hair (`lobes`, the strand's), or Kajiya-Kay.
 Vec3f shade_hair(const Scene& scene, const Vec3f& p, const Vec3f& t, const Vec3f& color,
-                 float shadow) {
+                 float shadow, const HairLobeSet& lobes) {
     const RenderOptions& o = *scene.options;
     const Lights& l = scene.lights;
     const Vec3f e = (scene.camera.eye - p).normalized();
+    if (o.shading == RenderOptions::Shading::kHair)
+        return l.ambient.cwiseProduct(color) +
+               shadow * l.key_color.cwiseProduct(hair_reflectance(t, l.key_dir, e, color, lobes)) +
+               l.fill_color.cwiseProduct(hair_reflectance(t, l.fill_dir, e, color, lobes));
     const Vec3f spec_color = Vec3f::Ones() + o.specular_tint * (color - Vec3f::Ones());
     auto light = [&](const Vec3f& dir) {
         // kajiya_kay_specular, with pow skipped where its value would be invisible.
@@ -251,6 +257,11 @@ void tessellate_strands(const Scene& scene, std::vector<HairVertex>& vertices,
         [&](size_t k_order) {
             const size_t s = scene.strand_order[k_order];
             const Vec3f color = hair.color_of(s);
+            // Each strand's secondary highlight varies a little (its sparkle), by a hash of
+            // its index: the same at any thread count.
+            const float variation =
+                static_cast<float>(mix64(0x5b4c1e ^ s) >> 40) * (2.f / 16777216.f) - 1.f;
+            const HairLobeSet lobes(o.hair, variation);
             const std::span<const Vec3f> p = hair.strand(s);
             const uint32_t first = first_vertex[k_order];
             uint32_t k = first;
@@ -278,7 +289,7 @@ void tessellate_strands(const Scene& scene, std::vector<HairVertex>& vertices,
                     if (q.z() <= kNear) return;
                     const float shadow = shadow0 + (shadow1 - shadow0) * sample.u;
                     v.w = sample.width * cam.focal_pixels / q.z();
-                    v.rgb = pack_color(shade_hair(scene, sample.p, sample.t, color, shadow));
+                    v.rgb = pack_color(shade_hair(scene, sample.p, sample.t, color, shadow, lobes));
                 });
             if (k > first) vertices[k - 1].rgb |= kLastOfStrand;
         },

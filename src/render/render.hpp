@@ -27,6 +27,7 @@
 #include "core/timer.hpp"
 #include "geometry/mesh.hpp"
 #include "render/camera.hpp"
+#include "render/hair_shading.hpp"
 
 namespace wisp {
 
@@ -49,8 +50,12 @@ struct RenderOptions {
     float fov_y_degrees = 30.f;
     Vec3f background = Vec3f(0.3f, 0.3f, 0.31f);  // linear RGB
 
-    // Kajiya-Kay: colour = ambient·c + Σ_lights light·(diffuse_strength·c·sin(t,l) +
-    // specular_strength·s·cone^specular_exponent), s = mix(white, c, specular_tint).
+    // The hair's reflectance: kHair, the lobes of real hair (hair_shading.hpp), or kKajiyaKay,
+    // the model of Choe & Ko §5: colour = ambient·c + Σ_lights light·(diffuse_strength·c·
+    // sin(t,l) + specular_strength·s·cone^specular_exponent), s = mix(white, c, specular_tint).
+    enum class Shading { kHair, kKajiyaKay };
+    Shading shading = Shading::kHair;
+    HairLobes hair;
     float diffuse_strength = 0.7f;
     float specular_strength = 0.5f;
     float specular_exponent = 80.f;
