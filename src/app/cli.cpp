@@ -15,6 +15,7 @@
 #include <random>
 #include <thread>
 
+#include "app/progress.hpp"
 #include "app/stats.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
@@ -174,7 +175,8 @@ std::vector<std::string> split_views(const std::string& text) {
 
 // Renders hair (and the head) to a PNG: one view, or a contact sheet of several.
 void render_png(const std::string& path, const Hair& hair, const Mesh& head,
-                const std::string& views, const std::string& size, const LookArgs& look) {
+                const std::string& views, const std::string& size, const LookArgs& look,
+                bool quiet) {
     RenderOptions options;
     std::tie(options.width, options.height) = parse_size(size);
     look.apply(options);
@@ -183,7 +185,11 @@ void render_png(const std::string& path, const Hair& hair, const Mesh& head,
         options.view = list[0];
         write_png(path, render(hair, &head, options));
     } else {
-        write_png(path, contact_sheet(hair, &head, list, options));
+        Progress progress("rendering view", static_cast<int>(list.size()), quiet);
+        write_png(path,
+                  contact_sheet(hair, &head, list, options, [&](int done, const std::string& view) {
+                      progress.step(done, view);
+                  }));
     }
 }
 
@@ -278,7 +284,7 @@ int run_generate(const GenerateArgs& args) {
     }
     if (!args.png.empty()) {
         watch = Stopwatch();
-        render_png(args.png, result.hair, *head.mesh, args.views, args.size, args.look);
+        render_png(args.png, result.hair, *head.mesh, args.views, args.size, args.look, args.quiet);
         times.emplace_back("render " + args.png, watch.ms());
         info(args.quiet, cat("wisp: wrote ", args.png));
     }
@@ -482,7 +488,7 @@ int run_animate(const AnimateArgs& args) {
     std::optional<Camera> first_camera;
     Vec3f first_centre = Vec3f::Zero();
     HairWriteOptions write_options;
-    const bool progress = !args.quiet && isatty(STDERR_FILENO);
+    Progress progress("frame", args.frames, args.quiet);
 
     const AnimationStats stats =
         animate(rest, *head.mesh, frame, motion, spec, style.prototype.kind, settings,
@@ -513,10 +519,8 @@ int run_animate(const AnimateArgs& args) {
                         o.fov_y_degrees = first_camera->fov_y_degrees;
                         write_png(numbered(png_pattern, f), render(hair, &body, o));
                     }
-                    if (progress)
-                        std::cerr << "\rwisp: frame " << f + 1 << "/" << args.frames << std::flush;
+                    progress.step(f + 1);
                 });
-    if (progress) std::cerr << '\n';
     for (auto& writer : usda)
         writer->finish();
     for (const std::string& out : args.outputs)
@@ -670,6 +674,12 @@ int run_cli(int argc, char** argv) {
                      "comma-separated for a contact sheet")
         ->capture_default_str();
     render_cmd->add_option("--size", render_size, "Image size WxH")->capture_default_str();
+    int render_threads = 0;
+    bool render_quiet = false;
+    render_cmd->add_option("--threads", render_threads, "Worker threads (0 = all cores)")
+        ->check(CLI::Range(0, 1024))
+        ->capture_default_str();
+    render_cmd->add_flag("-q,--quiet", render_quiet, "No progress or summary on stderr");
     LookArgs render_look;
     render_look.add_to(render_cmd);
 
@@ -747,11 +757,12 @@ int run_cli(int argc, char** argv) {
             return run_animate(anim);
         }
         if (*render_cmd) {
+            const ThreadLimit limit(render_threads);
             const Hair hair = read_hair(render_in);
             const Mesh head =
                 render_head.empty() ? builtin_head_mesh() : read_obj_mesh(render_head, head_scale);
-            render_png(render_out, hair, head, render_view, render_size, render_look);
-            std::cerr << "wisp: wrote " << render_out << '\n';
+            render_png(render_out, hair, head, render_view, render_size, render_look, render_quiet);
+            info(render_quiet, cat("wisp: wrote ", render_out));
             return 0;
         }
         if (*head_cmd) {

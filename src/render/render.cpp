@@ -703,7 +703,8 @@ RgbImage render(const Hair& hair, const Mesh* head, const RenderOptions& o, Rend
 }
 
 RgbImage contact_sheet(const Hair& hair, const Mesh* head, const std::vector<std::string>& views,
-                       const RenderOptions& options) {
+                       const RenderOptions& options,
+                       const std::function<void(int, const std::string&)>& on_view) {
     if (views.empty()) fail("contact sheet: no views");
     const int n = static_cast<int>(views.size());
     const int columns = n <= 3 ? n : static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n))));
@@ -725,6 +726,7 @@ RgbImage contact_sheet(const Hair& hair, const Mesh* head, const std::vector<std
         for (int y = 0; y < img.height; ++y)
             std::copy_n(&img.rgb[static_cast<size_t>(y) * img.width * 3], img.width * 3,
                         &sheet.rgb[(static_cast<size_t>(cy + y) * sheet.width + cx) * 3]);
+        if (on_view) on_view(v + 1, views[v]);
     }
     return sheet;
 }

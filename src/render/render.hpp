@@ -17,6 +17,7 @@
 // Every pass writes only its own outputs, so the picture is bit-identical for any thread
 // count.
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -102,7 +103,9 @@ RgbImage render(const Hair& hair, const Mesh* head, const RenderOptions& options
 
 // Renders each view of `views` at options.width × options.height and lays them out left to
 // right, top to bottom, on a grid of ceil(sqrt(n)) columns (one row for n ≤ 3).
+// `on_view`, if set, is told after each view (its 1-based number and name), for progress.
 RgbImage contact_sheet(const Hair& hair, const Mesh* head, const std::vector<std::string>& views,
-                       const RenderOptions& options);
+                       const RenderOptions& options,
+                       const std::function<void(int, const std::string&)>& on_view = {});
 
 }  // namespace wisp

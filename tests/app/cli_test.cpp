@@ -33,6 +33,13 @@ int run(const std::string& args) {
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+// Runs wisp with stderr captured to `err` (a file, not a terminal); returns the exit code.
+int run_capturing(const std::string& args, const fs::path& err) {
+    const std::string cmd = std::string(WISP_EXE) + " " + args + " >/dev/null 2>" + err.string();
+    const int status = std::system(cmd.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
 std::string slurp(const fs::path& p) {
     std::ifstream in(p, std::ios::binary);
     std::ostringstream s;
@@ -159,4 +166,41 @@ TEST(Cli, AnimateRejectsBadInput) {
     const fs::path bad = d.path / "bad.toml";
     write(bad, "[dynamics]\nfriction = 500\n");  // α·dt = 5 ≥ 1
     EXPECT_EQ(run("animate " + bad.string() + " -o " + (d.path / "x.usda").string()), 1);
+}
+
+TEST(Cli, LongWorkReportsProgressUnlessQuiet) {
+    // Not on a terminal (stderr is a file), a contact sheet reports each view on a plain line
+    // (throttled to one every few seconds, the first and the last always shown).
+    Dir d;
+    const fs::path style = d.path / "s.toml";
+    write(style, "[roots]\nwisps = 60\nstrands = 600\npoints_per_strand = 12\n");
+    const fs::path hair = d.path / "h.hair", png = d.path / "h.png", err = d.path / "err.txt";
+    ASSERT_EQ(run_capturing("generate " + style.string() + " -o " + hair.string() + " --png " +
+                                png.string() + " --views front,back,left --size 48x48",
+                            err),
+              0);
+    const std::string log = slurp(err);
+    EXPECT_NE(log.find("wisp: rendering view 1/3 (front)\n"), std::string::npos) << log;
+    EXPECT_NE(log.find("wisp: rendering view 3/3 (left)\n"), std::string::npos) << log;
+    EXPECT_EQ(log.find('\r'), std::string::npos) << "no terminal line rewriting in a log";
+    ASSERT_EQ(run_capturing("render " + hair.string() + " -o " + png.string() +
+                                " --view front,back --size 48x48 -q",
+                            err),
+              0);
+    EXPECT_EQ(slurp(err), "");
+}
+
+TEST(Cli, RenderGivesTheSamePictureAtAnyThreadCount) {
+    Dir d;
+    const fs::path style = d.path / "s.toml";
+    write(style, "[roots]\nwisps = 60\nstrands = 600\npoints_per_strand = 12\n");
+    const fs::path hair = d.path / "h.hair", a = d.path / "a.png", b = d.path / "b.png";
+    ASSERT_EQ(run("generate " + style.string() + " -q -o " + hair.string()), 0);
+    ASSERT_EQ(run("render " + hair.string() + " -o " + a.string() + " --size 64x64 --threads 1"),
+              0);
+    ASSERT_EQ(run("render " + hair.string() + " -o " + b.string() + " --size 64x64 --threads 2"),
+              0);
+    EXPECT_EQ(slurp(a), slurp(b));
+    EXPECT_GT(fs::file_size(a), 100u);
+    EXPECT_EQ(run("render " + hair.string() + " -o " + a.string() + " --threads -1"), 2);
 }
