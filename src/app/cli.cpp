@@ -803,11 +803,13 @@ int run_cli(int argc, char** argv) {
             return 0;
         }
         if (*convert_cmd) {
-            hair_format_from_path(convert_out);
+            const HairFormat format = hair_format_from_path(convert_out);
             const Hair hair = read_hair(convert_in);
             HairWriteOptions options;
             options.obj_segments = convert_segments;
-            options.camera = export_camera(hair, builtin_head_mesh());
+            // Only scenes have a camera; framing it builds the head, a tenth of a second.
+            if (format == HairFormat::kRib || format == HairFormat::kPbrt)
+                options.camera = export_camera(hair, builtin_head_mesh());
             write_hair(convert_out, hair, options);
             std::cerr << "wisp: wrote " << convert_out << " (" << hair.strand_count()
                       << " strands)\n";
