@@ -55,7 +55,9 @@ ShadowDepthMap::ShadowDepthMap(const Mesh& mesh, const LightFrame& light, const 
 float ShadowDepthMap::visibility(const Vec3f& p, float bias) const {
     if (depth_.empty()) return 1.f;
     const Vec3f l = light_.to_light_space(p);
-    // Bilinearly weighted depth tests of the four nearest texels.
+    // Percentage-closer filtering: nine bilinear depth tests a texel apart, which weighs the
+    // 4×4 nearest texels by (1 − a, 1, 1, a) / 3 along each axis, so a shadow's edge fades over
+    // three texels instead of stepping along the texel grid.
     const float fx = (l.x() - lo_.x()) / texel_ - 0.5f, fy = (l.y() - lo_.y()) / texel_ - 0.5f;
     const int x0 = static_cast<int>(std::floor(fx)), y0 = static_cast<int>(std::floor(fy));
     const float ax = fx - x0, ay = fy - y0;
@@ -65,9 +67,16 @@ float ShadowDepthMap::visibility(const Vec3f& p, float bias) const {
                    ? 1.f
                    : 0.f;
     };
-    const float top = lit(x0, y0) + (lit(x0 + 1, y0) - lit(x0, y0)) * ax;
-    const float bottom = lit(x0, y0 + 1) + (lit(x0 + 1, y0 + 1) - lit(x0, y0 + 1)) * ax;
-    return top + (bottom - top) * ay;
+    const float wx[4] = {(1.f - ax) / 3.f, 1.f / 3.f, 1.f / 3.f, ax / 3.f};
+    const float wy[4] = {(1.f - ay) / 3.f, 1.f / 3.f, 1.f / 3.f, ay / 3.f};
+    float sum = 0.f;
+    for (int j = 0; j < 4; ++j) {
+        float row = 0.f;
+        for (int i = 0; i < 4; ++i)
+            row += wx[i] * lit(x0 - 1 + i, y0 - 1 + j);
+        sum += wy[j] * row;
+    }
+    return sum;
 }
 
 }  // namespace wisp

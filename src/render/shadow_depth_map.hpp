@@ -16,8 +16,9 @@ class ShadowDepthMap {
     // at resolution × resolution texels, keeping the depth nearest the light.
     ShadowDepthMap(const Mesh& mesh, const LightFrame& light, const Box3& bounds, int resolution);
 
-    // Fraction in [0, 1] of the light reaching p (percentage-closer filtering of the four
-    // nearest texels, bilinearly weighted), with a depth bias of `bias` cm plus 1.5 texels.
+    // Fraction in [0, 1] of the light reaching p (percentage-closer filtering: nine bilinear
+    // tests a texel apart, over the 4×4 nearest texels), with a depth bias of `bias` cm plus
+    // 1.5 texels.
     // 1 for an empty map.
     float visibility(const Vec3f& p, float bias = 0.05f) const;
 
