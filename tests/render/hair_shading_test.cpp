@@ -9,15 +9,6 @@
 namespace wisp {
 namespace {
 
-Vec3f random_unit(Rng& rng) {
-    while (true) {
-        const Vec3f v(2.f * static_cast<float>(rng.uniform_double()) - 1.f,
-                      2.f * static_cast<float>(rng.uniform_double()) - 1.f,
-                      2.f * static_cast<float>(rng.uniform_double()) - 1.f);
-        if (v.squaredNorm() > 1e-3f && v.squaredNorm() <= 1.f) return v.normalized();
-    }
-}
-
 float radians(float degrees) {
     return degrees * kPi / 180.f;
 }
@@ -62,7 +53,7 @@ TEST(HairShading, NeverReflectsMoreThanTheLightBrings) {
     for (int i = 0; i < 20000; ++i) {
         const float variation = 2.f * static_cast<float>(rng.uniform_double()) - 1.f;
         const HairLobeSet k(lobes, variation);
-        const Vec3f t = random_unit(rng), l = random_unit(rng), e = random_unit(rng);
+        const Vec3f t = rng.unit_vector(), l = rng.unit_vector(), e = rng.unit_vector();
         const Vec3f c(static_cast<float>(rng.uniform_double()),
                       static_cast<float>(rng.uniform_double()),
                       static_cast<float>(rng.uniform_double()));
