@@ -97,7 +97,8 @@ Masters synthesize_masters(const Style& style, const Head& head, const Roots& ro
             sp.substeps = straight ? 1 : synthesis_substeps(m.segment[w], style.prototype.period);
             sp.temperature = style.prototype.temperature;
             const std::vector<Vec3f> proto = decompose(curve, m.segment[w] / sp.substeps);
-            SynthesisScratch scratch;
+            // Fully rewritten by each call: reusing it per thread changes no result.
+            static thread_local SynthesisScratch scratch;
             std::span<Vec3f> details(m.details.data() + w * n, static_cast<size_t>(n));
             sp.scale = synthesis_scale(proto, h);
             Rng srng(style.seed, Stream::kMaster, w);

@@ -131,19 +131,7 @@ void synthesize_details(std::span<const Vec3f> proto, const SynthesisParams& par
             const float reach = (best + kCutoff * params.temperature) * params.scale;
             const float reach2 = reach * reach;
             size_t count = 0;
-            size_t k = span;
-            for (; k + 8 <= m; k += 8) {
-                // Most blocks of candidates hold none within reach: test them at once.
-                bool any = false;
-                for (size_t l = 0; l < 8; ++l)
-                    any |= energy[k + l] < reach2;
-                if (!any) continue;
-                for (size_t l = 0; l < 8; ++l) {
-                    scratch.near[count] = static_cast<int32_t>(k + l);
-                    count += energy[k + l] < reach2;
-                }
-            }
-            for (; k < m; ++k) {
+            for (size_t k = span; k < m; ++k) {
                 scratch.near[count] = static_cast<int32_t>(k);
                 count += energy[k] < reach2;
             }

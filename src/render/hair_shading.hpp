@@ -68,8 +68,8 @@ inline float lobe(float cosine, float exponent, float floor = 0.f) {
     return cosine > floor && cosine > 0.f ? std::pow(cosine, exponent) : 0.f;
 }
 
-// The lobes of one strand, prepared once: exponents, shifts (the secondary's varied by the
-// strand's `variation` in [−1, 1]) and the visibility floors.
+// The lobes prepared once per render (exponents, shifts, visibility floors), then varied per
+// strand by with_sparkle().
 struct HairLobeSet {
     float k_d = 0, k_r = 0, k_trt = 0, k_tt = 0;
     float n_r = 1, n_trt = 1, n_tt = 1;
@@ -77,21 +77,31 @@ struct HairLobeSet {
     float floor_r = 0, floor_trt = 0, floor_tt = 0;
 
     HairLobeSet() = default;
-    HairLobeSet(const HairLobes& h, float variation) {
+    explicit HairLobeSet(const HairLobes& h) {
         k_d = h.diffuse;
         k_r = h.primary;
-        k_trt = h.secondary * (1.f + h.sparkle * variation);
+        k_trt = h.secondary;
         k_tt = h.transmission;
         n_r = lobe_exponent(h.primary_width);
         n_trt = lobe_exponent(h.secondary_width);
         n_tt = lobe_exponent(h.transmission_width);
         r = LobeShift::degrees(h.primary_shift);
-        trt = LobeShift::degrees(h.secondary_shift + h.sparkle * variation * h.secondary_width);
+        trt = LobeShift::degrees(h.secondary_shift);
         tt = LobeShift::degrees(h.transmission_shift);
         // Below 1/4096 of its peak a lobe adds nothing an 8-bit picture shows.
         floor_r = std::pow(1.f / 4096.f, 1.f / n_r);
         floor_trt = std::pow(1.f / 4096.f, 1.f / n_trt);
         floor_tt = std::pow(1.f / 4096.f, 1.f / n_tt);
+    }
+    // These lobes with the secondary varied by a strand's `variation` in [−1, 1].
+    HairLobeSet with_sparkle(const HairLobes& h, float variation) const {
+        HairLobeSet out = *this;
+        out.k_trt = h.secondary * (1.f + h.sparkle * variation);
+        out.trt = LobeShift::degrees(h.secondary_shift + h.sparkle * variation * h.secondary_width);
+        return out;
+    }
+    HairLobeSet(const HairLobes& h, float variation) {
+        *this = HairLobeSet(h).with_sparkle(h, variation);
     }
 };
 

@@ -252,6 +252,7 @@ void tessellate_strands(const Scene& scene, std::vector<HairVertex>& vertices,
         first_vertex[k + 1] = first_vertex[k] + counts[scene.strand_order[k] + 1];
     vertices.resize(first_vertex[strands]);
     const float tip = hair.widths.empty() ? o.tip_width : 1.f;
+    const HairLobeSet base_lobes(o.hair);
     parallel_for(
         strands,
         [&](size_t k_order) {
@@ -261,7 +262,7 @@ void tessellate_strands(const Scene& scene, std::vector<HairVertex>& vertices,
             // its index: the same at any thread count.
             const float variation =
                 static_cast<float>(mix64(0x5b4c1e ^ s) >> 40) * (2.f / 16777216.f) - 1.f;
-            const HairLobeSet lobes(o.hair, variation);
+            const HairLobeSet lobes = base_lobes.with_sparkle(o.hair, variation);
             const std::span<const Vec3f> p = hair.strand(s);
             const uint32_t first = first_vertex[k_order];
             uint32_t k = first;

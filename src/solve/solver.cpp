@@ -154,10 +154,12 @@ class Solver {
         const Splat s = locate(rho_, p);
         return s.inside ? sample(rho_, s) : 0.f;
     }
-    float total_density(const Vec3f& p) const {
-        const float head = in_.head->density(p, spec_.head_margin);
+    float head_density(const Vec3f& p) const { return in_.head->density(p, spec_.head_margin); }
+    // Hair and head density at p, the head's (`head`) already known.
+    float total_density(const Vec3f& p, float head) const {
         return squeeze_ ? head : hair_density(p) + head;
     }
+    float total_density(const Vec3f& p) const { return total_density(p, head_density(p)); }
     // A tie or a braid squeezes hair together: inside a point constraint's tolerance sphere,
     // or a trajectory constraint's tolerance tube, hair does not collide with hair (it still
     // collides with the head).
@@ -259,7 +261,8 @@ class Solver {
         float best_density = INFINITY, last_worst = INFINITY;
         for (; !following;) {
             const Vec3f end = x + s * q, mid = x + 0.5f * s * q;
-            const float d_end = total_density(end), d_mid = total_density(mid);
+            const float head_end = head_density(end), head_mid = head_density(mid);
+            const float d_end = total_density(end, head_end), d_mid = total_density(mid, head_mid);
             const float worst = std::max(d_end, d_mid);
             if (worst < best_density) {
                 best_density = worst;
@@ -271,8 +274,7 @@ class Solver {
             // density ahead by kProgress means the hair around is packed as far as it goes:
             // bending on would only splay the wisp sideways (at a small τ, into a lampshade).
             const bool packed = tries > 0 && worst > (1.f - kProgress) * last_worst &&
-                                in_.head->density(end, spec_.head_margin) == 0.f &&
-                                in_.head->density(mid, spec_.head_margin) == 0.f;
+                                head_end == 0.f && head_mid == 0.f;
             last_worst = worst;
             if (tries >= spec_.max_tries || packed) {
                 // Still colliding: keep the least dense direction tried.
