@@ -257,11 +257,17 @@ void tessellate_strands(const Scene& scene, std::vector<HairVertex>& vertices,
         strands,
         [&](size_t k_order) {
             const size_t s = scene.strand_order[k_order];
-            const Vec3f color = hair.color_of(s);
-            // Each strand's secondary highlight varies a little (its sparkle), by a hash of
-            // its index: the same at any thread count.
-            const float variation =
-                static_cast<float>(mix64(0x5b4c1e ^ s) >> 40) * (2.f / 16777216.f) - 1.f;
+            // Each strand's secondary highlight varies a little (its sparkle), and so do its
+            // brightness and width, by hashes of its index: the same at any thread count.
+            auto uniform = [s](uint64_t salt) {
+                return static_cast<float>(mix64(salt ^ s) >> 40) * (2.f / 16777216.f) - 1.f;
+            };
+            const float variation = uniform(0x5b4c1e);
+            const Vec3f color =
+                (hair.color_of(s) * (1.f + o.strand_brightness * uniform(0x7a3d91f2c4e5b6a7)))
+                    .cwiseMin(1.f);
+            const float width_scale =
+                o.width_scale * (1.f + o.strand_width * uniform(0x3c6ef372fe94f82b));
             const HairLobeSet lobes = base_lobes.with_sparkle(o.hair, variation);
             const std::span<const Vec3f> p = hair.strand(s);
             const uint32_t first = first_vertex[k_order];
@@ -272,7 +278,7 @@ void tessellate_strands(const Scene& scene, std::vector<HairVertex>& vertices,
             int segment = -1;
             float shadow0 = 1.f, shadow1 = 1.f;
             for_each_strand_sample(
-                hair, s, o.width_scale, tip,
+                hair, s, width_scale, tip,
                 [&](size_t i, const Vec3f&, const Vec3f&) { return static_cast<int>(m[i]); },
                 [&](const StrandSample& sample) {
                     const Vec3f q = cam.project(sample.p);

@@ -70,6 +70,11 @@ struct RenderOptions {
     float width_scale = 1.f;   // multiplies the hair's widths
     float tip_width = 0.3f;    // width at the tip as a fraction of the width at mid-length
     float hair_opacity = 1.f;  // opacity of a strand where it covers a whole pixel
+    // Per-strand variation, from a hash of the strand's index (the same at any thread count),
+    // so that a dense layer shows its single hairs: each strand's colour is scaled by
+    // 1 ± strand_brightness and its width by 1 ± strand_width (uniform, mean 1).
+    float strand_brightness = 0.3f;
+    float strand_width = 0.5f;
 
     Vec3f skin_color = Vec3f(0.62f, 0.42f, 0.32f);  // linear RGB albedo of the head
 
