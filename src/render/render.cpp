@@ -366,7 +366,12 @@ Vec3f shade_head(const Scene& scene, const HeadGeometry& g, uint32_t face, float
         (wa * g.normals[t[0]] + wb * g.normals[t[1]] + wc * g.normals[t[2]]).normalized();
     const Lights& l = scene.lights;
     const float key = lambert(normal, l.key_dir);
-    const float shadow = key > 0.f ? scene.key_visibility(p + 0.05f * normal, 0.1f) : 0.f;
+    // The shadow is looked up off the surface along its normal, more so where the light
+    // grazes it (normal-offset shadows): there a depth texel spans a long run of the faceted
+    // surface, whose own depths would otherwise shadow it in stripes (acne).
+    const float texel = scene.head_shadow ? scene.head_shadow->texel_size() : 0.f;
+    const float offset = 0.05f + texel * (0.5f + 2.5f * (1.f - key));
+    const float shadow = key > 0.f ? scene.key_visibility(p + offset * normal, 0.1f) : 0.f;
     const Vec3f light =
         l.ambient + (key * shadow) * l.key_color + lambert(normal, l.fill_dir) * l.fill_color;
     return light.cwiseProduct(scene.options->skin_color);

@@ -112,6 +112,27 @@ TEST(Render, StrandVariationShowsSingleHairsAndKeepsTheMeanBrightness) {
     EXPECT_GT(step_varied, 1.03 * step_uniform) << "single strands stand out from their neighbours";
 }
 
+TEST(Render, AConvexHeadCastsNoShadowOnItself) {
+    // A sphere cannot shadow itself: with the head's shadow map on, every pixel must match the
+    // render without it, also where the key light grazes the facets (shadow acne there showed
+    // as stripes on the built-in bust's neck and the MakeHuman shoulder).
+    const Mesh sphere = test::sphere_mesh(Vec3f(0, 0, 0), 10.f, 48);
+    RenderOptions o = small_options("three-quarter");
+    o.width = o.height = 256;
+    o.shadows = true;
+    const RgbImage with = render(Hair{}, &sphere, o);
+    o.shadows = false;
+    const RgbImage without = render(Hair{}, &sphere, o);
+    int worst = 0;
+    size_t differ = 0;
+    for (size_t i = 0; i < with.rgb.size(); ++i) {
+        const int d = std::abs(int(with.rgb[i]) - int(without.rgb[i]));
+        worst = std::max(worst, d);
+        differ += d > 2;
+    }
+    EXPECT_EQ(differ, 0u) << "worst difference " << worst << " levels";
+}
+
 // Luminance (sRGB levels, 0–255) of the hair's pixels: their mean and 95th percentile.
 struct HairLuminance {
     double mean = 0, p95 = 0;
