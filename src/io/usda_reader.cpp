@@ -452,7 +452,6 @@ class Parser {
 
     // One scalar or tuple; returns its component count (0 for a scalar).
     int parse_element(Value& v, NumKind kind, int depth) {
-        if (depth > kMaxDepth) lx_.error(lx_.position(), "values nested too deeply");
         if (kind == NumKind::kFloat) {
             float x;
             if (lx_.number_fast(x)) {
@@ -466,9 +465,13 @@ class Parser {
                 return 0;
             }
         }
-        if (lx_.accept('(')) {
+        if (const Token open = lx_.position(); lx_.accept('(')) {
+            // The attributes wisp reads hold scalars or tuples of scalars: every tuple
+            // component must add exactly one value, so values = elements × arity holds.
+            if (depth > 0)
+                lx_.error(open, "values nested too deeply: a tuple's components must be numbers");
+            if (lx_.accept(')')) lx_.error(open, "empty tuple `()`");
             int n = 0;
-            if (lx_.accept(')')) return n;
             for (;;) {
                 parse_element(v, kind, depth + 1);
                 ++n;
@@ -712,6 +715,8 @@ class Parser {
         auto vec3s = [&](const Value& v, std::string_view n, std::vector<Vec3f>& out) {
             if (v.elements > 0 && v.arity != 3)
                 lx_.error(v.where, c.path, ".", n, ": expected 3-component tuples");
+            if (v.f.size() != 3 * v.elements)
+                lx_.error(v.where, c.path, ".", n, ": expected 3 numbers in each tuple");
             out.resize(v.elements);
             for (size_t k = 0; k < v.elements; ++k)
                 out[k] = Vec3f(v.f[3 * k], v.f[3 * k + 1], v.f[3 * k + 2]);

@@ -392,6 +392,31 @@ TEST(Usda, MalformedInputNamesTheLocation) {
         "prim /C: curve 0 has 3 vertices, but a nonperiodic bezier curve needs at least 4");
 }
 
+// Tuples must hold exactly their declared numbers: empty, short and nested tuples once read
+// past the values array.
+TEST(Usda, TuplesMustHoldNumbers) {
+    const std::string head = "#usda 1.0\ndef BasisCurves \"C\" {\n";
+    const std::string counts = "    int[] curveVertexCounts = [4]\n";
+    expect_error(
+        [&] {
+            parse_usda(head + counts + "    point3f[] points = [((),(),()), ((),(),())]\n}\n",
+                       "e.usda");
+        },
+        "e.usda:4:26: values nested too deeply");
+    expect_error([&] { parse_usda(head + "    point3f[] points = [(), ()]\n}\n", "p.usda"); },
+                 "p.usda:3:25: empty tuple");
+    expect_error(
+        [&] { parse_usda(head + "    point3f[] points = [(1,2,()), (3,4,())]\n}\n", "s.usda"); },
+        "s.usda:3:30: values nested too deeply");
+    expect_error(
+        [&] {
+            parse_usda(head + "    color3f[] primvars:displayColor = [((),(),())]\n}\n", "c.usda");
+        },
+        "c.usda:3:41: values nested too deeply");
+    expect_error([&] { parse_usda(head + "    float[] widths = [()]\n}\n", "w.usda"); },
+                 "w.usda:3:23: empty tuple");
+}
+
 // Big plain arrays are parsed in parallel blocks; errors inside them and after them must
 // still name the right line.
 TEST(Usda, BigArraysKeepLineNumbers) {
