@@ -11,6 +11,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/hair.hpp"
 
 namespace wisp {
 
@@ -189,9 +190,16 @@ Mesh read_obj_mesh(const std::filesystem::path& path, float scale) {
     Mesh& m = b.mesh;
     if (m.faces.empty())
         fail(path.string(), ": no faces (", m.vertices.size(), " vertices, 0 `f` statements)");
-    for (size_t i = 0; i < m.vertices.size(); ++i)
-        if (!m.vertices[i].allFinite())
+    for (size_t i = 0; i < m.vertices.size(); ++i) {
+        const Vec3f& p = m.vertices[i];
+        if (!p.allFinite())
             fail(path.string(), ": vertex ", i + 1, " is not finite after scaling by ", scale);
+        // The head's grids (distance field, density, shadows) span its bounds.
+        if (p.cwiseAbs().maxCoeff() > kMaxCoordinate)
+            fail(path.string(), ": vertex ", i + 1, " is at (", p.x(), ", ", p.y(), ", ", p.z(),
+                 ") cm after scaling by ", scale, ", farther than ", kMaxCoordinate,
+                 " cm from the origin (see docs/formats.md)");
+    }
     for (size_t i = 0; i < m.uvs.size(); ++i)
         if (!m.uvs[i].allFinite())
             fail(path.string(), ": texture coordinate ", i + 1, " is not finite");
