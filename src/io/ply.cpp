@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <bit>
+#include <climits>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include "core/atomic_file.hpp"
@@ -304,7 +306,9 @@ Hair decode_ply(std::string_view bytes, const std::string& name) {
         uint64_t sum = 0;
         for (size_t s = 0; s < strand->count; ++s) {
             const double n = pc->values[s];
-            if (!(n >= 0 && n == std::floor(n)) || sum + uint64_t(n) > nv)
+            // Compared as doubles before any conversion: a count of 1e300 or NaN is an
+            // error, not undefined behaviour.
+            if (!(n >= 0 && n == std::floor(n) && n <= double(nv - sum)))
                 fail(name, ": strand ", s, " has vertex_count ", n, ", which runs past the ", nv,
                      " vertices");
             sum += uint64_t(n);
@@ -346,15 +350,22 @@ Hair decode_ply(std::string_view bytes, const std::string& name) {
     hair.points.resize(index.size());
     for (size_t k = 0; k < index.size(); ++k) {
         const uint32_t i = index[k];
-        hair.points[k] = Vec3f(float(px->values[i]), float(py->values[i]), float(pz->values[i]));
-        if (!hair.points[k].allFinite()) fail(name, ": vertex ", i, " is not finite");
+        const double x = px->values[i], y = py->values[i], z = pz->values[i];
+        // Checked as doubles: converting a double beyond float's range is undefined.
+        if (!(std::abs(x) <= kMaxCoordinate && std::abs(y) <= kMaxCoordinate &&
+              std::abs(z) <= kMaxCoordinate))
+            fail(name, ": vertex ", i, " is not finite or farther than ", kMaxCoordinate,
+                 " cm from the origin: (", x, ", ", y, ", ", z, ")");
+        hair.points[k] = Vec3f(float(x), float(y), float(z));
     }
     if (pw) {
         hair.widths.resize(index.size());
         for (size_t k = 0; k < index.size(); ++k) {
-            hair.widths[k] = float(pw->values[index[k]]);
-            if (!std::isfinite(hair.widths[k]) || hair.widths[k] < 0.f)
-                fail(name, ": vertex ", index[k], " width is negative or not finite");
+            const double w = pw->values[index[k]];
+            if (!(w >= 0 && w <= kMaxCoordinate))
+                fail(name, ": vertex ", index[k], " width ", w,
+                     " is negative, not finite or absurdly large");
+            hair.widths[k] = float(w);
         }
     }
     if (strand) {
@@ -365,15 +376,23 @@ Hair decode_ply(std::string_view bytes, const std::string& name) {
             const double scale = r->type == Type::kUint8 ? 1.0 / 255.0 : 1.0;
             hair.colors.resize(strand->count);
             for (size_t s = 0; s < strand->count; ++s) {
-                hair.colors[s] = Vec3f(float(r->values[s] * scale), float(g->values[s] * scale),
-                                       float(b->values[s] * scale));
-                if (!hair.colors[s].allFinite()) fail(name, ": strand ", s, " color is not finite");
+                const double c[3] = {r->values[s] * scale, g->values[s] * scale,
+                                     b->values[s] * scale};
+                for (double v : c)
+                    if (!(std::abs(v) <= std::numeric_limits<float>::max()))
+                        fail(name, ": strand ", s, " color component ", v, " is not finite");
+                hair.colors[s] = Vec3f(float(c[0]), float(c[1]), float(c[2]));
             }
         }
         if (const Property* id = strand->find("wisp_id")) {
             hair.wisp.resize(strand->count);
-            for (size_t s = 0; s < strand->count; ++s)
-                hair.wisp[s] = int32_t(id->values[s]);
+            for (size_t s = 0; s < strand->count; ++s) {
+                const double v = id->values[s];
+                if (!(v == std::floor(v) && v >= INT32_MIN && v <= INT32_MAX))
+                    fail(name, ": strand ", s, " has wisp_id ", v,
+                         ", which is not a whole number in the int32 range");
+                hair.wisp[s] = int32_t(v);
+            }
         }
     }
     hair.validate(name);
