@@ -48,6 +48,9 @@ Mesh clip_envelope(const Motion& motion, double clip, const Box3& box, const Vec
 }
 
 constexpr const char* kVersion = "0.1.0";
+// Errors are printed on one line, control characters escaped, at most this long: the net
+// under the readers' own excerpts of what they quote.
+constexpr size_t kMaxMessageBytes = 2000;
 
 // "x,y,z" → a finite vector.
 Vec3f parse_vec3(const std::string& flag, const std::string& text) {
@@ -821,16 +824,16 @@ int run_cli(int argc, char** argv) {
             return 0;
         }
     } catch (const CLI::ValidationError& e) {
-        std::cerr << "wisp: usage error: " << e.what() << '\n';
+        std::cerr << "wisp: usage error: " << excerpt(e.what(), kMaxMessageBytes) << '\n';
         return 2;
     } catch (const Error& e) {
-        std::cerr << "wisp: error: " << e.what() << '\n';
+        std::cerr << "wisp: error: " << excerpt(e.what(), kMaxMessageBytes) << '\n';
         return 1;
     } catch (const std::bad_alloc&) {
         std::cerr << "wisp: error: out of memory\n";
         return 1;
     } catch (const std::exception& e) {
-        std::cerr << "wisp: error: " << e.what() << '\n';
+        std::cerr << "wisp: error: " << excerpt(e.what(), kMaxMessageBytes) << '\n';
         return 1;
     }
     return 2;

@@ -130,7 +130,8 @@ std::vector<int> scan_obj(const std::string& text, const std::filesystem::path& 
                 face_lines.push_back(line);
             } else if (s.size() > 1 && s[0] == 'v' && (s[1] == ' ' || s[1] == 't')) {
                 if (s.find_first_of("nNiI") != std::string_view::npos)
-                    fail(path.string(), ":", line, ": non-finite number in '", trimmed(s), "'");
+                    fail(path.string(), ":", line, ": non-finite number in '", excerpt(trimmed(s)),
+                         "'");
             }
         }
         pos = end + 1;
@@ -185,7 +186,7 @@ Mesh read_obj_mesh(const std::filesystem::path& path, float scale) {
     std::string warn, err;
     const bool ok = tinyobj::LoadObjWithCallback(in, cb, &b, nullptr, &warn, &err);
     if (!b.error.empty()) throw Error(b.error);
-    if (!ok) fail(path.string(), ": not a valid OBJ file: ", trimmed(err));
+    if (!ok) fail(path.string(), ": not a valid OBJ file: ", excerpt(trimmed(err), 200));
 
     Mesh& m = b.mesh;
     if (m.faces.empty())

@@ -122,7 +122,7 @@ class AsciiWords {
         const std::string_view w = next(what);
         double v;
         if (!io_detail::parse_number(w, v))
-            fail(name_, ":", line_, ": `", w, "` is not a number (", what, ")");
+            fail(name_, ":", line_, ": `", excerpt(w), "` is not a number (", what, ")");
         return v;
     }
     size_t line() const { return line_; }
@@ -172,13 +172,13 @@ Hair decode_ply(std::string_view bytes, const std::string& name) {
             if (w.size() >= 4 && w[1] == "wisp" && w[2] == "default_width") {
                 float v;
                 if (!io_detail::parse_number(w[3], v) || !std::isfinite(v) || v < 0.f)
-                    bad("bad default_width `", w[3], "`");
+                    bad("bad default_width `", excerpt(w[3]), "`");
                 default_width = v;
             } else if (w.size() >= 6 && w[1] == "wisp" && w[2] == "default_color") {
                 for (int k = 0; k < 3; ++k)
                     if (!io_detail::parse_number(w[3 + k], default_color[k]) ||
                         !std::isfinite(default_color[k]))
-                        bad("bad default_color `", w[3 + k], "`");
+                        bad("bad default_color `", excerpt(w[3 + k]), "`");
             }
         } else if (w[0] == "obj_info") {
         } else if (w[0] == "format") {
@@ -190,12 +190,13 @@ Hair decode_ply(std::string_view bytes, const std::string& name) {
             else if (w[1] == "binary_big_endian")
                 format = Format::kBinaryBE;
             else
-                bad("unknown format `", w[1], "`");
+                bad("unknown format `", excerpt(w[1]), "`");
         } else if (w[0] == "element") {
             if (w.size() != 3) bad("expected `element <name> <count>`");
             Element e;
-            e.name = std::string(w[1]);
-            if (!io_detail::parse_number(w[2], e.count)) bad("bad element count `", w[2], "`");
+            e.name = excerpt(w[1]);  // names are matched against plain ones and quoted
+            if (!io_detail::parse_number(w[2], e.count))
+                bad("bad element count `", excerpt(w[2]), "`");
             elements.push_back(std::move(e));
         } else if (w[0] == "property") {
             if (elements.empty()) bad("property before any element");
@@ -208,12 +209,12 @@ Hair decode_ply(std::string_view bytes, const std::string& name) {
                 p.list = true;
                 p.count_type = *ct;
                 p.type = *vt;
-                p.name = std::string(w[4]);
+                p.name = excerpt(w[4]);
             } else if (w.size() == 3) {
                 const auto t = type_from_name(w[1]);
-                if (!t) bad("unknown property type `", w[1], "`");
+                if (!t) bad("unknown property type `", excerpt(w[1]), "`");
                 p.type = *t;
-                p.name = std::string(w[2]);
+                p.name = excerpt(w[2]);
             } else {
                 bad("expected `property <type> <name>` or `property list <count type> <type> "
                     "<name>`");
@@ -222,7 +223,7 @@ Hair decode_ply(std::string_view bytes, const std::string& name) {
         } else if (w[0] == "end_header") {
             ended = true;
         } else {
-            bad("unknown header line `", w[0], "`");
+            bad("unknown header line `", excerpt(w[0]), "`");
         }
     }
     if (!format) fail(name, ": header has no format line");

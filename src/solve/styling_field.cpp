@@ -134,19 +134,21 @@ Grid3<Vec3f> read_field_file(const std::filesystem::path& path) {
                 ++p;
             const auto [q, ec] = std::from_chars(p, end, out[i]);
             if (ec != std::errc() || !std::isfinite(out[i]))
-                fail(name, ":", line, ": expected ", count, " finite numbers, got '", s, "'");
+                fail(name, ":", line, ": expected ", count, " finite numbers, got '", excerpt(s),
+                     "'");
             p = q;
         }
         while (p < end && *p == ' ')
             ++p;
         if (p != end)
-            fail(name, ":", line, ": unexpected text after ", count, " numbers: '", s, "'");
+            fail(name, ":", line, ": unexpected text after ", count, " numbers: '", excerpt(s),
+                 "'");
     };
     auto keyword = [&](std::string_view key, float* out, int count) {
         std::string_view l;
         if (!next_line(l)) fail(name, ": truncated: expected '", key, "'");
         if (l.substr(0, key.size()) != key)
-            fail(name, ":", line, ": expected '", key, "', got '", l, "'");
+            fail(name, ":", line, ": expected '", key, "', got '", excerpt(l), "'");
         numbers(l.substr(key.size()), out, count);
     };
     std::string_view l;

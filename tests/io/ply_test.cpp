@@ -129,6 +129,24 @@ TEST(Ply, TruncatedAndHostileFilesFail) {
         "i.ply: vertex 0 is not finite");
 }
 
+// What a header quotes is escaped and cut short: a terminal escape sequence in a file must
+// not reach the terminal, nor a megabyte word the log.
+TEST(Ply, MessagesEscapeAndShortenWhatTheyQuote) {
+    expect_error([] { decode_ply("ply\n\x1b[2J\x1b]0;pwned\x07 x\n", "e.ply"); },
+                 "e.ply:2: unknown header line `\\x1b[2J\\x1b]0;pwned\\x07`");
+    try {
+        decode_ply("ply\nformat ascii 1.0\nelement vertex 1\nproperty " +
+                       std::string(1 << 20, 'f') + " x\nend_header\n",
+                   "big.ply");
+        ADD_FAILURE() << "expected an error";
+    } catch (const Error& e) {
+        const std::string m = e.what();
+        EXPECT_LT(m.size(), 200u);
+        EXPECT_NE(m.find("big.ply:4: unknown property type `ffff"), std::string::npos) << m;
+        EXPECT_NE(m.find("... (1048576 bytes)`"), std::string::npos) << m;
+    }
+}
+
 // Doubles that become integers or floats are range-checked before the conversion.
 TEST(Ply, OutOfRangeDoublesFail) {
     const std::string head =
