@@ -143,8 +143,10 @@ size_t edit_distance(std::string_view a, std::string_view b) {
     return d[a.size() * w + b.size()];
 }
 
-// The option closest to `word` if it is close enough to be a likely typo.
+// The option closest to `word` if it is close enough to be a likely typo. Words much longer
+// than any option are no typo of one (and the edit distance is quadratic): none.
 std::optional<std::string> closest(std::string_view word, const std::vector<std::string>& options) {
+    if (word.size() > kMaxSuggestedWord) return std::nullopt;
     const size_t limit = word.size() <= 4 ? 1 : word.size() <= 8 ? 2 : 3;
     std::optional<std::string> best;
     size_t best_distance = limit + 1;
