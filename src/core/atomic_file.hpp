@@ -33,7 +33,20 @@ void write_file_atomic(const std::filesystem::path& path, std::string_view bytes
 void write_file_atomic(const std::filesystem::path& path,
                        const std::function<void(std::ostream&)>& write);
 
-// Reads a whole file; throws wisp::Error naming the file if it cannot.
-std::string read_file(const std::filesystem::path& path);
+// What a reader accepts of a file, checked while it reads, not from the file's size (endless
+// files such as /dev/zero or a pipe report 0): at most max_bytes; for text formats no NUL
+// byte; and, when magic is given, reading stops at the first byte that differs from it and
+// returns what was read, so that the format's parser reports it. docs/formats.md lists
+// each format's limit.
+struct ReadLimits {
+    uint64_t max_bytes = uint64_t(4) << 30;
+    std::string_view what = "a file";  // "a style file": named in the messages
+    bool text = false;
+    std::string_view magic = {};
+};
+
+// Reads a whole file within `limits`; throws wisp::Error naming the file if it cannot, or if
+// the file breaks a limit.
+std::string read_file(const std::filesystem::path& path, const ReadLimits& limits = {});
 
 }  // namespace wisp

@@ -754,7 +754,8 @@ Motion motion_preset(std::string_view name, const HeadFrame& head) {
 }
 
 Motion read_motion(const std::filesystem::path& path, const HeadFrame& head) {
-    return MotionReader(path.string(), head).read(read_file(path));
+    return MotionReader(path.string(), head)
+        .read(read_file(path, {kMaxMotionFileBytes, "a motion file", true}));
 }
 
 Motion load_motion(const std::string& preset_or_path, const HeadFrame& head) {

@@ -144,7 +144,7 @@ std::vector<int> scan_obj(const std::string& text, const std::filesystem::path& 
 Mesh read_obj_mesh(const std::filesystem::path& path, float scale) {
     if (!std::isfinite(scale) || scale <= 0.f)
         fail(path.string(), ": scale ", scale, " must be a positive number");
-    const std::string text = read_file(path);
+    const std::string text = read_file(path, {kMaxObjMeshBytes, "a head OBJ file", true});
     const std::vector<int> face_lines = scan_obj(text, path);
 
     ObjBuilder b;

@@ -13,6 +13,7 @@
 #include <sstream>
 #include <utility>
 
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "groom/hairdressing.hpp"
 #include "groom/maps.hpp"
@@ -1383,15 +1384,9 @@ Style load_style(const std::filesystem::path& path) {
     const std::string source = path.string();
     std::error_code ec;
     if (fs::is_directory(path, ec)) fail(source, ": is a directory, not a style file");
-    const auto size = fs::file_size(path, ec);
-    if (!ec && size > kMaxFileBytes)
-        fail(source, ": style file too large (", size, " bytes; at most ", kMaxFileBytes, ")");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) fail(source, ": cannot read style file: ", std::strerror(errno));
-    std::ostringstream text;
-    text << in.rdbuf();
-    if (in.bad()) fail(source, ": cannot read style file: ", std::strerror(errno));
-    Style style = parse_style(text.str(), source, path.parent_path());
+    // Checked while reading: an endless file (/dev/zero, a pipe) reports size 0.
+    const std::string text = read_file(path, {kMaxFileBytes, "a style file", true});
+    Style style = parse_style(text, source, path.parent_path());
     if (style.name.empty()) style.name = path.stem().string();
     return style;
 }

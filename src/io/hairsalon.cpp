@@ -49,7 +49,9 @@ Hair decode_hairsalon(std::string_view bytes, const std::string& name, HairSalon
 }
 
 Hair read_hairsalon(const std::filesystem::path& path, HairSalonStats* stats) {
-    return decode_hairsalon(io_detail::read_whole_file(path), path.string(), stats);
+    return decode_hairsalon(
+        io_detail::read_whole_file(path, {io_detail::kMaxHairFileBytes, "a .data hair file"}),
+        path.string(), stats);
 }
 
 }  // namespace wisp

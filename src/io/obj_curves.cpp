@@ -89,7 +89,9 @@ Hair decode_obj_curves(std::string_view text, const std::string& name) {
 }
 
 Hair read_obj_curves(const std::filesystem::path& path) {
-    return decode_obj_curves(io_detail::read_whole_file(path), path.string());
+    return decode_obj_curves(
+        io_detail::read_whole_file(path, {io_detail::kMaxHairFileBytes, "an OBJ file", true}),
+        path.string());
 }
 
 std::string encode_obj_curves(const Hair& hair, bool segments, const std::string& name) {

@@ -401,7 +401,9 @@ Hair decode_ply(std::string_view bytes, const std::string& name) {
 }
 
 Hair read_ply(const std::filesystem::path& path) {
-    return decode_ply(io_detail::read_whole_file(path), path.string());
+    return decode_ply(io_detail::read_whole_file(
+                          path, {io_detail::kMaxHairFileBytes, "a PLY file", false, "ply"}),
+                      path.string());
 }
 
 std::string encode_ply(const Hair& hair, const std::string& name) {

@@ -860,7 +860,9 @@ UsdaLayer parse_usda(std::string_view text, const std::string& name) {
 }
 
 UsdaLayer read_usda_layer(const std::filesystem::path& path) {
-    return parse_usda(io_detail::read_whole_file(path), path.string());
+    return parse_usda(io_detail::read_whole_file(
+                          path, {io_detail::kMaxHairFileBytes, "a usda file", true, "#usda "}),
+                      path.string());
 }
 
 std::vector<UsdCurves> read_usda_curves(const std::filesystem::path& path) {

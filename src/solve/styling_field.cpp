@@ -106,7 +106,7 @@ Vec3f field_term(const FieldTerm& term, const HeadFrame& head, const GrowthField
 }
 
 Grid3<Vec3f> read_field_file(const std::filesystem::path& path) {
-    const std::string text = read_file(path);
+    const std::string text = read_file(path, {kMaxFieldFileBytes, "a field file", true});
     const std::string name = path.string();
     size_t pos = 0;
     int line = 0;

@@ -1,6 +1,8 @@
 // The command line as users run it: exit codes, atomic outputs, determinism across threads.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -203,4 +205,57 @@ TEST(Cli, RenderGivesTheSamePictureAtAnyThreadCount) {
     EXPECT_EQ(slurp(a), slurp(b));
     EXPECT_GT(fs::file_size(a), 100u);
     EXPECT_EQ(run("render " + hair.string() + " -o " + a.string() + " --threads -1"), 2);
+}
+
+// Issue 14: hostile inputs fail with exit 1 and one escaped line naming the file and what is
+// wrong; never a crash, a hang or memory running out.
+TEST(Cli, HostileInputsFailWithOneLineNamingTheFile) {
+    Dir d;
+    const fs::path err = d.path / "err.txt";
+    const auto expect_failure = [&](const std::string& args, const std::string& says) {
+        EXPECT_EQ(run_capturing(args, err), 1) << args;
+        const std::string msg = slurp(err);
+        EXPECT_NE(msg.find(says), std::string::npos) << args << "\n" << msg.substr(0, 300);
+        EXPECT_EQ(msg.find('\x1b'), std::string::npos) << args;
+        EXPECT_EQ(std::count(msg.begin(), msg.end(), '\n'), 1) << args << "\n" << msg;
+    };
+    // Tuples without their numbers once crashed every command reading them.
+    const fs::path empty = d.path / "empty.usda";
+    write(empty,
+          "#usda 1.0\ndef BasisCurves \"C\" {\n    int[] curveVertexCounts = [4]\n"
+          "    point3f[] points = [((),(),()), ((),(),()), ((),(),()), ((),(),())]\n}\n");
+    const std::string x = (d.path / "x").string();
+    const std::pair<std::string, std::string> commands[] = {{"info", ""},
+                                                            {"info --json", ""},
+                                                            {"convert", x + ".hair"},
+                                                            {"render", "-q -o " + x + ".png"},
+                                                            {"animate", "-q -o " + x + ".usda"}};
+    for (const auto& [command, rest] : commands)
+        expect_failure(command + " " + empty.string() + " " + rest,
+                       "empty.usda:4:26: values nested too deeply");
+    // A terminal escape sequence in a header is quoted escaped.
+    const fs::path ply = d.path / "esc.ply";
+    write(ply, "ply\n\x1b]0;owned\x07\x1b[2J x\n");
+    expect_failure("info " + ply.string(), "esc.ply:2: unknown header line `\\x1b]0;owned\\x07");
+    // Far-off strands (2e8 cm) once kept `render` busy for minutes.
+    const fs::path far = d.path / "far.obj";
+    write(far, "v 0 0 0\nv 0 1 0\nv 0 2e8 0\nl 1 2 3\n");
+    expect_failure("render -q -o " + (d.path / "far.png").string() + " " + far.string(),
+                   "far.obj: point 2 (strand 0, its point 2) is at (0, 2e+08, 0)");
+    // Endless files are not read until memory runs out.
+    const fs::path zero_usda = d.path / "zero.usda", zero_toml = d.path / "zero.toml";
+    fs::create_symlink("/dev/zero", zero_usda);
+    fs::create_symlink("/dev/zero", zero_toml);
+    expect_failure("convert " + zero_usda.string() + " " + (d.path / "x.hair").string(),
+                   "zero.usda:1:1: not a usda text layer");
+    expect_failure("generate " + zero_toml.string() + " -o " + (d.path / "x.hair").string(),
+                   "zero.toml: byte 0 is a NUL byte, which a style file (text) never holds");
+    expect_failure("animate --preset short --strands 300 --motion /dev/zero -o " +
+                       (d.path / "x.usda").string(),
+                   "/dev/zero: byte 0 is a NUL byte, which a motion file (text) never holds");
+    const fs::path head_zero = d.path / "hz.toml";
+    write(head_zero, "[head]\nobj = \"/dev/zero\"\n");
+    expect_failure("generate " + head_zero.string() + " -o " + (d.path / "x.hair").string(),
+                   "/dev/zero: byte 0 is a NUL byte, which a head OBJ file (text) never holds");
+    EXPECT_FALSE(fs::exists(d.path / "x.hair"));
 }

@@ -36,4 +36,31 @@ TEST(AtomicFile, ReadingAMissingFileNamesIt) {
     }
 }
 
+// Endless files (/dev/zero reports size 0) and files over a limit fail while being read.
+TEST(AtomicFile, ReadLimitsAreCheckedWhileReading) {
+    try {
+        read_file("/dev/zero", {1 << 20, "a style file", true});
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_EQ(std::string(e.what()),
+                  "/dev/zero: byte 0 is a NUL byte, which a style file (text) never holds");
+    }
+    try {
+        read_file("/dev/zero", {1 << 20, "an image file"});
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_EQ(std::string(e.what()),
+                  "/dev/zero: larger than 1048576 bytes, the limit for an image file "
+                  "(docs/formats.md)");
+    }
+    // A wrong magic stops reading at once: the format's parser names what it found.
+    EXPECT_EQ(read_file("/dev/zero", {1 << 20, "a PLY file", false, "ply"}).substr(0, 3),
+              std::string(3, '\0'));
+    const auto path = std::filesystem::temp_directory_path() / "wisp_read_limit.txt";
+    write_file_atomic(path, std::string_view("0123456789"));
+    EXPECT_EQ(read_file(path, {10, "a file", true}), "0123456789");
+    EXPECT_THROW(read_file(path, {9}), Error);
+    std::filesystem::remove(path);
+}
+
 }  // namespace wisp
