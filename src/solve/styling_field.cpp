@@ -164,6 +164,14 @@ Grid3<Vec3f> read_field_file(const std::filesystem::path& path) {
     if (!(cell > 0.f)) fail(name, ":", line, ": cell must be > 0");
     const Vec3i dims(static_cast<int>(dims_f[0]), static_cast<int>(dims_f[1]),
                      static_cast<int>(dims_f[2]));
+    // Each vector takes a line of at least 6 bytes ("0 0 0\n"): a truncated file or a
+    // hostile header fails here, before the grid is allocated.
+    const uint64_t vectors = uint64_t(dims.x()) * dims.y() * dims.z();
+    const uint64_t left = pos < text.size() ? text.size() - pos : 0;
+    if (vectors * 6 > left + 1)
+        fail(name, ":", line, ": dims ", dims.x(), " ", dims.y(), " ", dims.z(), " declare ",
+             vectors, " vectors, which need at least ", vectors * 6, " bytes, but only ", left,
+             " are left");
     Grid3<Vec3f> grid(Vec3f(origin[0], origin[1], origin[2]), cell, dims, Vec3f::Zero());
     for (size_t i = 0; i < grid.size(); ++i) {
         if (!next_line(l)) fail(name, ": truncated: expected ", grid.size(), " vectors, got ", i);

@@ -259,3 +259,32 @@ TEST(Cli, HostileInputsFailWithOneLineNamingTheFile) {
                    "/dev/zero: byte 0 is a NUL byte, which a head OBJ file (text) never holds");
     EXPECT_FALSE(fs::exists(d.path / "x.hair"));
 }
+
+TEST(Cli, GridsSizedByTheInputAreCheckedBeforeAllocation) {
+    Dir d;
+    const fs::path err = d.path / "err.txt", out = d.path / "x.hair";
+    // A 56-byte field file declaring a 512³ grid.
+    const fs::path field = d.path / "f.field", fstyle = d.path / "f.toml";
+    write(field, "wisp-field 1\ndims 512 512 512\norigin 0 0 0\ncell 1\n0 0 0\n");
+    write(fstyle,
+          "[roots]\nwisps = 20\nstrands = 200\n[[solve.field]]\nkind = \"file\"\nfile = \"" +
+              field.string() + "\"\n");
+    EXPECT_EQ(run_capturing("generate " + fstyle.string() + " -o " + out.string(), err), 1);
+    EXPECT_NE(slurp(err).find("f.field:4: dims 512 512 512 declare 134217728 vectors"),
+              std::string::npos)
+        << slurp(err);
+    // 500 cm hair at 1 cm cells: a 10⁹-node solver grid.
+    const fs::path lstyle = d.path / "l.toml";
+    write(lstyle, "[roots]\nwisps = 20\nstrands = 200\n[maps]\nlength = 500\n[solve]\ncell = 1\n");
+    EXPECT_EQ(run_capturing("generate " + lstyle.string() + " -o " + out.string(), err), 1);
+    EXPECT_NE(slurp(err).find("or raise solve.cell"), std::string::npos) << slurp(err);
+    // The built-in head at 30× its size.
+    const fs::path head = d.path / "head.obj", hstyle = d.path / "h.toml";
+    ASSERT_EQ(run("head -o " + head.string()), 0);
+    write(hstyle, "[roots]\nwisps = 20\nstrands = 200\n[head]\nobj = \"" + head.string() +
+                      "\"\nscale = 30\n");
+    EXPECT_EQ(run_capturing("generate " + hstyle.string() + " -o " + out.string(), err), 1);
+    EXPECT_NE(slurp(err).find("head.obj: the head spans"), std::string::npos) << slurp(err);
+    EXPECT_NE(slurp(err).find("after head.scale = 30"), std::string::npos) << slurp(err);
+    EXPECT_FALSE(fs::exists(out));
+}
