@@ -802,7 +802,8 @@ int run_cli(int argc, char** argv) {
                                           {"points", p.points},
                                           {"segments", p.segments},
                                           {"problem", p.problem}});
-            std::cout << j.dump(2) << '\n';
+            // Prim names and paths may hold bytes that are not UTF-8: replaced, not fatal.
+            std::cout << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
             return 0;
         }
         if (*convert_cmd) {

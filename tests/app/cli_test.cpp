@@ -288,3 +288,23 @@ TEST(Cli, GridsSizedByTheInputAreCheckedBeforeAllocation) {
     EXPECT_NE(slurp(err).find("after head.scale = 30"), std::string::npos) << slurp(err);
     EXPECT_FALSE(fs::exists(out));
 }
+
+TEST(Cli, InfoJsonReplacesBytesThatAreNotUtf8) {
+    Dir d;
+    const fs::path style = d.path / "s.toml";
+    write(style, "[roots]\nwisps = 20\nstrands = 100\npoints_per_strand = 6\n");
+    const fs::path hair = d.path / "caf\xe9.usda", out = d.path / "out.json";
+    ASSERT_EQ(run("generate " + style.string() + " -q -o '" + hair.string() + "'"), 0);
+    const std::string info =
+        std::string(WISP_EXE) + " info --json '" + hair.string() + "' >" + out.string();
+    ASSERT_EQ(std::system(info.c_str()), 0);
+    const std::string json = slurp(out);
+    EXPECT_NE(json.find("caf\xef\xbf\xbd.usda"), std::string::npos) << json;  // U+FFFD
+    // A prim name that is not UTF-8 is named escaped.
+    const fs::path bad = d.path / "bad.usda", err = d.path / "err.txt";
+    write(bad, "#usda 1.0\ndef BasisCurves \"h\xff\" {\n}\n");
+    EXPECT_EQ(run_capturing("info --json " + bad.string(), err), 1);
+    EXPECT_NE(slurp(err).find("bad.usda:2:17: prim name \"h\\xff\" holds control characters"),
+              std::string::npos)
+        << slurp(err);
+}
