@@ -16,6 +16,70 @@
 #include "core/error.hpp"
 
 namespace wisp {
+namespace {
+
+// The temporaries open now, for the signal handler: a fixed table (no allocation in the
+// handler), each slot free (0), being filled (1) or holding a path (2). A path too long or a
+// table full goes unregistered: the file is then only removed on unwinding, as before.
+constexpr int kMaxTemporaries = 64;
+constexpr size_t kMaxTemporaryPath = 4096;
+struct TemporarySlot {
+    std::atomic<int> state{0};
+    char path[kMaxTemporaryPath];
+};
+TemporarySlot g_temporaries[kMaxTemporaries];
+
+constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP};
+struct sigaction g_previous[std::size(kSignals)];
+
+// Async-signal-safe: unlink, sigaction and raise only.
+extern "C" void remove_temporaries(int sig) {
+    for (TemporarySlot& slot : g_temporaries)
+        if (slot.state.load() == 2) ::unlink(slot.path);
+    for (size_t i = 0; i < std::size(kSignals); ++i)
+        if (kSignals[i] == sig) ::sigaction(sig, &g_previous[i], nullptr);
+    // Delivered with the previous action (by default: terminate) once this handler returns.
+    ::raise(sig);
+}
+
+void install_handlers() {
+    static std::once_flag once;
+    std::call_once(once, [] {
+        for (size_t i = 0; i < std::size(kSignals); ++i) {
+            struct sigaction action {};
+            action.sa_handler = remove_temporaries;
+            sigemptyset(&action.sa_mask);
+            for (int s : kSignals)
+                sigaddset(&action.sa_mask, s);  // one handler at a time
+            ::sigaction(kSignals[i], &action, &g_previous[i]);
+            // A signal the caller ignores (nohup, a background job) stays ignored.
+            if (g_previous[i].sa_handler == SIG_IGN)
+                ::sigaction(kSignals[i], &g_previous[i], nullptr);
+        }
+    });
+}
+
+// Returns the slot registered, or -1.
+int register_temporary(const std::filesystem::path& path) {
+    const std::string& native = path.native();
+    if (native.size() >= kMaxTemporaryPath) return -1;
+    install_handlers();
+    for (int i = 0; i < kMaxTemporaries; ++i) {
+        int expected = 0;
+        if (g_temporaries[i].state.compare_exchange_strong(expected, 1)) {
+            std::memcpy(g_temporaries[i].path, native.c_str(), native.size() + 1);
+            g_temporaries[i].state.store(2);
+            return i;
+        }
+    }
+    return -1;
+}
+
+void unregister_temporary(int slot) {
+    if (slot >= 0) g_temporaries[slot].state.store(0);
+}
+
+}  // namespace
 
 AtomicFile::AtomicFile(std::filesystem::path path) : path_(std::move(path)) {
     tmp_ = path_;
@@ -25,8 +89,12 @@ AtomicFile::AtomicFile(std::filesystem::path path) : path_(std::move(path)) {
         std::filesystem::create_directories(path_.parent_path(), ec);
         if (ec) fail(path_.string(), ": cannot create folder: ", ec.message());
     }
+    slot_ = register_temporary(tmp_);  // before the file exists: a signal never misses it
     out_.open(tmp_, std::ios::binary | std::ios::trunc);
-    if (!out_) fail(path_.string(), ": cannot open for writing: ", std::strerror(errno));
+    if (!out_) {
+        unregister_temporary(slot_);
+        fail(path_.string(), ": cannot open for writing: ", std::strerror(errno));
+    }
 }
 
 AtomicFile::~AtomicFile() {
@@ -35,6 +103,7 @@ AtomicFile::~AtomicFile() {
         std::error_code ec;
         std::filesystem::remove(tmp_, ec);
     }
+    unregister_temporary(slot_);
 }
 
 void AtomicFile::commit() {
@@ -46,6 +115,8 @@ void AtomicFile::commit() {
     std::filesystem::rename(tmp_, path_, ec);
     if (ec) fail(path_.string(), ": cannot rename temporary file: ", ec.message());
     committed_ = true;
+    unregister_temporary(slot_);
+    slot_ = -1;
 }
 
 void write_file_atomic(const std::filesystem::path& path, std::string_view bytes) {

@@ -1,6 +1,8 @@
 #pragma once
 // Outputs are written to a temporary file beside the target and renamed over it on
-// commit(), so an interrupted run never leaves a truncated file behind.
+// commit(), so an interrupted run never leaves a truncated file behind. Open temporaries
+// are registered: SIGINT, SIGTERM and SIGHUP remove them before the process dies.
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -24,6 +26,7 @@ class AtomicFile {
     std::filesystem::path path_, tmp_;
     std::ofstream out_;
     bool committed_ = false;
+    int slot_ = -1;  // in the table of temporaries the signal handler removes
 };
 
 // Writes `bytes` to path atomically.

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <csignal>
+
 #include "core/error.hpp"
 
 namespace wisp {
@@ -33,6 +35,29 @@ TEST(AtomicFile, ReadingAMissingFileNamesIt) {
         FAIL();
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("/nonexistent/wisp/file.hair"), std::string::npos);
+    }
+}
+
+// Ctrl-C (SIGINT) or SIGTERM while an output is being written removes its temporary, and
+// the process still dies of the signal.
+TEST(AtomicFileDeathTest, SignalsRemoveTheTemporaries) {
+    GTEST_FLAG_SET(death_test_style, "threadsafe");
+    const auto dir = std::filesystem::temp_directory_path();
+    for (const int sig : {SIGINT, SIGTERM}) {
+        const auto path = dir / ("wisp_atomic_signal_" + std::to_string(sig) + ".usda");
+        EXPECT_EXIT(
+            {
+                AtomicFile a(path);
+                AtomicFile b(dir / "wisp_atomic_signal_other.hair");
+                a.stream() << "partial";
+                a.stream().flush();
+                std::raise(sig);
+            },
+            testing::KilledBySignal(sig), "");
+        EXPECT_FALSE(std::filesystem::exists(path));
+        for (const auto& e : std::filesystem::directory_iterator(dir))
+            EXPECT_EQ(e.path().filename().string().find("wisp_atomic_signal_"), std::string::npos)
+                << e.path();
     }
 }
 
