@@ -308,3 +308,29 @@ TEST(Cli, InfoJsonReplacesBytesThatAreNotUtf8) {
               std::string::npos)
         << slurp(err);
 }
+
+// Usage errors are found before any work: no output is written, no temporary folder left.
+TEST(Cli, ArgumentsAreCheckedBeforeTheWork) {
+    Dir d;
+    const std::string out = (d.path / "a.hair").string();
+    const std::string gen = "generate --preset default -o " + out + " ";
+    const auto quick = [&](const std::string& args, int code) {
+        const auto start = std::chrono::steady_clock::now();
+        EXPECT_EQ(run(args), code) << args;
+        EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(3)) << args;
+        EXPECT_FALSE(fs::exists(out)) << args;
+    };
+    const std::string png = " --png " + (d.path / "p.png").string();
+    quick(gen + png + " --size 5x5", 2);
+    quick(gen + png + " --eye 1,2", 2);
+    quick(gen + png + " --eye 0,0,50 --target 0,0,50", 2);
+    quick(gen + png + " --background red", 2);
+    quick(gen + png + " --views front,sideways", 2);
+    write(d.path / "file", "");
+    quick(gen + "--stats " + (d.path / "file" / "s.json").string(), 1);
+    quick(gen + "-o " + (d.path / "x.data").string(), 1);
+    quick("animate --preset short -o " + (d.path / "x.usda").string() + " --size 5x5", 2);
+    quick("animate --preset short --mp4 " + (d.path / "x.mp4").string() + " --size 5x5", 2);
+    quick("animate --preset short --mp4 " + (d.path / "x.mp4").string() + " --view sideways", 2);
+    quick("render " + out + " -o " + (d.path / "r.png").string() + " --size 5x5", 2);
+}
