@@ -22,7 +22,7 @@ namespace wisp::io_detail {
 static_assert(std::endian::native == std::endian::little,
               "the binary readers and writers copy little-endian arrays directly");
 
-// The most a hair file read whole (.usda, .obj, .ply, .data) may hold: 2 GiB, about
+// The most a hair file read whole (.usda, .obj, .ply) may hold: 2 GiB, about
 // 20 million strands of 32 points in .usda (docs/formats.md).
 inline constexpr uint64_t kMaxHairFileBytes = uint64_t(2) << 30;
 
