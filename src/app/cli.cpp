@@ -6,12 +6,15 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <random>
 #include <thread>
 
@@ -26,6 +29,7 @@
 #include "groom/style_toml.hpp"
 #include "io/hair_io.hpp"
 #include "io/usda.hpp"
+#include "render/camera.hpp"
 #include "render/render.hpp"
 #include "solve/coverage.hpp"
 #include "solve/pipeline.hpp"
@@ -48,6 +52,9 @@ Mesh clip_envelope(const Motion& motion, double clip, const Box3& box, const Vec
 }
 
 constexpr const char* kVersion = "0.1.0";
+// Errors are printed on one line, control characters escaped, at most this long: the net
+// under the readers' own excerpts of what they quote.
+constexpr size_t kMaxMessageBytes = 2000;
 
 // "x,y,z" → a finite vector.
 Vec3f parse_vec3(const std::string& flag, const std::string& text) {
@@ -173,14 +180,66 @@ std::vector<std::string> split_views(const std::string& text) {
     return out;
 }
 
-// Renders hair (and the head) to a PNG: one view, or a contact sheet of several.
-void render_png(const std::string& path, const Hair& hair, const Mesh& head,
-                const std::string& views, const std::string& size, const LookArgs& look,
-                bool quiet) {
+// The picture options of --size, --eye, --target, --background ... and the views, all
+// checked (CLI::ValidationError) before any work starts.
+struct PngArgs {
     RenderOptions options;
-    std::tie(options.width, options.height) = parse_size(size);
-    look.apply(options);
-    const std::vector<std::string> list = split_views(views.empty() ? "three-quarter" : views);
+    std::vector<std::string> views;
+};
+PngArgs png_args(const std::string& views, const std::string& size, const LookArgs& look,
+                 const char* views_flag) {
+    PngArgs a;
+    std::tie(a.options.width, a.options.height) = parse_size(size);
+    look.apply(a.options);
+    if (a.options.look_at && a.options.look_at->eye == a.options.look_at->target)
+        throw CLI::ValidationError("--eye", "the camera cannot look at its own position");
+    a.views = split_views(views.empty() ? "three-quarter" : views);
+    if (a.views.empty())
+        throw CLI::ValidationError(views_flag, "names no view, got '" + excerpt(views) + "'");
+    const auto& names = view_names();
+    for (const std::string& v : a.views)
+        if (v != "three_quarter" && std::find(names.begin(), names.end(), v) == names.end()) {
+            std::string list;
+            for (const std::string& n : names)
+                list += (list.empty() ? "" : ", ") + n;
+            throw CLI::ValidationError(views_flag,
+                                       "unknown view '" + excerpt(v) + "' (views: " + list + ")");
+        }
+    return a;
+}
+
+// Fails (wisp::Error) unless `path` can be written: its folder exists and is writable, or
+// can be created under a writable folder. Checked before any work starts.
+void check_writable(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) fail(path, ": is a folder, not a file");
+    fs::path dir = fs::path(path).parent_path();
+    if (dir.empty()) dir = ".";
+    // The nearest folder that exists: the writer creates the ones below it.
+    while (!fs::exists(dir, ec)) {
+        if (!dir.has_parent_path() || dir.parent_path() == dir) break;
+        dir = dir.parent_path();
+    }
+    if (!fs::is_directory(dir, ec))
+        fail(path, ": cannot write: ", dir.string(), " is not a folder");
+    if (::access(dir.c_str(), W_OK | X_OK) != 0)
+        fail(path, ": cannot write in ", dir.string(), ": ", std::strerror(errno));
+}
+
+// Checks an output hair file: its format is one wisp writes, and it can be written.
+void check_hair_output(const std::string& path) {
+    const HairFormat format = hair_format_from_path(path);
+    if (format == HairFormat::kData)
+        fail(path, ": .data (USC-HairSalon) is read-only; write .usda, .hair, .obj or .ply");
+    check_writable(path);
+}
+
+// Renders hair (and the head) to a PNG: one view, or a contact sheet of several.
+void render_png(const std::string& path, const Hair& hair, const Mesh& head, const PngArgs& png,
+                bool quiet) {
+    RenderOptions options = png.options;
+    const std::vector<std::string>& list = png.views;
     if (list.size() == 1) {
         options.view = list[0];
         write_png(path, render(hair, &head, options));
@@ -260,8 +319,16 @@ int run_generate(const GenerateArgs& args) {
         throw CLI::ValidationError(
             "--wisps", cat("more wisps (", style.wisps, ") than strands (", style.strands, ")"));
     style.wisps = std::min(style.wisps, style.strands);
+    // Every argument and output is checked before the work starts: a mistake found after
+    // it would cost the whole generation.
     for (const std::string& out : args.outputs)
-        hair_format_from_path(out);  // fail early
+        check_hair_output(out);
+    std::optional<PngArgs> png;
+    if (!args.png.empty()) {
+        png = png_args(args.views, args.size, args.look, "--views");
+        check_writable(args.png);
+    }
+    if (!args.stats.empty()) check_writable(args.stats);
     const ThreadLimit limit(args.threads);
 
     Stopwatch watch;
@@ -284,7 +351,7 @@ int run_generate(const GenerateArgs& args) {
     }
     if (!args.png.empty()) {
         watch = Stopwatch();
-        render_png(args.png, result.hair, *head.mesh, args.views, args.size, args.look, args.quiet);
+        render_png(args.png, result.hair, *head.mesh, *png, args.quiet);
         times.emplace_back("render " + args.png, watch.ms());
         info(args.quiet, cat("wisp: wrote ", args.png));
     }
@@ -391,8 +458,18 @@ bool is_style_file(const std::string& path) {
 int run_animate(const AnimateArgs& args) {
     Stopwatch total;
     const ThreadLimit limit(args.threads);
+    // Every argument and output is checked before the work starts.
     for (const std::string& out : args.outputs)
-        hair_format_from_path(out);  // fail early
+        check_hair_output(numbered(out, 0));
+    const PngArgs png = png_args(args.view, args.size, args.look, "--view");
+    if (png.views.size() != 1)
+        throw CLI::ValidationError("--view", "animate renders one view, got '" + args.view + "'");
+    if (!args.png.empty()) check_writable(numbered(args.png, 0));
+    if (!args.mp4.empty()) check_writable(args.mp4);
+    if (!args.stats.empty()) check_writable(args.stats);
+    std::vector<Tie> ties;
+    for (const std::string& t : args.ties)
+        ties.push_back(parse_tie(t));
     if (!args.input.empty() && !args.preset.empty())
         throw CLI::ValidationError("animate", "give a style or hair file, or --preset, not both");
     const bool from_style = args.input.empty() || is_style_file(args.input);
@@ -420,6 +497,7 @@ int run_animate(const AnimateArgs& args) {
     Stopwatch watch;
     const Head head = load_head(style.head);
     const HeadFrame frame = head_frame(*head.scalp);
+    const Motion motion = load_motion(args.motion, frame);  // its errors before the work
     StageTimes times{{"head", watch.ms()}};
     Hair rest;
     std::vector<float> held;  // per wisp: the length its ties hold
@@ -435,7 +513,6 @@ int run_animate(const AnimateArgs& args) {
         rest = read_hair(args.input);
         times.emplace_back("read", watch.ms());
     }
-    const Motion motion = load_motion(args.motion, frame);
 
     AnimateSettings settings;
     settings.frames = args.frames;
@@ -445,7 +522,7 @@ int run_animate(const AnimateArgs& args) {
     // Ties for hair without constraints: each tie's holds, the longest where several catch a
     // strand.
     for (size_t t = 0; t < args.ties.size(); ++t) {
-        const Tie tie = parse_tie(args.ties[t]);
+        const Tie& tie = ties[t];
         const std::vector<float> caught = held_lengths(rest, std::span(&tie, 1));
         const auto count = static_cast<size_t>(
             std::count_if(caught.begin(), caught.end(), [](float l) { return l > 0; }));
@@ -473,18 +550,24 @@ int run_animate(const AnimateArgs& args) {
         else
             per_frame.push_back(out);
     }
-    std::filesystem::path png_dir;
+    // The frames of an MP4 without --png go to a temporary folder, removed however the run
+    // ends.
+    struct TempDir {
+        std::filesystem::path path;
+        ~TempDir() {
+            std::error_code ec;
+            if (!path.empty()) std::filesystem::remove_all(path, ec);
+        }
+    } png_dir;
     std::string png_pattern = args.png;
     if (png_pattern.empty() && !args.mp4.empty()) {
-        png_dir =
+        png_dir.path =
             std::filesystem::temp_directory_path() / ("wisp-animate-" + std::to_string(::getpid()));
-        std::filesystem::create_directories(png_dir);
-        png_pattern = (png_dir / "frame_####.png").string();
+        std::filesystem::create_directories(png_dir.path);
+        png_pattern = (png_dir.path / "frame_####.png").string();
     }
-    RenderOptions look;
-    std::tie(look.width, look.height) = parse_size(args.size);
-    args.look.apply(look);
-    look.view = args.view;
+    RenderOptions look = png.options;
+    look.view = png.views[0];
     std::optional<Camera> first_camera;
     Vec3f first_centre = Vec3f::Zero();
     HairWriteOptions write_options;
@@ -545,7 +628,6 @@ int run_animate(const AnimateArgs& args) {
             run_program({"ffmpeg", "-y", "-loglevel", "error", "-framerate", cat(args.fps), "-i",
                          input, "-c:v", "libx264", "-pix_fmt", "yuv420p", "-vf",
                          "pad=ceil(iw/2)*2:ceil(ih/2)*2", tmp.string()});
-        if (!png_dir.empty()) std::filesystem::remove_all(png_dir);
         if (status != 0) {
             std::error_code ec;
             std::filesystem::remove(tmp, ec);
@@ -758,10 +840,12 @@ int run_cli(int argc, char** argv) {
         }
         if (*render_cmd) {
             const ThreadLimit limit(render_threads);
+            const PngArgs png = png_args(render_view, render_size, render_look, "--view");
+            check_writable(render_out);
             const Hair hair = read_hair(render_in);
             const Mesh head =
                 render_head.empty() ? builtin_head_mesh() : read_obj_mesh(render_head, head_scale);
-            render_png(render_out, hair, head, render_view, render_size, render_look, render_quiet);
+            render_png(render_out, hair, head, png, render_quiet);
             info(render_quiet, cat("wisp: wrote ", render_out));
             return 0;
         }
@@ -799,11 +883,13 @@ int run_cli(int argc, char** argv) {
                                           {"points", p.points},
                                           {"segments", p.segments},
                                           {"problem", p.problem}});
-            std::cout << j.dump(2) << '\n';
+            // Prim names and paths may hold bytes that are not UTF-8: replaced, not fatal.
+            std::cout << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
             return 0;
         }
         if (*convert_cmd) {
             const HairFormat format = hair_format_from_path(convert_out);
+            check_hair_output(convert_out);
             const Hair hair = read_hair(convert_in);
             HairWriteOptions options;
             options.obj_segments = convert_segments;
@@ -821,16 +907,16 @@ int run_cli(int argc, char** argv) {
             return 0;
         }
     } catch (const CLI::ValidationError& e) {
-        std::cerr << "wisp: usage error: " << e.what() << '\n';
+        std::cerr << "wisp: usage error: " << excerpt(e.what(), kMaxMessageBytes) << '\n';
         return 2;
     } catch (const Error& e) {
-        std::cerr << "wisp: error: " << e.what() << '\n';
+        std::cerr << "wisp: error: " << excerpt(e.what(), kMaxMessageBytes) << '\n';
         return 1;
     } catch (const std::bad_alloc&) {
         std::cerr << "wisp: error: out of memory\n";
         return 1;
     } catch (const std::exception& e) {
-        std::cerr << "wisp: error: " << e.what() << '\n';
+        std::cerr << "wisp: error: " << excerpt(e.what(), kMaxMessageBytes) << '\n';
         return 1;
     }
     return 2;

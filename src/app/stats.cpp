@@ -34,7 +34,8 @@ nlohmann::json stage_stats(const StageTimes& times) {
 }
 
 void write_json(const std::filesystem::path& path, const nlohmann::json& json) {
-    write_file_atomic(path, json.dump(2) + "\n");
+    write_file_atomic(path,
+                      json.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
 }
 
 }  // namespace wisp

@@ -1,14 +1,85 @@
 #include "core/atomic_file.hpp"
 
+#include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cerrno>
+#include <csignal>
+#include <cstdio>
 #include <cstring>
-#include <sstream>
+#include <iterator>
+#include <memory>
+#include <mutex>
 
 #include "core/error.hpp"
 
 namespace wisp {
+namespace {
+
+// The temporaries open now, for the signal handler: a fixed table (no allocation in the
+// handler), each slot free (0), being filled (1) or holding a path (2). A path too long or a
+// table full goes unregistered: the file is then only removed on unwinding, as before.
+constexpr int kMaxTemporaries = 64;
+constexpr size_t kMaxTemporaryPath = 4096;
+struct TemporarySlot {
+    std::atomic<int> state{0};
+    char path[kMaxTemporaryPath];
+};
+TemporarySlot g_temporaries[kMaxTemporaries];
+
+constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP};
+struct sigaction g_previous[std::size(kSignals)];
+
+// Async-signal-safe: unlink, sigaction and raise only.
+extern "C" void remove_temporaries(int sig) {
+    for (TemporarySlot& slot : g_temporaries)
+        if (slot.state.load() == 2) ::unlink(slot.path);
+    for (size_t i = 0; i < std::size(kSignals); ++i)
+        if (kSignals[i] == sig) ::sigaction(sig, &g_previous[i], nullptr);
+    // Delivered with the previous action (by default: terminate) once this handler returns.
+    ::raise(sig);
+}
+
+void install_handlers() {
+    static std::once_flag once;
+    std::call_once(once, [] {
+        for (size_t i = 0; i < std::size(kSignals); ++i) {
+            struct sigaction action {};
+            action.sa_handler = remove_temporaries;
+            sigemptyset(&action.sa_mask);
+            for (int s : kSignals)
+                sigaddset(&action.sa_mask, s);  // one handler at a time
+            ::sigaction(kSignals[i], &action, &g_previous[i]);
+            // A signal the caller ignores (nohup, a background job) stays ignored.
+            if (g_previous[i].sa_handler == SIG_IGN)
+                ::sigaction(kSignals[i], &g_previous[i], nullptr);
+        }
+    });
+}
+
+// Returns the slot registered, or -1.
+int register_temporary(const std::filesystem::path& path) {
+    const std::string& native = path.native();
+    if (native.size() >= kMaxTemporaryPath) return -1;
+    install_handlers();
+    for (int i = 0; i < kMaxTemporaries; ++i) {
+        int expected = 0;
+        if (g_temporaries[i].state.compare_exchange_strong(expected, 1)) {
+            std::memcpy(g_temporaries[i].path, native.c_str(), native.size() + 1);
+            g_temporaries[i].state.store(2);
+            return i;
+        }
+    }
+    return -1;
+}
+
+void unregister_temporary(int slot) {
+    if (slot >= 0) g_temporaries[slot].state.store(0);
+}
+
+}  // namespace
 
 AtomicFile::AtomicFile(std::filesystem::path path) : path_(std::move(path)) {
     tmp_ = path_;
@@ -18,8 +89,12 @@ AtomicFile::AtomicFile(std::filesystem::path path) : path_(std::move(path)) {
         std::filesystem::create_directories(path_.parent_path(), ec);
         if (ec) fail(path_.string(), ": cannot create folder: ", ec.message());
     }
+    slot_ = register_temporary(tmp_);  // before the file exists: a signal never misses it
     out_.open(tmp_, std::ios::binary | std::ios::trunc);
-    if (!out_) fail(path_.string(), ": cannot open for writing: ", std::strerror(errno));
+    if (!out_) {
+        unregister_temporary(slot_);
+        fail(path_.string(), ": cannot open for writing: ", std::strerror(errno));
+    }
 }
 
 AtomicFile::~AtomicFile() {
@@ -28,6 +103,7 @@ AtomicFile::~AtomicFile() {
         std::error_code ec;
         std::filesystem::remove(tmp_, ec);
     }
+    unregister_temporary(slot_);
 }
 
 void AtomicFile::commit() {
@@ -39,6 +115,8 @@ void AtomicFile::commit() {
     std::filesystem::rename(tmp_, path_, ec);
     if (ec) fail(path_.string(), ": cannot rename temporary file: ", ec.message());
     committed_ = true;
+    unregister_temporary(slot_);
+    slot_ = -1;
 }
 
 void write_file_atomic(const std::filesystem::path& path, std::string_view bytes) {
@@ -54,15 +132,52 @@ void write_file_atomic(const std::filesystem::path& path,
     f.commit();
 }
 
-std::string read_file(const std::filesystem::path& path) {
+std::string read_file(const std::filesystem::path& path, const ReadLimits& limits) {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) fail(path.string(), ": is a folder, not a file");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) fail(path.string(), ": cannot open: ", std::strerror(errno));
-    std::ostringstream s;
-    s << in.rdbuf();
-    if (in.bad()) fail(path.string(), ": read failed");
-    return std::move(s).str();
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
+    if (!f) fail(path.string(), ": cannot open: ", std::strerror(errno));
+    // The size is only a hint for the first allocation: the limits are checked on the bytes.
+    uint64_t hint = 0;
+    if (std::fseek(f.get(), 0, SEEK_END) == 0) {
+        const long size = std::ftell(f.get());
+        if (size > 0) hint = static_cast<uint64_t>(size);
+        if (std::fseek(f.get(), 0, SEEK_SET) != 0)
+            fail(path.string(), ": cannot seek: ", std::strerror(errno));
+    }
+    const auto too_large = [&] {
+        fail(path.string(), ": larger than ", limits.max_bytes, " bytes, the limit for ",
+             limits.what, " (docs/formats.md)");
+    };
+    if (hint > limits.max_bytes) too_large();
+    const uint64_t cap = limits.max_bytes + 1;  // one byte more tells a file over the limit
+    std::string bytes(
+        static_cast<size_t>(std::min<uint64_t>(std::max<uint64_t>(hint + 1, 1 << 16), cap)), '\0');
+    size_t got = 0, scanned = 0;  // bytes read; bytes checked for NUL
+    bool magic_checked = limits.magic.empty();
+    for (;;) {
+        if (got == bytes.size()) {
+            if (got >= cap) break;
+            bytes.resize(static_cast<size_t>(std::min<uint64_t>(uint64_t(got) * 2, cap)));
+        }
+        const size_t n = std::fread(bytes.data() + got, 1, bytes.size() - got, f.get());
+        if (n == 0) break;
+        got += n;
+        if (!magic_checked && got >= limits.magic.size()) {
+            magic_checked = true;
+            if (std::string_view(bytes.data(), limits.magic.size()) != limits.magic) break;
+        }
+        if (limits.text && magic_checked) {
+            if (const void* nul = std::memchr(bytes.data() + scanned, '\0', got - scanned))
+                fail(path.string(), ": byte ", static_cast<const char*>(nul) - bytes.data(),
+                     " is a NUL byte, which ", limits.what, " (text) never holds");
+            scanned = got;
+        }
+    }
+    if (std::ferror(f.get())) fail(path.string(), ": read failed: ", std::strerror(errno));
+    if (got > limits.max_bytes) too_large();
+    bytes.resize(got);
+    return bytes;
 }
 
 }  // namespace wisp

@@ -9,6 +9,21 @@
 
 namespace wisp {
 
+// The most nodes a grid sized from the input (the solver's field and density grids, sized by
+// the hair's reach and solve.cell) may have: 2^27, about 2 GiB for a vector field and its
+// density. Callers check grid_nodes against it before allocating, naming the fields that
+// drive the size.
+inline constexpr double kMaxGridNodes = double(1 << 27);
+
+// How many nodes a grid over `size` (cm) at `cell` has, counted as the grids count them
+// (ceil(size / cell) + 1 per axis, at least 2), in double so that it cannot overflow.
+inline double grid_nodes(const Vec3f& size, float cell) {
+    double n = 1;
+    for (int a = 0; a < 3; ++a)
+        n *= std::max(2.0, std::ceil(double(size[a]) / cell) + 1);
+    return n;
+}
+
 template <typename T>
 class Grid3 {
   public:

@@ -20,8 +20,17 @@ void Hair::validate(const std::string& what) const {
         fail(what, ": colors has ", colors.size(), " values, expected ", s);
     if (!wisp.empty() && wisp.size() != s)
         fail(what, ": wisp has ", wisp.size(), " values, expected ", s);
-    for (size_t i = 0; i < points.size(); ++i)
-        if (!points[i].allFinite()) fail(what, ": point ", i, " is not finite");
+    for (size_t st = 0; st < s; ++st)
+        for (uint32_t i = offsets[st]; i < offsets[st + 1]; ++i) {
+            const Vec3f& p = points[i];
+            if (!p.allFinite())
+                fail(what, ": point ", i, " is not finite (strand ", st, ", its point ",
+                     i - offsets[st], ")");
+            if (p.cwiseAbs().maxCoeff() > kMaxCoordinate)
+                fail(what, ": point ", i, " (strand ", st, ", its point ", i - offsets[st],
+                     ") is at (", p.x(), ", ", p.y(), ", ", p.z(), "), farther than ",
+                     kMaxCoordinate, " cm from the origin on an axis (see docs/formats.md)");
+        }
     for (size_t i = 0; i < widths.size(); ++i)
         if (!std::isfinite(widths[i]) || widths[i] < 0.f)
             fail(what, ": width ", i, " is negative or not finite");

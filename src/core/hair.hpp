@@ -9,6 +9,11 @@
 
 namespace wisp {
 
+// Readers reject any coordinate whose magnitude exceeds this (centimetres, 1 km): hair that
+// far from the head is a unit or file error, and grids sized by the hair's bounds (the
+// solver's, the renderer's, the animation's) must stay small (docs/formats.md).
+inline constexpr float kMaxCoordinate = 1e5f;
+
 struct Hair {
     // points   #P control points of uniform Catmull-Rom splines (pinned ends), centimetres,
     //          head space (Y up, +Z forward), strand after strand, root first.
@@ -45,8 +50,9 @@ struct Hair {
             b.extend(p);
         return b;
     }
-    // Throws wisp::Error naming `what` if the arrays disagree in size or hold non-finite
-    // values (called by every reader before it returns).
+    // Throws wisp::Error naming `what` if the arrays disagree in size, hold non-finite
+    // values or a coordinate beyond ±kMaxCoordinate (called by every reader before it
+    // returns, and by every writer).
     void validate(const std::string& what) const;
 };
 

@@ -26,7 +26,7 @@ float GrayImage::sample(float u, float v) const {
 }
 
 std::vector<GrayImage> read_image_planes(const std::filesystem::path& path, int channels) {
-    const std::string bytes = read_file(path);
+    const std::string bytes = read_file(path, {kMaxImageFileBytes, "an image file"});
     int w = 0, h = 0, file_channels = 0;
     const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
     const int len = static_cast<int>(bytes.size());

@@ -442,11 +442,12 @@ class MotionReader {
     Motion read(const std::string& text) {
         JsonPaths paths;
         if (!json::sax_parse(text, &paths)) {
-            if (paths.error_at().empty()) fail(file_, ": invalid JSON: ", paths.error());
-            fail(file_, ": ", paths.error_at(), ": invalid JSON: ", paths.error());
+            const std::string what = excerpt(paths.error(), 200);
+            if (paths.error_at().empty()) fail(file_, ": invalid JSON: ", what);
+            fail(file_, ": ", excerpt(paths.error_at(), 256), ": invalid JSON: ", what);
         }
         if (!paths.first_repeated().empty())
-            fail(file_, ": ", paths.first_repeated(), ": field given twice");
+            fail(file_, ": ", excerpt(paths.first_repeated(), 256), ": field given twice");
         json root;
         try {
             root = json::parse(text);
@@ -462,16 +463,17 @@ class MotionReader {
         const json* format = find(root, "format");
         if (!format) error(kRoot / "format", "missing (expected \"wisp-motion\")");
         if (!format->is_string() || format->get_ref<const std::string&>() != "wisp-motion")
-            error(kRoot / "format", "expected \"wisp-motion\", found ", format->dump());
+            error(kRoot / "format", "expected \"wisp-motion\", found ", excerpt(format->dump()));
         const json* version = find(root, "version");
         if (!version) error(kRoot / "version", "missing (expected 1)");
         if (!version->is_number() || version->get<double>() != 1)
-            error(kRoot / "version", "expected 1, found ", version->dump());
+            error(kRoot / "version", "expected 1, found ", excerpt(version->dump()));
         if (const json* units = find(root, "units")) {
             const bool cm = units->is_string() && units->get_ref<const std::string&>() == "cm";
             const bool head = units->is_string() && units->get_ref<const std::string&>() == "head";
             if (!cm && !head)
-                error(kRoot / "units", "expected \"head\" or \"cm\", found ", units->dump());
+                error(kRoot / "units", "expected \"head\" or \"cm\", found ",
+                      excerpt(units->dump()));
             head_units_ = head;
         }
 
@@ -512,7 +514,7 @@ class MotionReader {
   private:
     template <typename... Args>
     [[noreturn]] void error(const Field& field, const Args&... what) const {
-        fail(file_, ": ", field.str(), ": ", what...);
+        fail(file_, ": ", excerpt(field.str(), 256), ": ", what...);
     }
 
     static const json* find(const json& object, const char* field) {
@@ -532,7 +534,8 @@ class MotionReader {
     }
 
     double number(const json& v, const Field& field) const {
-        if (!v.is_number()) error(field, "expected a number, found ", v.type_name(), " ", v.dump());
+        if (!v.is_number())
+            error(field, "expected a number, found ", v.type_name(), " ", excerpt(v.dump()));
         const double x = v.get<double>();
         if (!std::isfinite(x)) error(field, "not a finite number");
         return x;
@@ -545,7 +548,7 @@ class MotionReader {
 
     Vec3f vec3(const json& v, const Field& field) const {
         if (!v.is_array() || v.size() != 3)
-            error(field, "expected an array of 3 numbers, found ", v.dump());
+            error(field, "expected an array of 3 numbers, found ", excerpt(v.dump()));
         Vec3f out;
         for (size_t c = 0; c < 3; ++c)
             out[c] = to_float(number(v[c], field[c]), field[c]);
@@ -744,14 +747,15 @@ Motion motion_preset(std::string_view name, const HeadFrame& head) {
         std::string known;
         for (const std::string& n : motion_preset_names())
             known += cat(known.empty() ? "" : ", ", n);
-        fail("unknown motion preset \"", name, "\" (presets: ", known, ")");
+        fail("unknown motion preset \"", excerpt(name), "\" (presets: ", known, ")");
     }
     m.name = std::string(name);
     return m;
 }
 
 Motion read_motion(const std::filesystem::path& path, const HeadFrame& head) {
-    return MotionReader(path.string(), head).read(read_file(path));
+    return MotionReader(path.string(), head)
+        .read(read_file(path, {kMaxMotionFileBytes, "a motion file", true}));
 }
 
 Motion load_motion(const std::string& preset_or_path, const HeadFrame& head) {

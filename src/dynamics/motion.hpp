@@ -30,6 +30,7 @@
 // Pivots and translations are in head units when "units": "head" (the default: a unit is
 // the head's radius, pivots relative to the head's centre) or in cm when "units": "cm".
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -100,6 +101,8 @@ inline constexpr size_t kMaxMotionKeys = 100000;
 inline constexpr double kMaxMotionTime = 3600;
 inline constexpr double kMaxMotionRotate = 3600;
 inline constexpr double kMaxMotionTranslate = 1e5;
+// The most a motion file may hold (4 tracks of kMaxMotionKeys keys fit in it).
+inline constexpr uint64_t kMaxMotionFileBytes = uint64_t(64) << 20;
 
 // The preset names: lean, shake, nod, jump, run, still.
 std::vector<std::string> motion_preset_names();

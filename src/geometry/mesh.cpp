@@ -11,6 +11,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/hair.hpp"
 
 namespace wisp {
 
@@ -129,7 +130,8 @@ std::vector<int> scan_obj(const std::string& text, const std::filesystem::path& 
                 face_lines.push_back(line);
             } else if (s.size() > 1 && s[0] == 'v' && (s[1] == ' ' || s[1] == 't')) {
                 if (s.find_first_of("nNiI") != std::string_view::npos)
-                    fail(path.string(), ":", line, ": non-finite number in '", trimmed(s), "'");
+                    fail(path.string(), ":", line, ": non-finite number in '", excerpt(trimmed(s)),
+                         "'");
             }
         }
         pos = end + 1;
@@ -142,7 +144,7 @@ std::vector<int> scan_obj(const std::string& text, const std::filesystem::path& 
 Mesh read_obj_mesh(const std::filesystem::path& path, float scale) {
     if (!std::isfinite(scale) || scale <= 0.f)
         fail(path.string(), ": scale ", scale, " must be a positive number");
-    const std::string text = read_file(path);
+    const std::string text = read_file(path, {kMaxObjMeshBytes, "a head OBJ file", true});
     const std::vector<int> face_lines = scan_obj(text, path);
 
     ObjBuilder b;
@@ -184,14 +186,21 @@ Mesh read_obj_mesh(const std::filesystem::path& path, float scale) {
     std::string warn, err;
     const bool ok = tinyobj::LoadObjWithCallback(in, cb, &b, nullptr, &warn, &err);
     if (!b.error.empty()) throw Error(b.error);
-    if (!ok) fail(path.string(), ": not a valid OBJ file: ", trimmed(err));
+    if (!ok) fail(path.string(), ": not a valid OBJ file: ", excerpt(trimmed(err), 200));
 
     Mesh& m = b.mesh;
     if (m.faces.empty())
         fail(path.string(), ": no faces (", m.vertices.size(), " vertices, 0 `f` statements)");
-    for (size_t i = 0; i < m.vertices.size(); ++i)
-        if (!m.vertices[i].allFinite())
+    for (size_t i = 0; i < m.vertices.size(); ++i) {
+        const Vec3f& p = m.vertices[i];
+        if (!p.allFinite())
             fail(path.string(), ": vertex ", i + 1, " is not finite after scaling by ", scale);
+        // The head's grids (distance field, density, shadows) span its bounds.
+        if (p.cwiseAbs().maxCoeff() > kMaxCoordinate)
+            fail(path.string(), ": vertex ", i + 1, " is at (", p.x(), ", ", p.y(), ", ", p.z(),
+                 ") cm after scaling by ", scale, ", farther than ", kMaxCoordinate,
+                 " cm from the origin (see docs/formats.md)");
+    }
     for (size_t i = 0; i < m.uvs.size(); ++i)
         if (!m.uvs[i].allFinite())
             fail(path.string(), ": texture coordinate ", i + 1, " is not finite");

@@ -29,6 +29,8 @@ struct Mesh {
 // materials kept). Positions are multiplied by `scale` to reach centimetres. Throws
 // wisp::Error naming the file on any malformed, empty or non-finite content.
 Mesh read_obj_mesh(const std::filesystem::path& path, float scale = 1.f);
+// The most a head OBJ may hold (docs/formats.md): scanned heads of a few million triangles fit.
+inline constexpr uint64_t kMaxObjMeshBytes = uint64_t(1) << 30;
 
 // Writes an OBJ atomically with `g NAME` blocks per face group and `vt` when present.
 void write_obj_mesh(const std::filesystem::path& path, const Mesh& mesh);

@@ -31,8 +31,8 @@ std::vector<uint32_t> select_by_group(const Mesh& mesh, const ScalpSpec& spec,
             names += (names.empty() ? "" : ", ") + n;
         for (const auto& n : mesh.material_names)
             names += (names.empty() ? "" : ", ") + n;
-        fail(source, ": scalp by group: no face group or material named '", spec.group,
-             "' (the mesh has: ", names.empty() ? std::string("none") : names, ")");
+        fail(source, ": scalp by group: no face group or material named '", excerpt(spec.group),
+             "' (the mesh has: ", names.empty() ? std::string("none") : excerpt(names, 200), ")");
     }
     std::vector<uint32_t> faces;
     for (size_t f = 0; f < mesh.faces.size(); ++f)

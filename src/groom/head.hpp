@@ -15,8 +15,12 @@ struct Head {
     std::unique_ptr<Scalp> scalp;
 };
 
-// Builds the head a style names; throws wisp::Error naming the file on bad input or an
-// empty scalp.
+// The most a head mesh may span on any axis after head.scale (cm): a head with its bust,
+// with room to spare. The solver's head field is a grid over it (docs/style.md).
+inline constexpr float kMaxHeadSpan = 300.f;
+
+// Builds the head a style names; throws wisp::Error naming the file on bad input, a mesh
+// wider than kMaxHeadSpan, or an empty scalp.
 Head load_head(const HeadSpec& spec);
 
 }  // namespace wisp

@@ -13,6 +13,7 @@
 #include <sstream>
 #include <utility>
 
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "groom/hairdressing.hpp"
 #include "groom/maps.hpp"
@@ -41,6 +42,11 @@ constexpr size_t kMaxGroups = 1024;  // constraint groups after expansion
 constexpr size_t kMaxQueue = 256;    // constraints per group
 constexpr size_t kMaxFieldTerms = 64;
 constexpr double kMaxCoordinate = 1e4;  // cm or head units
+// Messages quote at most this much of a field name, and are at most kMaxMessage long.
+constexpr size_t kMaxQuotedField = 200;
+constexpr size_t kMaxMessage = 1000;
+// "Did you mean" compares with the known names only words up to this long.
+constexpr size_t kMaxSuggestedWord = 64;
 
 // The fields of each section; the unknown-key check and its suggestions use these.
 const std::vector<std::pair<std::string, std::vector<std::string>>>& schema() {
@@ -138,8 +144,10 @@ size_t edit_distance(std::string_view a, std::string_view b) {
     return d[a.size() * w + b.size()];
 }
 
-// The option closest to `word` if it is close enough to be a likely typo.
+// The option closest to `word` if it is close enough to be a likely typo. Words much longer
+// than any option are no typo of one (and the edit distance is quadratic): none.
 std::optional<std::string> closest(std::string_view word, const std::vector<std::string>& options) {
+    if (word.size() > kMaxSuggestedWord) return std::nullopt;
     const size_t limit = word.size() <= 4 ? 1 : word.size() <= 8 ? 2 : 3;
     std::optional<std::string> best;
     size_t best_distance = limit + 1;
@@ -171,20 +179,19 @@ std::string number(double v) {
     return out.str();
 }
 
-// A string as the user would write it in TOML, kept on one line.
+// A string as the user would write it in TOML, kept on one line and cut short.
 std::string toml_string(std::string_view s) {
-    std::string out = "\"";
-    for (const char c : s) {
-        if (c == '\n') {
-            out += "\\n";
-        } else if (c == '"' || c == '\\') {
-            out += '\\';
-            out += c;
-        } else {
-            out += c;
-        }
+    size_t cut = std::min(s.size(), kExcerptBytes);
+    while (cut > 0 && cut < s.size() && (static_cast<unsigned char>(s[cut]) & 0xC0) == 0x80)
+        --cut;  // not inside a UTF-8 character
+    std::string out;
+    for (const char c : s.substr(0, cut)) {
+        if (c == '"' || c == '\\') out += '\\';
+        out += c;
     }
-    return out + "\"";
+    out = "\"" + excerpt(out, SIZE_MAX) + "\"";  // newlines and control characters escaped
+    if (cut < s.size()) out += cat("... (", s.size(), " bytes)");
+    return out;
 }
 
 // What a node holds, for "got ..." in messages.
@@ -228,9 +235,11 @@ class Parser {
   private:
     [[noreturn]] void error(const toml::source_region& where, const std::string& field,
                             const std::string& what) const {
-        if (where.begin.line > 0)
-            fail(source_, ":", where.begin.line, ": field '", field, "': ", what);
-        fail(source_, ": field '", field, "': ", what);
+        // Field names are keys of the file and `what` may quote values: both are escaped and
+        // cut short, so every message is one line of reasonable length.
+        const std::string f = excerpt(field, kMaxQuotedField), w = excerpt(what, kMaxMessage);
+        if (where.begin.line > 0) fail(source_, ":", where.begin.line, ": field '", f, "': ", w);
+        fail(source_, ": field '", f, "': ", w);
     }
     [[noreturn]] void error(const toml::node& node, const std::string& field,
                             const std::string& what) const {
@@ -332,9 +341,10 @@ void Parser::check_keys(const toml::table& table, const std::string& path,
             hint = " (expected one of: " + list(allowed, false) + ")";
         }
         const auto& where = key.source().begin.line > 0 ? key.source() : node.source();
+        const std::string f = excerpt(field, kMaxQuotedField);
         if (where.begin.line > 0)
-            fail(source_, ":", where.begin.line, ": unknown field '", field, "'", hint);
-        fail(source_, ": unknown field '", field, "'", hint);
+            fail(source_, ":", where.begin.line, ": unknown field '", f, "'", hint);
+        fail(source_, ": unknown field '", f, "'", hint);
     }
 }
 
@@ -1339,7 +1349,7 @@ Style Parser::parse(std::string_view text) {
         std::string description(e.description());
         std::replace(description.begin(), description.end(), '\n', ' ');
         fail(source_, ":", e.source().begin.line, ":", e.source().begin.column,
-             ": TOML syntax error: ", description);
+             ": TOML syntax error: ", excerpt(description, kMaxMessage));
     }
     check_keys(root, "", keys_of(""));
 
@@ -1374,15 +1384,9 @@ Style load_style(const std::filesystem::path& path) {
     const std::string source = path.string();
     std::error_code ec;
     if (fs::is_directory(path, ec)) fail(source, ": is a directory, not a style file");
-    const auto size = fs::file_size(path, ec);
-    if (!ec && size > kMaxFileBytes)
-        fail(source, ": style file too large (", size, " bytes; at most ", kMaxFileBytes, ")");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) fail(source, ": cannot read style file: ", std::strerror(errno));
-    std::ostringstream text;
-    text << in.rdbuf();
-    if (in.bad()) fail(source, ": cannot read style file: ", std::strerror(errno));
-    Style style = parse_style(text.str(), source, path.parent_path());
+    // Checked while reading: an endless file (/dev/zero, a pipe) reports size 0.
+    const std::string text = read_file(path, {kMaxFileBytes, "a style file", true});
+    Style style = parse_style(text, source, path.parent_path());
     if (style.name.empty()) style.name = path.stem().string();
     return style;
 }

@@ -5,9 +5,20 @@
 
 namespace wisp {
 
-Hair decode_hairsalon(std::string_view bytes, const std::string& name, HairSalonStats* stats) {
-    io_detail::ByteReader in(bytes, name);
-    const int32_t count = in.read<int32_t>("the strand count");
+namespace {
+
+template <typename Reader>
+int32_t read_int32(Reader& in, std::string_view what) {
+    int32_t v;
+    in.read_bytes(&v, sizeof v, what);
+    return v;
+}
+
+// Reads from a ByteReader (memory) or a FileReader (straight into the arrays: its size is
+// taken once at open, so an endless file such as /dev/zero, which reports 0, fails at once).
+template <typename Reader>
+Hair decode(Reader& in, HairSalonStats* stats) {
+    const int32_t count = read_int32(in, "the strand count");
     if (count < 0) in.fail_at(0, "negative strand count ", count);
     // Each strand needs at least its 4-byte vertex count.
     if (uint64_t(count) * 4 > in.remaining())
@@ -20,11 +31,11 @@ Hair decode_hairsalon(std::string_view bytes, const std::string& name, HairSalon
     constexpr float kCentimetresPerMetre = 100.f;
     for (int32_t s = 0; s < count; ++s) {
         const size_t at = in.offset();
-        const int32_t n = in.read<int32_t>("a strand's vertex count");
+        const int32_t n = read_int32(in, "a strand's vertex count");
         if (n < 0) in.fail_at(at, "strand ", s, " has a negative vertex count ", n);
         in.require(uint64_t(n) * 12, cat("strand ", s, "'s ", n, " vertices"));
         if (n <= 1) {
-            in.view(size_t(n) * 12, "a bare root");
+            in.skip(size_t(n) * 12, "a bare root");
             ++st.bare_roots;
             continue;
         }
@@ -43,13 +54,21 @@ Hair decode_hairsalon(std::string_view bytes, const std::string& name, HairSalon
     }
     if (in.remaining() != 0)
         in.fail_at(in.offset(), in.remaining(), " unexpected bytes after the last strand");
-    hair.validate(name);
+    hair.validate(in.name());
     if (stats) *stats = st;
     return hair;
 }
 
+}  // namespace
+
+Hair decode_hairsalon(std::string_view bytes, const std::string& name, HairSalonStats* stats) {
+    io_detail::ByteReader in(bytes, name);
+    return decode(in, stats);
+}
+
 Hair read_hairsalon(const std::filesystem::path& path, HairSalonStats* stats) {
-    return decode_hairsalon(io_detail::read_whole_file(path), path.string(), stats);
+    io_detail::FileReader in(path);
+    return decode(in, stats);
 }
 
 }  // namespace wisp

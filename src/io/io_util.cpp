@@ -6,26 +6,8 @@
 
 namespace wisp::io_detail {
 
-std::string read_whole_file(const std::filesystem::path& path) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) fail(path.string(), ": is a folder, not a file");
-    std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
-    if (!f) fail(path.string(), ": cannot open: ", std::strerror(errno));
-    std::string bytes;
-    if (std::fseek(f.get(), 0, SEEK_END) == 0) {
-        const long size = std::ftell(f.get());
-        if (size > 0 && std::fseek(f.get(), 0, SEEK_SET) == 0) {
-            bytes.resize(static_cast<size_t>(size));
-            const size_t got = std::fread(bytes.data(), 1, bytes.size(), f.get());
-            bytes.resize(got);
-        }
-    }
-    // Read whatever is left (pipes, files that grew, or an unknown size).
-    char buf[65536];
-    for (size_t n; (n = std::fread(buf, 1, sizeof buf, f.get())) > 0;)
-        bytes.append(buf, n);
-    if (std::ferror(f.get())) fail(path.string(), ": read failed: ", std::strerror(errno));
-    return bytes;
+std::string read_whole_file(const std::filesystem::path& path, const ReadLimits& limits) {
+    return read_file(path, limits);
 }
 
 FileReader::FileReader(const std::filesystem::path& path) : name_(path.string()) {

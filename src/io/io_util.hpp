@@ -13,6 +13,7 @@
 #include <system_error>
 #include <type_traits>
 
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/math.hpp"
 
@@ -21,8 +22,13 @@ namespace wisp::io_detail {
 static_assert(std::endian::native == std::endian::little,
               "the binary readers and writers copy little-endian arrays directly");
 
-// Reads a whole file in one call (no stream copies); throws wisp::Error naming the file.
-std::string read_whole_file(const std::filesystem::path& path);
+// The most a hair file read whole (.usda, .obj, .ply) may hold: 2 GiB, about
+// 20 million strands of 32 points in .usda (docs/formats.md).
+inline constexpr uint64_t kMaxHairFileBytes = uint64_t(2) << 30;
+
+// Reads a whole file within `limits` (core/atomic_file.hpp); throws wisp::Error naming the
+// file.
+std::string read_whole_file(const std::filesystem::path& path, const ReadLimits& limits = {});
 
 // Lower-case extension of path, with its dot (".usda"), or "".
 std::string lower_extension(const std::filesystem::path& path);

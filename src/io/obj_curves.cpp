@@ -47,9 +47,10 @@ Hair decode_obj_curves(std::string_view text, const std::string& name) {
                 const std::string_view w = next_word(rest);
                 if (w.empty()) fail(name, ":", line_no, ": `v` needs 3 coordinates, found ", k);
                 if (!io_detail::parse_number(w, p[k]))
-                    fail(name, ":", line_no, ": `", w, "` is not a number");
+                    fail(name, ":", line_no, ": `", excerpt(w), "` is not a number");
                 if (!std::isfinite(p[k]))
-                    fail(name, ":", line_no, ": vertex coordinate `", w, "` is not finite");
+                    fail(name, ":", line_no, ": vertex coordinate `", excerpt(w),
+                         "` is not finite");
             }
             verts.push_back(p);
         } else if (key == "l") {
@@ -58,7 +59,7 @@ Hair decode_obj_curves(std::string_view text, const std::string& name) {
                 const std::string_view v = w.substr(0, w.find('/'));
                 int64_t i;
                 if (!io_detail::parse_number(v, i))
-                    fail(name, ":", line_no, ": `", w, "` is not a vertex index");
+                    fail(name, ":", line_no, ": `", excerpt(w), "` is not a vertex index");
                 const int64_t n = int64_t(verts.size());
                 const int64_t resolved = i < 0 ? n + i : i - 1;
                 if (i == 0 || resolved < 0 || resolved >= n)
@@ -88,7 +89,9 @@ Hair decode_obj_curves(std::string_view text, const std::string& name) {
 }
 
 Hair read_obj_curves(const std::filesystem::path& path) {
-    return decode_obj_curves(io_detail::read_whole_file(path), path.string());
+    return decode_obj_curves(
+        io_detail::read_whole_file(path, {io_detail::kMaxHairFileBytes, "an OBJ file", true}),
+        path.string());
 }
 
 std::string encode_obj_curves(const Hair& hair, bool segments, const std::string& name) {

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <bit>
+#include <climits>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include "core/atomic_file.hpp"
@@ -120,7 +122,7 @@ class AsciiWords {
         const std::string_view w = next(what);
         double v;
         if (!io_detail::parse_number(w, v))
-            fail(name_, ":", line_, ": `", w, "` is not a number (", what, ")");
+            fail(name_, ":", line_, ": `", excerpt(w), "` is not a number (", what, ")");
         return v;
     }
     size_t line() const { return line_; }
@@ -170,13 +172,13 @@ Hair decode_ply(std::string_view bytes, const std::string& name) {
             if (w.size() >= 4 && w[1] == "wisp" && w[2] == "default_width") {
                 float v;
                 if (!io_detail::parse_number(w[3], v) || !std::isfinite(v) || v < 0.f)
-                    bad("bad default_width `", w[3], "`");
+                    bad("bad default_width `", excerpt(w[3]), "`");
                 default_width = v;
             } else if (w.size() >= 6 && w[1] == "wisp" && w[2] == "default_color") {
                 for (int k = 0; k < 3; ++k)
                     if (!io_detail::parse_number(w[3 + k], default_color[k]) ||
                         !std::isfinite(default_color[k]))
-                        bad("bad default_color `", w[3 + k], "`");
+                        bad("bad default_color `", excerpt(w[3 + k]), "`");
             }
         } else if (w[0] == "obj_info") {
         } else if (w[0] == "format") {
@@ -188,12 +190,13 @@ Hair decode_ply(std::string_view bytes, const std::string& name) {
             else if (w[1] == "binary_big_endian")
                 format = Format::kBinaryBE;
             else
-                bad("unknown format `", w[1], "`");
+                bad("unknown format `", excerpt(w[1]), "`");
         } else if (w[0] == "element") {
             if (w.size() != 3) bad("expected `element <name> <count>`");
             Element e;
-            e.name = std::string(w[1]);
-            if (!io_detail::parse_number(w[2], e.count)) bad("bad element count `", w[2], "`");
+            e.name = excerpt(w[1]);  // names are matched against plain ones and quoted
+            if (!io_detail::parse_number(w[2], e.count))
+                bad("bad element count `", excerpt(w[2]), "`");
             elements.push_back(std::move(e));
         } else if (w[0] == "property") {
             if (elements.empty()) bad("property before any element");
@@ -206,12 +209,12 @@ Hair decode_ply(std::string_view bytes, const std::string& name) {
                 p.list = true;
                 p.count_type = *ct;
                 p.type = *vt;
-                p.name = std::string(w[4]);
+                p.name = excerpt(w[4]);
             } else if (w.size() == 3) {
                 const auto t = type_from_name(w[1]);
-                if (!t) bad("unknown property type `", w[1], "`");
+                if (!t) bad("unknown property type `", excerpt(w[1]), "`");
                 p.type = *t;
-                p.name = std::string(w[2]);
+                p.name = excerpt(w[2]);
             } else {
                 bad("expected `property <type> <name>` or `property list <count type> <type> "
                     "<name>`");
@@ -220,7 +223,7 @@ Hair decode_ply(std::string_view bytes, const std::string& name) {
         } else if (w[0] == "end_header") {
             ended = true;
         } else {
-            bad("unknown header line `", w[0], "`");
+            bad("unknown header line `", excerpt(w[0]), "`");
         }
     }
     if (!format) fail(name, ": header has no format line");
@@ -304,7 +307,9 @@ Hair decode_ply(std::string_view bytes, const std::string& name) {
         uint64_t sum = 0;
         for (size_t s = 0; s < strand->count; ++s) {
             const double n = pc->values[s];
-            if (!(n >= 0 && n == std::floor(n)) || sum + uint64_t(n) > nv)
+            // Compared as doubles before any conversion: a count of 1e300 or NaN is an
+            // error, not undefined behaviour.
+            if (!(n >= 0 && n == std::floor(n) && n <= double(nv - sum)))
                 fail(name, ": strand ", s, " has vertex_count ", n, ", which runs past the ", nv,
                      " vertices");
             sum += uint64_t(n);
@@ -346,15 +351,22 @@ Hair decode_ply(std::string_view bytes, const std::string& name) {
     hair.points.resize(index.size());
     for (size_t k = 0; k < index.size(); ++k) {
         const uint32_t i = index[k];
-        hair.points[k] = Vec3f(float(px->values[i]), float(py->values[i]), float(pz->values[i]));
-        if (!hair.points[k].allFinite()) fail(name, ": vertex ", i, " is not finite");
+        const double x = px->values[i], y = py->values[i], z = pz->values[i];
+        // Checked as doubles: converting a double beyond float's range is undefined.
+        if (!(std::abs(x) <= kMaxCoordinate && std::abs(y) <= kMaxCoordinate &&
+              std::abs(z) <= kMaxCoordinate))
+            fail(name, ": vertex ", i, " is not finite or farther than ", kMaxCoordinate,
+                 " cm from the origin: (", x, ", ", y, ", ", z, ")");
+        hair.points[k] = Vec3f(float(x), float(y), float(z));
     }
     if (pw) {
         hair.widths.resize(index.size());
         for (size_t k = 0; k < index.size(); ++k) {
-            hair.widths[k] = float(pw->values[index[k]]);
-            if (!std::isfinite(hair.widths[k]) || hair.widths[k] < 0.f)
-                fail(name, ": vertex ", index[k], " width is negative or not finite");
+            const double w = pw->values[index[k]];
+            if (!(w >= 0 && w <= kMaxCoordinate))
+                fail(name, ": vertex ", index[k], " width ", w,
+                     " is negative, not finite or absurdly large");
+            hair.widths[k] = float(w);
         }
     }
     if (strand) {
@@ -365,15 +377,23 @@ Hair decode_ply(std::string_view bytes, const std::string& name) {
             const double scale = r->type == Type::kUint8 ? 1.0 / 255.0 : 1.0;
             hair.colors.resize(strand->count);
             for (size_t s = 0; s < strand->count; ++s) {
-                hair.colors[s] = Vec3f(float(r->values[s] * scale), float(g->values[s] * scale),
-                                       float(b->values[s] * scale));
-                if (!hair.colors[s].allFinite()) fail(name, ": strand ", s, " color is not finite");
+                const double c[3] = {r->values[s] * scale, g->values[s] * scale,
+                                     b->values[s] * scale};
+                for (double v : c)
+                    if (!(std::abs(v) <= std::numeric_limits<float>::max()))
+                        fail(name, ": strand ", s, " color component ", v, " is not finite");
+                hair.colors[s] = Vec3f(float(c[0]), float(c[1]), float(c[2]));
             }
         }
         if (const Property* id = strand->find("wisp_id")) {
             hair.wisp.resize(strand->count);
-            for (size_t s = 0; s < strand->count; ++s)
-                hair.wisp[s] = int32_t(id->values[s]);
+            for (size_t s = 0; s < strand->count; ++s) {
+                const double v = id->values[s];
+                if (!(v == std::floor(v) && v >= INT32_MIN && v <= INT32_MAX))
+                    fail(name, ": strand ", s, " has wisp_id ", v,
+                         ", which is not a whole number in the int32 range");
+                hair.wisp[s] = int32_t(v);
+            }
         }
     }
     hair.validate(name);
@@ -381,7 +401,9 @@ Hair decode_ply(std::string_view bytes, const std::string& name) {
 }
 
 Hair read_ply(const std::filesystem::path& path) {
-    return decode_ply(io_detail::read_whole_file(path), path.string());
+    return decode_ply(io_detail::read_whole_file(
+                          path, {io_detail::kMaxHairFileBytes, "a PLY file", false, "ply"}),
+                      path.string());
 }
 
 std::string encode_ply(const Hair& hair, const std::string& name) {

@@ -221,7 +221,7 @@ Hair hair_from_usda(const UsdaLayer& layer, const std::string& name, int samples
     std::optional<Vec3f> constant_color;
     for (const UsdCurves& c : layer.curves) {
         if (const std::string p = usd_curves_problem(c); !p.empty())
-            fail(name, ":", c.line, ": prim ", c.path, ": ", p);
+            fail(name, ":", c.line, ": prim ", excerpt(c.path, 256), ": ", p);
         any_widths |= !c.widths.empty();
         any_wisp |= !c.wisp_id.empty();
         if (c.display_color.empty()) {

@@ -34,9 +34,9 @@ std::string describe(const Token& t) {
         case TokKind::kEnd:
             return "the end of the file";
         case TokKind::kString:
-            return cat("the string \"", t.text, "\"");
+            return cat("the string \"", excerpt(t.text), "\"");
         default:
-            return cat("`", t.text, "`");
+            return cat("`", excerpt(t.text), "`");
     }
 }
 
@@ -233,7 +233,8 @@ class Lexer {
             ++pos_;
             return t;
         }
-        error_here(t.line, t.col, cat("unexpected character `", c, "`"));
+        error_here(t.line, t.col,
+                   cat("unexpected character `", excerpt(std::string_view(&c, 1)), "`"));
     }
 
     std::string_view s_;
@@ -332,6 +333,10 @@ struct Attr {
 
 constexpr int kMaxDepth = 200;
 
+// How much of a prim path a message quotes: names are checked to be printable, but a path
+// may be long.
+constexpr size_t kPathExcerptBytes = 256;
+
 class Parser {
   public:
     Parser(std::string_view text, const std::string& name) : lx_(text, name), name_(name) {}
@@ -359,7 +364,7 @@ class Parser {
             }
         }
         if (layer_.up_axis != "Y" && layer_.up_axis != "Z")
-            fail(name_, ": upAxis \"", layer_.up_axis, "\" is neither \"Y\" nor \"Z\"");
+            fail(name_, ": upAxis \"", excerpt(layer_.up_axis), "\" is neither \"Y\" nor \"Z\"");
         if (!(layer_.meters_per_unit > 0) || !std::isfinite(layer_.meters_per_unit))
             fail(name_, ": metersPerUnit ", layer_.meters_per_unit, " is not a positive number");
         return std::move(layer_);
@@ -401,7 +406,8 @@ class Parser {
                 int depth = 1;
                 while (depth > 0) {
                     Token u = lx_.next();
-                    if (u.kind == TokKind::kEnd) lx_.error(t, "`", t.text, "` is never closed");
+                    if (u.kind == TokKind::kEnd)
+                        lx_.error(t, "`", excerpt(t.text), "` is never closed");
                     if (u.opens()) ++depth;
                     if (u.closes()) --depth;
                 }
@@ -425,7 +431,8 @@ class Parser {
             } else {
                 Token value = lx_.next();
                 if (value.closes() || value.kind == TokKind::kEnd)
-                    lx_.error(value, "expected a value for `", key, "`, found ", describe(value));
+                    lx_.error(value, "expected a value for `", excerpt(key), "`, found ",
+                              describe(value));
                 on(key, value);
             }
         }
@@ -434,7 +441,8 @@ class Parser {
     void push_number(Value& v, const Token& t, NumKind kind) {
         if (kind == NumKind::kFloat) {
             float x;
-            if (!io_detail::parse_number(t.text, x)) lx_.error(t, "`", t.text, "` is not a number");
+            if (!io_detail::parse_number(t.text, x))
+                lx_.error(t, "`", excerpt(t.text), "` is not a number");
             v.f.push_back(x);
         } else if (kind == NumKind::kInt) {
             int64_t x;
@@ -443,7 +451,7 @@ class Parser {
             else if (t.text == "false")
                 x = 0;
             else if (!io_detail::parse_number(t.text, x))
-                lx_.error(t, "`", t.text, "` is not an integer");
+                lx_.error(t, "`", excerpt(t.text), "` is not an integer");
             v.i.push_back(x);
         } else {
             v.s.emplace_back(t.text);
@@ -452,7 +460,6 @@ class Parser {
 
     // One scalar or tuple; returns its component count (0 for a scalar).
     int parse_element(Value& v, NumKind kind, int depth) {
-        if (depth > kMaxDepth) lx_.error(lx_.position(), "values nested too deeply");
         if (kind == NumKind::kFloat) {
             float x;
             if (lx_.number_fast(x)) {
@@ -466,9 +473,13 @@ class Parser {
                 return 0;
             }
         }
-        if (lx_.accept('(')) {
+        if (const Token open = lx_.position(); lx_.accept('(')) {
+            // The attributes wisp reads hold scalars or tuples of scalars: every tuple
+            // component must add exactly one value, so values = elements × arity holds.
+            if (depth > 0)
+                lx_.error(open, "values nested too deeply: a tuple's components must be numbers");
+            if (lx_.accept(')')) lx_.error(open, "empty tuple `()`");
             int n = 0;
-            if (lx_.accept(')')) return n;
             for (;;) {
                 parse_element(v, kind, depth + 1);
                 ++n;
@@ -542,6 +553,10 @@ class Parser {
         }
         if (t.kind != TokKind::kString)
             lx_.error(t, "expected the prim's name in quotes, found ", describe(t));
+        // Prim paths go into messages, `info` and JSON: no control characters, only UTF-8.
+        if (excerpt(t.text, SIZE_MAX) != t.text)
+            lx_.error(t, "prim name \"", excerpt(t.text),
+                      "\" holds control characters or bytes that are not UTF-8");
         const std::string path = cat(parent, "/", t.text);
         if (lx_.peek().is('(')) {
             lx_.next();
@@ -564,7 +579,8 @@ class Parser {
                 lx_.next();
                 break;
             }
-            if (p.kind == TokKind::kEnd) lx_.error(keyword, "prim ", path, " is never closed");
+            if (p.kind == TokKind::kEnd)
+                lx_.error(keyword, "prim ", excerpt(path, kPathExcerptBytes), " is never closed");
             if (p.is(';')) {
                 lx_.next();
                 continue;
@@ -637,8 +653,8 @@ class Parser {
         }
         const Token name_tok = lx_.next();
         if (name_tok.kind != TokKind::kIdent)
-            lx_.error(name_tok, "expected an attribute name after type `", t.text, "`, found ",
-                      describe(name_tok));
+            lx_.error(name_tok, "expected an attribute name after type `", excerpt(t.text),
+                      "`, found ", describe(name_tok));
         std::string_view name = name_tok.text;
         std::string_view suffix;
         if (const size_t dot = name.rfind('.'); dot != std::string_view::npos) {
@@ -702,7 +718,8 @@ class Parser {
             if (const Attr* a = get(n); a && a->resolved()) {
                 const Value& v = *a->resolved();
                 if (v.s.size() != 1 || v.arity != 0)
-                    lx_.error(v.where, c.path, ".", n, ": expected one token");
+                    lx_.error(v.where, excerpt(c.path, kPathExcerptBytes), ".", n,
+                              ": expected one token");
                 out = v.s[0];
             }
         };
@@ -711,14 +728,19 @@ class Parser {
         token("wrap", c.wrap);
         auto vec3s = [&](const Value& v, std::string_view n, std::vector<Vec3f>& out) {
             if (v.elements > 0 && v.arity != 3)
-                lx_.error(v.where, c.path, ".", n, ": expected 3-component tuples");
+                lx_.error(v.where, excerpt(c.path, kPathExcerptBytes), ".", n,
+                          ": expected 3-component tuples");
+            if (v.f.size() != 3 * v.elements)
+                lx_.error(v.where, excerpt(c.path, kPathExcerptBytes), ".", n,
+                          ": expected 3 numbers in each tuple");
             out.resize(v.elements);
             for (size_t k = 0; k < v.elements; ++k)
                 out[k] = Vec3f(v.f[3 * k], v.f[3 * k + 1], v.f[3 * k + 2]);
         };
         auto scalars = [&](const Value& v, std::string_view n) {
             if (v.elements > 0 && v.arity != 0)
-                lx_.error(v.where, c.path, ".", n, ": expected scalars, found tuples");
+                lx_.error(v.where, excerpt(c.path, kPathExcerptBytes), ".", n,
+                          ": expected scalars, found tuples");
         };
         if (const Attr* a = get("curveVertexCounts"); a && a->resolved()) {
             const Value& v = *a->resolved();
@@ -726,8 +748,8 @@ class Parser {
             c.counts.resize(v.i.size());
             for (size_t k = 0; k < v.i.size(); ++k) {
                 if (v.i[k] < INT_MIN || v.i[k] > INT_MAX)
-                    lx_.error(v.where, c.path, ".curveVertexCounts: count ", v.i[k],
-                              " is out of range");
+                    lx_.error(v.where, excerpt(c.path, kPathExcerptBytes),
+                              ".curveVertexCounts: count ", v.i[k], " is out of range");
                 c.counts[k] = static_cast<int>(v.i[k]);
             }
         }
@@ -748,7 +770,8 @@ class Parser {
                 std::vector<Vec3f> expanded(v.i.size());
                 for (size_t k = 0; k < v.i.size(); ++k) {
                     if (v.i[k] < 0 || size_t(v.i[k]) >= c.display_color.size())
-                        lx_.error(v.where, c.path, ".primvars:displayColor:indices: index ", v.i[k],
+                        lx_.error(v.where, excerpt(c.path, kPathExcerptBytes),
+                                  ".primvars:displayColor:indices: index ", v.i[k],
                                   " is outside the ", c.display_color.size(), " values");
                     expanded[k] = c.display_color[v.i[k]];
                 }
@@ -837,7 +860,9 @@ UsdaLayer parse_usda(std::string_view text, const std::string& name) {
 }
 
 UsdaLayer read_usda_layer(const std::filesystem::path& path) {
-    return parse_usda(io_detail::read_whole_file(path), path.string());
+    return parse_usda(io_detail::read_whole_file(
+                          path, {io_detail::kMaxHairFileBytes, "a usda file", true, "#usda "}),
+                      path.string());
 }
 
 std::vector<UsdCurves> read_usda_curves(const std::filesystem::path& path) {

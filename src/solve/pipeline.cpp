@@ -4,6 +4,8 @@
 #include <atomic>
 #include <cmath>
 
+#include "core/error.hpp"
+#include "core/grid.hpp"
 #include "core/parallel.hpp"
 #include "groom/color.hpp"
 #include "groom/growth.hpp"
@@ -153,7 +155,15 @@ HairstyleResult generate_hairstyle(const Style& style, const Head& head,
 
     HeadField own;
     if (!head_field) {
-        own = HeadField(*head.mesh, head_field_cell(style.solve));
+        const float cell = head_field_cell(style.solve);
+        const Vec3f span = head.mesh->bounds().size();
+        if (const double nodes = grid_nodes(span + Vec3f::Constant(6.f * cell), cell);
+            nodes > kMaxGridNodes)
+            fail(head.source, ": the head's distance field would have ", nodes,
+                 " nodes (the head spans ", span.maxCoeff(), " cm, its cell is ", cell,
+                 " cm from solve.cell = ", style.solve.cell, "), more than ", kMaxGridNodes,
+                 "; raise solve.cell or check head.scale");
+        own = HeadField(*head.mesh, cell);
         head_field = &own;
         lap("head field");
     }
@@ -170,6 +180,12 @@ HairstyleResult generate_hairstyle(const Style& style, const Head& head,
         reach.lo -= Vec3f::Constant(longest);
         reach.hi += Vec3f::Constant(longest);
         bounds.extend(reach);
+        if (const double nodes = grid_nodes(bounds.size(), style.solve.cell); nodes > kMaxGridNodes)
+            fail("the solver's grid would span ", bounds.size().x(), " × ", bounds.size().y(),
+                 " × ", bounds.size().z(), " cm (the head and ", longest,
+                 " cm of hair around it) at solve.cell = ", style.solve.cell, " cm: ", nodes,
+                 " nodes, more than ", kMaxGridNodes,
+                 "; shorten the hair (maps.length, wisp.length) or raise solve.cell");
         const StylingField field(style.solve.field, frame, GrowthField(style.growth, *head.scalp),
                                  bounds, style.solve.cell);
         Grid3<float> density(field.grid().origin(), field.grid().cell(), field.grid().dims());

@@ -106,7 +106,7 @@ Vec3f field_term(const FieldTerm& term, const HeadFrame& head, const GrowthField
 }
 
 Grid3<Vec3f> read_field_file(const std::filesystem::path& path) {
-    const std::string text = read_file(path);
+    const std::string text = read_file(path, {kMaxFieldFileBytes, "a field file", true});
     const std::string name = path.string();
     size_t pos = 0;
     int line = 0;
@@ -134,19 +134,21 @@ Grid3<Vec3f> read_field_file(const std::filesystem::path& path) {
                 ++p;
             const auto [q, ec] = std::from_chars(p, end, out[i]);
             if (ec != std::errc() || !std::isfinite(out[i]))
-                fail(name, ":", line, ": expected ", count, " finite numbers, got '", s, "'");
+                fail(name, ":", line, ": expected ", count, " finite numbers, got '", excerpt(s),
+                     "'");
             p = q;
         }
         while (p < end && *p == ' ')
             ++p;
         if (p != end)
-            fail(name, ":", line, ": unexpected text after ", count, " numbers: '", s, "'");
+            fail(name, ":", line, ": unexpected text after ", count, " numbers: '", excerpt(s),
+                 "'");
     };
     auto keyword = [&](std::string_view key, float* out, int count) {
         std::string_view l;
         if (!next_line(l)) fail(name, ": truncated: expected '", key, "'");
         if (l.substr(0, key.size()) != key)
-            fail(name, ":", line, ": expected '", key, "', got '", l, "'");
+            fail(name, ":", line, ": expected '", key, "', got '", excerpt(l), "'");
         numbers(l.substr(key.size()), out, count);
     };
     std::string_view l;
@@ -162,6 +164,14 @@ Grid3<Vec3f> read_field_file(const std::filesystem::path& path) {
     if (!(cell > 0.f)) fail(name, ":", line, ": cell must be > 0");
     const Vec3i dims(static_cast<int>(dims_f[0]), static_cast<int>(dims_f[1]),
                      static_cast<int>(dims_f[2]));
+    // Each vector takes a line of at least 6 bytes ("0 0 0\n"): a truncated file or a
+    // hostile header fails here, before the grid is allocated.
+    const uint64_t vectors = uint64_t(dims.x()) * dims.y() * dims.z();
+    const uint64_t left = pos < text.size() ? text.size() - pos : 0;
+    if (vectors * 6 > left + 1)
+        fail(name, ":", line, ": dims ", dims.x(), " ", dims.y(), " ", dims.z(), " declare ",
+             vectors, " vectors, which need at least ", vectors * 6, " bytes, but only ", left,
+             " are left");
     Grid3<Vec3f> grid(Vec3f(origin[0], origin[1], origin[2]), cell, dims, Vec3f::Zero());
     for (size_t i = 0; i < grid.size(); ++i) {
         if (!next_line(l)) fail(name, ": truncated: expected ", grid.size(), " vectors, got ", i);

@@ -1,6 +1,7 @@
 #pragma once
 // The styling force field Φ (Choe & Ko §3.1, §6.1): the desired flow direction and
 // intensity of hair at every point, on a 3D grid read by trilinear interpolation (§3.3).
+#include <cstdint>
 #include <filesystem>
 #include <span>
 
@@ -38,6 +39,8 @@ Vec3f field_term(const FieldTerm& term, const HeadFrame& head, const GrowthField
 //   NX·NY·NZ lines "FX FY FZ", x fastest, then y, then z
 // Throws wisp::Error naming the file and line on any malformed or truncated content.
 Grid3<Vec3f> read_field_file(const std::filesystem::path& path);
+// The most a field file may hold: 512³ vectors of about 15 characters each.
+inline constexpr uint64_t kMaxFieldFileBytes = uint64_t(2) << 30;
 
 class StylingField {
   public:

@@ -1,6 +1,8 @@
 // The command line as users run it: exit codes, atomic outputs, determinism across threads.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -203,4 +205,132 @@ TEST(Cli, RenderGivesTheSamePictureAtAnyThreadCount) {
     EXPECT_EQ(slurp(a), slurp(b));
     EXPECT_GT(fs::file_size(a), 100u);
     EXPECT_EQ(run("render " + hair.string() + " -o " + a.string() + " --threads -1"), 2);
+}
+
+// Issue 14: hostile inputs fail with exit 1 and one escaped line naming the file and what is
+// wrong; never a crash, a hang or memory running out.
+TEST(Cli, HostileInputsFailWithOneLineNamingTheFile) {
+    Dir d;
+    const fs::path err = d.path / "err.txt";
+    const auto expect_failure = [&](const std::string& args, const std::string& says) {
+        EXPECT_EQ(run_capturing(args, err), 1) << args;
+        const std::string msg = slurp(err);
+        EXPECT_NE(msg.find(says), std::string::npos) << args << "\n" << msg.substr(0, 300);
+        EXPECT_EQ(msg.find('\x1b'), std::string::npos) << args;
+        EXPECT_EQ(std::count(msg.begin(), msg.end(), '\n'), 1) << args << "\n" << msg;
+    };
+    // Tuples without their numbers once crashed every command reading them.
+    const fs::path empty = d.path / "empty.usda";
+    write(empty,
+          "#usda 1.0\ndef BasisCurves \"C\" {\n    int[] curveVertexCounts = [4]\n"
+          "    point3f[] points = [((),(),()), ((),(),()), ((),(),()), ((),(),())]\n}\n");
+    const std::string x = (d.path / "x").string();
+    const std::pair<std::string, std::string> commands[] = {{"info", ""},
+                                                            {"info --json", ""},
+                                                            {"convert", x + ".hair"},
+                                                            {"render", "-q -o " + x + ".png"},
+                                                            {"animate", "-q -o " + x + ".usda"}};
+    for (const auto& [command, rest] : commands)
+        expect_failure(command + " " + empty.string() + " " + rest,
+                       "empty.usda:4:26: values nested too deeply");
+    // A terminal escape sequence in a header is quoted escaped.
+    const fs::path ply = d.path / "esc.ply";
+    write(ply, "ply\n\x1b]0;owned\x07\x1b[2J x\n");
+    expect_failure("info " + ply.string(), "esc.ply:2: unknown header line `\\x1b]0;owned\\x07");
+    // Far-off strands (2e8 cm) once kept `render` busy for minutes.
+    const fs::path far = d.path / "far.obj";
+    write(far, "v 0 0 0\nv 0 1 0\nv 0 2e8 0\nl 1 2 3\n");
+    expect_failure("render -q -o " + (d.path / "far.png").string() + " " + far.string(),
+                   "far.obj: point 2 (strand 0, its point 2) is at (0, 2e+08, 0)");
+    // Endless files are not read until memory runs out.
+    const fs::path zero_usda = d.path / "zero.usda", zero_toml = d.path / "zero.toml";
+    fs::create_symlink("/dev/zero", zero_usda);
+    fs::create_symlink("/dev/zero", zero_toml);
+    expect_failure("convert " + zero_usda.string() + " " + (d.path / "x.hair").string(),
+                   "zero.usda:1:1: not a usda text layer");
+    expect_failure("generate " + zero_toml.string() + " -o " + (d.path / "x.hair").string(),
+                   "zero.toml: byte 0 is a NUL byte, which a style file (text) never holds");
+    expect_failure("animate --preset short --strands 300 --motion /dev/zero -o " +
+                       (d.path / "x.usda").string(),
+                   "/dev/zero: byte 0 is a NUL byte, which a motion file (text) never holds");
+    const fs::path head_zero = d.path / "hz.toml";
+    write(head_zero, "[head]\nobj = \"/dev/zero\"\n");
+    expect_failure("generate " + head_zero.string() + " -o " + (d.path / "x.hair").string(),
+                   "/dev/zero: byte 0 is a NUL byte, which a head OBJ file (text) never holds");
+    EXPECT_FALSE(fs::exists(d.path / "x.hair"));
+}
+
+TEST(Cli, GridsSizedByTheInputAreCheckedBeforeAllocation) {
+    Dir d;
+    const fs::path err = d.path / "err.txt", out = d.path / "x.hair";
+    // A 56-byte field file declaring a 512³ grid.
+    const fs::path field = d.path / "f.field", fstyle = d.path / "f.toml";
+    write(field, "wisp-field 1\ndims 512 512 512\norigin 0 0 0\ncell 1\n0 0 0\n");
+    write(fstyle,
+          "[roots]\nwisps = 20\nstrands = 200\n[[solve.field]]\nkind = \"file\"\nfile = \"" +
+              field.string() + "\"\n");
+    EXPECT_EQ(run_capturing("generate " + fstyle.string() + " -o " + out.string(), err), 1);
+    EXPECT_NE(slurp(err).find("f.field:4: dims 512 512 512 declare 134217728 vectors"),
+              std::string::npos)
+        << slurp(err);
+    // 500 cm hair at 1 cm cells: a 10⁹-node solver grid.
+    const fs::path lstyle = d.path / "l.toml";
+    write(lstyle, "[roots]\nwisps = 20\nstrands = 200\n[maps]\nlength = 500\n[solve]\ncell = 1\n");
+    EXPECT_EQ(run_capturing("generate " + lstyle.string() + " -o " + out.string(), err), 1);
+    EXPECT_NE(slurp(err).find("or raise solve.cell"), std::string::npos) << slurp(err);
+    // The built-in head at 30× its size.
+    const fs::path head = d.path / "head.obj", hstyle = d.path / "h.toml";
+    ASSERT_EQ(run("head -o " + head.string()), 0);
+    write(hstyle, "[roots]\nwisps = 20\nstrands = 200\n[head]\nobj = \"" + head.string() +
+                      "\"\nscale = 30\n");
+    EXPECT_EQ(run_capturing("generate " + hstyle.string() + " -o " + out.string(), err), 1);
+    EXPECT_NE(slurp(err).find("head.obj: the head spans"), std::string::npos) << slurp(err);
+    EXPECT_NE(slurp(err).find("after head.scale = 30"), std::string::npos) << slurp(err);
+    EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(Cli, InfoJsonReplacesBytesThatAreNotUtf8) {
+    Dir d;
+    const fs::path style = d.path / "s.toml";
+    write(style, "[roots]\nwisps = 20\nstrands = 100\npoints_per_strand = 6\n");
+    const fs::path hair = d.path / "caf\xe9.usda", out = d.path / "out.json";
+    ASSERT_EQ(run("generate " + style.string() + " -q -o '" + hair.string() + "'"), 0);
+    const std::string info =
+        std::string(WISP_EXE) + " info --json '" + hair.string() + "' >" + out.string();
+    ASSERT_EQ(std::system(info.c_str()), 0);
+    const std::string json = slurp(out);
+    EXPECT_NE(json.find("caf\xef\xbf\xbd.usda"), std::string::npos) << json;  // U+FFFD
+    // A prim name that is not UTF-8 is named escaped.
+    const fs::path bad = d.path / "bad.usda", err = d.path / "err.txt";
+    write(bad, "#usda 1.0\ndef BasisCurves \"h\xff\" {\n}\n");
+    EXPECT_EQ(run_capturing("info --json " + bad.string(), err), 1);
+    EXPECT_NE(slurp(err).find("bad.usda:2:17: prim name \"h\\xff\" holds control characters"),
+              std::string::npos)
+        << slurp(err);
+}
+
+// Usage errors are found before any work: no output is written, no temporary folder left.
+TEST(Cli, ArgumentsAreCheckedBeforeTheWork) {
+    Dir d;
+    const std::string out = (d.path / "a.hair").string();
+    const std::string gen = "generate --preset default -o " + out + " ";
+    const auto quick = [&](const std::string& args, int code) {
+        const auto start = std::chrono::steady_clock::now();
+        EXPECT_EQ(run(args), code) << args;
+        EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(3)) << args;
+        EXPECT_FALSE(fs::exists(out)) << args;
+    };
+    const std::string png = " --png " + (d.path / "p.png").string();
+    quick(gen + png + " --size 5x5", 2);
+    quick(gen + png + " --eye 1,2", 2);
+    quick(gen + png + " --eye 0,0,50 --target 0,0,50", 2);
+    quick(gen + png + " --background red", 2);
+    quick(gen + png + " --views front,sideways", 2);
+    write(d.path / "file", "");
+    quick(gen + "--stats " + (d.path / "file" / "s.json").string(), 1);
+    quick(gen + "-o " + (d.path / "x.data").string(), 1);
+    quick("animate --preset short -o " + (d.path / "x.usda").string() + " --size 5x5", 2);
+    quick("animate --preset short --mp4 " + (d.path / "x.mp4").string() + " --size 5x5", 2);
+    quick("animate --preset short --mp4 " + (d.path / "x.mp4").string() + " --view sideways", 2);
+    quick("render " + out + " -o " + (d.path / "r.png").string() + " --size 5x5", 2);
 }

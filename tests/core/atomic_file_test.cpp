@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <csignal>
+
 #include "core/error.hpp"
 
 namespace wisp {
@@ -34,6 +36,56 @@ TEST(AtomicFile, ReadingAMissingFileNamesIt) {
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("/nonexistent/wisp/file.hair"), std::string::npos);
     }
+}
+
+// Ctrl-C (SIGINT) or SIGTERM while an output is being written removes its temporary, and
+// the process still dies of the signal.
+TEST(AtomicFileDeathTest, SignalsRemoveTheTemporaries) {
+    GTEST_FLAG_SET(death_test_style, "threadsafe");
+    const auto dir = std::filesystem::temp_directory_path();
+    for (const int sig : {SIGINT, SIGTERM}) {
+        const auto path = dir / ("wisp_atomic_signal_" + std::to_string(sig) + ".usda");
+        EXPECT_EXIT(
+            {
+                AtomicFile a(path);
+                AtomicFile b(dir / "wisp_atomic_signal_other.hair");
+                a.stream() << "partial";
+                a.stream().flush();
+                std::raise(sig);
+            },
+            testing::KilledBySignal(sig), "");
+        EXPECT_FALSE(std::filesystem::exists(path));
+        for (const auto& e : std::filesystem::directory_iterator(dir))
+            EXPECT_EQ(e.path().filename().string().find("wisp_atomic_signal_"), std::string::npos)
+                << e.path();
+    }
+}
+
+// Endless files (/dev/zero reports size 0) and files over a limit fail while being read.
+TEST(AtomicFile, ReadLimitsAreCheckedWhileReading) {
+    try {
+        read_file("/dev/zero", {1 << 20, "a style file", true});
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_EQ(std::string(e.what()),
+                  "/dev/zero: byte 0 is a NUL byte, which a style file (text) never holds");
+    }
+    try {
+        read_file("/dev/zero", {1 << 20, "an image file"});
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_EQ(std::string(e.what()),
+                  "/dev/zero: larger than 1048576 bytes, the limit for an image file "
+                  "(docs/formats.md)");
+    }
+    // A wrong magic stops reading at once: the format's parser names what it found.
+    EXPECT_EQ(read_file("/dev/zero", {1 << 20, "a PLY file", false, "ply"}).substr(0, 3),
+              std::string(3, '\0'));
+    const auto path = std::filesystem::temp_directory_path() / "wisp_read_limit.txt";
+    write_file_atomic(path, std::string_view("0123456789"));
+    EXPECT_EQ(read_file(path, {10, "a file", true}), "0123456789");
+    EXPECT_THROW(read_file(path, {9}), Error);
+    std::filesystem::remove(path);
 }
 
 }  // namespace wisp

@@ -86,6 +86,13 @@ TEST(ObjMesh, BadFilesNameTheFile) {
     expect_error(write_text("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n"), ":2:");
     expect_error(write_text("inf.obj", "v 0 0 0\nv 1e39 0 0\nv 0 1 0\nf 1 2 3\n"), "finite");
     expect_error(write_text("line.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n"), "face has 2 vertices");
+    // One vertex 10 km away would size the head's grids to run out of memory.
+    expect_error(
+        write_text("far.obj", "v 0 0 0\nv 1e6 0 0\nv 0 1 0\nf 1 2 3\n"),
+        "far.obj: vertex 2 is at (1e+06, 0, 0) cm after scaling by 1, farther than 100000");
+    EXPECT_THROW(
+        read_obj_mesh(write_text("far2.obj", "v 0 0 0\nv 1 0 0\nv 0 1e4 0\nf 1 2 3\n"), 30.f),
+        Error);
 }
 
 TEST(ObjMesh, RoundTripKeepsScalpGroupAndUvs) {

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "core/timer.hpp"
 #include "groom/hairdressing.hpp"
 #include "groom/maps.hpp"
 
@@ -786,6 +787,28 @@ TEST(StyleToml, UnknownKeysInTheNewSectionsSuggestTheField) {
               "'solve.field[0].direction'?)");
     EXPECT_EQ(error_of("[cut]\nnromal = [0, -1, 0]"),
               "test.toml:2: unknown field 'cut.nromal' (did you mean 'cut.normal'?)");
+}
+
+// Keys and values quoted in messages are escaped and cut short, and a huge unknown key is
+// reported at once (the "did you mean" edit distance is quadratic in its length).
+TEST(StyleToml, MessagesQuoteKeysAndValuesOnOneShortLine) {
+    EXPECT_EQ(error_of("[roots]\n\"a\\nb\\u001b[2J\" = 1"),
+              "test.toml:2: unknown field 'roots.a\\nb\\x1b[2J' (expected one of: wisps, "
+              "strands, points_per_strand)");
+    const std::string value = error_of("[growth]\npart = \"" + std::string(5'000'000, 'q') + "\"");
+    EXPECT_LT(value.size(), 300u) << value.substr(0, 400);
+    EXPECT_NE(value.find("\"qqqq"), std::string::npos) << value;
+    EXPECT_NE(value.find("... (5000000 bytes)"), std::string::npos) << value;
+    EXPECT_NE(error_of("[growth]\npart = \"x\\u001b]0;t\\u0007\"").find("got \"x\\x1b]0;t\\x07\""),
+              std::string::npos);
+
+    const Stopwatch timer;
+    const std::string key = error_of(std::string(15'000'000, 'k') + " = 1");
+    EXPECT_LT(timer.ms(), 5000.0);
+    EXPECT_LT(key.size(), 600u);
+    EXPECT_EQ(key.rfind("test.toml:1: unknown field 'kkkk", 0), 0u) << key.substr(0, 100);
+    EXPECT_NE(key.find("... (15000000 bytes)'"), std::string::npos);
+    EXPECT_EQ(key.find('\n'), std::string::npos);
 }
 
 TEST(StyleToml, SyntaxErrorsGiveLineAndColumn) {

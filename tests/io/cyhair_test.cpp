@@ -94,6 +94,12 @@ TEST(CyHair, InconsistentOrBadValuesFail) {
     const float nan = std::nanf("");
     std::memcpy(bad.data() + 128 + 2 * 4 + 12 * 2 + 4, &nan, 4);
     expect_error([&] { decode_cyhair(bad, "nan.hair"); }, "point 2 is not finite");
+    // A coordinate 1e20 cm away (once crashed `wisp animate`).
+    bad = bytes;
+    const float far = 1e20f;
+    std::memcpy(bad.data() + 128 + 2 * 4 + 12 * 2 + 4, &far, 4);
+    expect_error([&] { decode_cyhair(bad, "far.hair"); }, "far.hair: point 2 (strand ");
+    expect_error([&] { decode_cyhair(bad, "far.hair"); }, "farther than 100000 cm");
     // No points array.
     bad = bytes;
     const uint32_t seg_only = 1;

@@ -75,5 +75,14 @@ TEST(HairSalon, HostileCountsFail) {
     expect_error([&] { decode_hairsalon(s, "inf.data"); }, "vertex 1 is not finite");
 }
 
+// The file is read straight into the arrays, its counts checked against its size: an
+// endless file (/dev/zero reports size 0) fails at once instead of being read whole.
+TEST(HairSalon, EndlessFileFailsAtOnce) {
+    test::TempPath p(".data");
+    std::filesystem::create_symlink("/dev/zero", p.path());
+    expect_error([&] { read_hairsalon(p); },
+                 p.path().string() + ": byte 0: truncated: the strand count needs 4 bytes");
+}
+
 }  // namespace
 }  // namespace wisp

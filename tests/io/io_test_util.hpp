@@ -59,10 +59,11 @@ inline Hair random_hair(uint32_t seed, size_t strands, uint32_t points_per_stran
         if (colors) h.colors.emplace_back(unit(rng), unit(rng), unit(rng));
         if (wisp) h.wisp.push_back(id(rng));
     }
-    // A few awkward values: tiny, huge, negative zero, many digits.
+    // A few awkward values: tiny, the largest allowed (kMaxCoordinate), negative zero, many
+    // digits.
     if (h.points.size() > 4) {
-        h.points[0] = Vec3f(1e-30f, -3.4e38f, -0.f);
-        h.points[1] = Vec3f(0.1f, 1.f / 3.f, 123456.789f);
+        h.points[0] = Vec3f(1e-30f, -kMaxCoordinate, -0.f);
+        h.points[1] = Vec3f(0.1f, 1.f / 3.f, 99999.992f);
     }
     return h;
 }

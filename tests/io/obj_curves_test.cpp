@@ -65,6 +65,18 @@ TEST(ObjCurves, ErrorsNameFileAndLine) {
     expect_error([] { decode_obj_curves("v 0 0 0\nl -2\n", "g.obj"); }, "g.obj:2: vertex index -2");
 }
 
+// Hair beyond kMaxCoordinate (1 km) would size the renderer's and solver's grids to hours of
+// work: every reader rejects it through Hair::validate, naming the strand and point.
+TEST(ObjCurves, FarOffCoordinatesFail) {
+    expect_error(
+        [] {
+            decode_obj_curves("v 0 0 0\nv 0 1 0\nv 0 0 0\nv 0 2e8 0\nl 1 2\nl 3 4\n", "far.obj");
+        },
+        "far.obj: point 3 (strand 1, its point 1) is at (0, 2e+08, 0), farther than 100000 cm");
+    const Hair h = decode_obj_curves("v 0 0 0\nv 0 -1e5 0\nl 1 2\n", "edge.obj");
+    EXPECT_EQ(h.points[1].y(), -1e5f);
+}
+
 TEST(ObjCurves, TruncatedFilesNeverCrash) {
     // Text cut after a whole line is a valid shorter file; every cut must either read or
     // throw wisp::Error, and never read more points than the whole file has.

@@ -129,5 +129,51 @@ TEST(Ply, TruncatedAndHostileFilesFail) {
         "i.ply: vertex 0 is not finite");
 }
 
+// What a header quotes is escaped and cut short: a terminal escape sequence in a file must
+// not reach the terminal, nor a megabyte word the log.
+TEST(Ply, MessagesEscapeAndShortenWhatTheyQuote) {
+    expect_error([] { decode_ply("ply\n\x1b[2J\x1b]0;pwned\x07 x\n", "e.ply"); },
+                 "e.ply:2: unknown header line `\\x1b[2J\\x1b]0;pwned\\x07`");
+    try {
+        decode_ply("ply\nformat ascii 1.0\nelement vertex 1\nproperty " +
+                       std::string(1 << 20, 'f') + " x\nend_header\n",
+                   "big.ply");
+        ADD_FAILURE() << "expected an error";
+    } catch (const Error& e) {
+        const std::string m = e.what();
+        EXPECT_LT(m.size(), 200u);
+        EXPECT_NE(m.find("big.ply:4: unknown property type `ffff"), std::string::npos) << m;
+        EXPECT_NE(m.find("... (1048576 bytes)`"), std::string::npos) << m;
+    }
+}
+
+// Doubles that become integers or floats are range-checked before the conversion.
+TEST(Ply, OutOfRangeDoublesFail) {
+    const std::string head =
+        "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+        "property double z\nelement strand 1\nproperty double vertex_count\n";
+    expect_error([&] { decode_ply(head + "end_header\n0 0 0\n1 1 1\n1e300\n", "v.ply"); },
+                 "v.ply: strand 0 has vertex_count 1e+300, which runs past the 2 vertices");
+    expect_error([&] { decode_ply(head + "end_header\n0 0 0\n1 1 1\nnan\n", "n.ply"); },
+                 "n.ply: strand 0 has vertex_count nan");
+    expect_error(
+        [&] {
+            decode_ply(head + "property double wisp_id\nend_header\n0 0 0\n1 1 1\n2 nan\n",
+                       "w.ply");
+        },
+        "w.ply: strand 0 has wisp_id nan, which is not a whole number");
+    expect_error(
+        [&] {
+            decode_ply(head + "property double wisp_id\nend_header\n0 0 0\n1 1 1\n2 3e9\n",
+                       "b.ply");
+        },
+        "b.ply: strand 0 has wisp_id 3e+09");
+    expect_error([&] { decode_ply(head + "end_header\n0 0 1e300\n1 1 1\n2\n", "z.ply"); },
+                 "z.ply: vertex 0 is not finite or farther than 100000 cm");
+    const Hair h = decode_ply(
+        head + "property double wisp_id\nend_header\n0 0 0\n1 1 99999\n2 -7\n", "ok.ply");
+    EXPECT_EQ(h.wisp[0], -7);
+}
+
 }  // namespace
 }  // namespace wisp

@@ -392,6 +392,53 @@ TEST(Usda, MalformedInputNamesTheLocation) {
         "prim /C: curve 0 has 3 vertices, but a nonperiodic bezier curve needs at least 4");
 }
 
+// Tuples must hold exactly their declared numbers: empty, short and nested tuples once read
+// past the values array.
+TEST(Usda, TuplesMustHoldNumbers) {
+    const std::string head = "#usda 1.0\ndef BasisCurves \"C\" {\n";
+    const std::string counts = "    int[] curveVertexCounts = [4]\n";
+    expect_error(
+        [&] {
+            parse_usda(head + counts + "    point3f[] points = [((),(),()), ((),(),())]\n}\n",
+                       "e.usda");
+        },
+        "e.usda:4:26: values nested too deeply");
+    expect_error([&] { parse_usda(head + "    point3f[] points = [(), ()]\n}\n", "p.usda"); },
+                 "p.usda:3:25: empty tuple");
+    expect_error(
+        [&] { parse_usda(head + "    point3f[] points = [(1,2,()), (3,4,())]\n}\n", "s.usda"); },
+        "s.usda:3:30: values nested too deeply");
+    expect_error(
+        [&] {
+            parse_usda(head + "    color3f[] primvars:displayColor = [((),(),())]\n}\n", "c.usda");
+        },
+        "c.usda:3:41: values nested too deeply");
+    expect_error([&] { parse_usda(head + "    float[] widths = [()]\n}\n", "w.usda"); },
+                 "w.usda:3:23: empty tuple");
+}
+
+// Prim names reach messages, `info` and JSON: control characters and bytes that are not UTF-8
+// are rejected, quoted escaped; other input quoted in messages is escaped and cut short.
+TEST(Usda, MessagesNeverCarryRawControlCharacters) {
+    expect_error([] { parse_usda("#usda 1.0\ndef BasisCurves \"a\xff\xfe\" {\n}\n", "u.usda"); },
+                 "u.usda:2:17: prim name \"a\\xff\\xfe\" holds control characters or bytes that "
+                 "are not UTF-8");
+    expect_error([] { parse_usda("#usda 1.0\ndef Xform \"\x1b[2J\" {\n}\n", "e.usda"); },
+                 "prim name \"\\x1b[2J\"");
+    const UsdaLayer ok = parse_usda("#usda 1.0\ndef Xform \"caf\xc3\xa9\" {\n}\n", "ok.usda");
+    const std::string big(1 << 20, 'x');
+    try {
+        parse_usda("#usda 1.0\n(\n    upAxis = \"" + big + "\"\n)\n", "big.usda");
+        ADD_FAILURE() << "expected an error";
+    } catch (const Error& e) {
+        const std::string m = e.what();
+        EXPECT_LT(m.size(), 200u) << m.substr(0, 300);
+        EXPECT_NE(m.find("big.usda: upAxis \"xxx"), std::string::npos) << m;
+    }
+    expect_error([] { parse_usda("#usda 1.0\ndef Xform \"a\" {\n    \x01\n}\n", "c.usda"); },
+                 "c.usda:3:5: unexpected character `\\x01`");
+}
+
 // Big plain arrays are parsed in parallel blocks; errors inside them and after them must
 // still name the right line.
 TEST(Usda, BigArraysKeepLineNumbers) {
