@@ -121,7 +121,10 @@ source = tree.nodes.new("GeometryNodeObjectInfo")
 source.inputs["Object"].default_value = mesh_obj
 tree.links.new(source.outputs["Geometry"], to_curve.inputs["Mesh"])
 tree.links.new(to_curve.outputs["Curve"], set_radius.inputs["Curve"])
-tree.links.new(radius_attr.outputs["Attribute"], set_radius.inputs["Radius"])
+# Named Attribute has one output per data type, all called "Attribute": link the float one
+# (the first is the vector output, disabled for a float attribute, and its link is ignored).
+radius_out = next(o for o in radius_attr.outputs if o.enabled and o.type == "VALUE")
+tree.links.new(radius_out, set_radius.inputs["Radius"])
 tree.links.new(set_radius.outputs["Curve"], set_material.inputs["Geometry"])
 tree.links.new(set_material.outputs["Geometry"], n_out.inputs[0])
 modifier = hair_obj.modifiers.new("to_curves", "NODES")
