@@ -158,8 +158,12 @@ def _polyline_mesh(name, hair, scale):
 def _to_curves_tree():
     """Geometry nodes: mesh -> Mesh to Curve -> Set Curve Radius (from wisp_radius)."""
     tree = bpy.data.node_groups.new("wisp_mesh_to_hair", "GeometryNodeTree")
-    tree.inputs.new("NodeSocketGeometry", "Geometry")
-    tree.outputs.new("NodeSocketGeometry", "Geometry")
+    if hasattr(tree, "interface"):  # Blender 4.0+ replaced tree.inputs/outputs
+        tree.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
+        tree.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
+    else:
+        tree.inputs.new("NodeSocketGeometry", "Geometry")
+        tree.outputs.new("NodeSocketGeometry", "Geometry")
     n_in = tree.nodes.new("NodeGroupInput")
     n_out = tree.nodes.new("NodeGroupOutput")
     to_curve = tree.nodes.new("GeometryNodeMeshToCurve")
