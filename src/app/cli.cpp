@@ -146,6 +146,7 @@ struct GenerateArgs {
     int threads = 0, strands = 0, wisps = 0;
     std::string stats;
     bool obj_segments = false;
+    std::string up = "y";  // .usda up axis: "y" (head space) or "z"
     bool quiet = false;
     std::string png;
     std::string views;
@@ -342,6 +343,7 @@ int run_generate(const GenerateArgs& args) {
 
     HairWriteOptions options;
     options.obj_segments = args.obj_segments;
+    options.usda_z_up = args.up == "z";
     options.camera = export_camera(result.hair, *head.mesh);
     for (const std::string& out : args.outputs) {
         watch = Stopwatch();
@@ -719,6 +721,9 @@ int run_cli(int argc, char** argv) {
     generate_cmd->add_flag("--obj-segments", gen.obj_segments,
                            "OBJ: one `l` per segment (Blender's OBJ importer keeps only the "
                            "first two points of longer `l` lines)");
+    generate_cmd
+        ->add_option("--up", gen.up, "USD: up axis, y (wisp's) or z (points turned +Y to +Z)")
+        ->check(CLI::IsMember({"y", "z"}));
     generate_cmd->add_flag("-q,--quiet", gen.quiet, "Print nothing but errors");
 
     std::string head_out = "head.obj";
@@ -735,10 +740,13 @@ int run_cli(int argc, char** argv) {
 
     std::string convert_in, convert_out;
     bool convert_segments = false;
+    std::string convert_up = "y";
     CLI::App* convert_cmd = app.add_subcommand("convert", "Convert a hair file to another format");
     convert_cmd->add_option("input", convert_in, "Input: .hair .usda .obj .ply .data")->required();
     convert_cmd->add_option("output", convert_out, "Output: .hair .usda .obj .ply")->required();
     convert_cmd->add_flag("--obj-segments", convert_segments, "OBJ: one `l` per segment");
+    convert_cmd->add_option("--up", convert_up, "USD: up axis, y or z")
+        ->check(CLI::IsMember({"y", "z"}));
 
     app.add_subcommand("presets", "List the shipped style presets");
 
@@ -893,6 +901,7 @@ int run_cli(int argc, char** argv) {
             const Hair hair = read_hair(convert_in);
             HairWriteOptions options;
             options.obj_segments = convert_segments;
+            options.usda_z_up = convert_up == "z";
             // Only scenes have a camera; framing it builds the head, a tenth of a second.
             if (format == HairFormat::kRib || format == HairFormat::kPbrt)
                 options.camera = export_camera(hair, builtin_head_mesh());

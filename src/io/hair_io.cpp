@@ -72,7 +72,7 @@ void write_hair(const std::filesystem::path& path, const Hair& hair,
                 const HairWriteOptions& options) {
     switch (hair_format_from_path(path)) {
         case HairFormat::kUsda:
-            return write_usda(path, hair);
+            return write_usda(path, hair, UsdaWriteOptions{.z_up = options.usda_z_up});
         case HairFormat::kHair:
             return write_cyhair(path, hair);
         case HairFormat::kObj:

@@ -31,6 +31,7 @@ Hair read_hair(const std::filesystem::path& path);
 
 struct HairWriteOptions {
     bool obj_segments = false;  // .obj: one `l a b` per segment instead of one `l` per strand
+    bool usda_z_up = false;     // .usda: Z up, (x, y, z) -> (x, -z, y) (UsdaWriteOptions)
     ExportCamera camera;        // .rib, .pbrt: the scene's camera
 };
 

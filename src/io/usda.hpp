@@ -1,8 +1,10 @@
 #pragma once
 // USD text layers (`.usda`) with BasisCurves prims.
 //
-// Writer: one layer, `defaultPrim = "hair"`, upAxis "Y", metersPerUnit 0.01 (wisp's
-// centimetres), `def Xform "hair"` holding `def BasisCurves "strands"`: type "cubic",
+// Writer: one layer, `defaultPrim = "hair"`, upAxis "Y" (or "Z", UsdaWriteOptions),
+// metersPerUnit 0.01 (wisp's centimetres), `def Xform "hair"` holding `def BasisCurves
+// "strands"` with the GroomAPI schema applied (Unreal's USD importer reads it as a groom,
+// with primvars:groom_group_id 0 and primvars:groom_color per strand): type "cubic",
 // basis "catmullRom", wrap "pinned" (the pinned Catmull-Rom spline passes through the
 // end points, exactly wisp's spline, core/catmull_rom.hpp), curveVertexCounts, points,
 // per-vertex widths, per-strand primvars:displayColor (or one constant color) and
@@ -81,10 +83,18 @@ std::string usd_curves_problem(const UsdCurves& c);
 Hair hair_from_usda(const UsdaLayer& layer, const std::string& name, int samples_per_segment = 8);
 Hair read_usda(const std::filesystem::path& path);
 
+struct UsdaWriteOptions {
+    // Z up for Z-up pipelines: points (and extent) turned (x, y, z) -> (x, -z, y), so +Y
+    // becomes +Z and the face looks along -Y; upAxis "Z". read_usda turns it back exactly.
+    bool z_up = false;
+};
+
 // The usda layer described above. Throws for a strand of fewer than 2 points (a pinned
 // cubic curve needs 2).
-std::string encode_usda(const Hair& hair, const std::string& name = "hair");
-void write_usda(const std::filesystem::path& path, const Hair& hair);
+std::string encode_usda(const Hair& hair, const std::string& name = "hair",
+                        const UsdaWriteOptions& options = {});
+void write_usda(const std::filesystem::path& path, const Hair& hair,
+                const UsdaWriteOptions& options = {});
 
 // Animation: frames share their topology (offsets); frame i is time code i, at `fps`
 // time codes per second. points and extent are time-sampled; counts, widths, colors and

@@ -92,13 +92,19 @@ void format_strands(Out& out, const Hair& hair, size_t bytes_per_point, Body&& b
     }
 }
 
-void points_array(Out& out, const Hair& hair, const char* indent) {
+// Head space (Y up) to the layer's axes: Z up turns +Y into +Z, (x, y, z) -> (x, -z, y), the
+// inverse of the reader's Z-up conversion, so a Z-up layer reads back identically.
+Vec3f to_layer(const Vec3f& v, bool z_up) {
+    return z_up ? Vec3f(v.x(), -v.z(), v.y()) : v;
+}
+
+void points_array(Out& out, const Hair& hair, const char* indent, bool z_up = false) {
     format_strands(out, hair, 3 * kMaxFloatChars + 8, [&](size_t s, std::string& o) {
         o += indent;
         const uint32_t a = hair.offsets[s], b = hair.offsets[s + 1];
         append_raw(o, (b - a) * (3 * kMaxFloatChars + 8) + 1, [&](char* p) {
             for (uint32_t i = a; i < b; ++i) {
-                p = put_vec(p, hair.points[i]);
+                p = put_vec(p, to_layer(hair.points[i], z_up));
                 if (i + 1 < hair.point_count()) {
                     *p++ = ',';
                     *p++ = ' ';
@@ -110,8 +116,13 @@ void points_array(Out& out, const Hair& hair, const char* indent) {
     });
 }
 
-Box3 extent_of(const Hair& hair) {
+Box3 extent_of(const Hair& hair, bool z_up = false) {
     Box3 b = hair.bounds();
+    if (z_up && !b.empty()) {
+        const Box3 y = b;
+        b.lo = Vec3f(y.lo.x(), -y.hi.z(), y.lo.y());
+        b.hi = Vec3f(y.hi.x(), -y.lo.z(), y.hi.y());
+    }
     float half = hair.default_width * 0.5f;
     if (!hair.widths.empty())
         half = *std::max_element(hair.widths.begin(), hair.widths.end()) * 0.5f;
@@ -140,13 +151,16 @@ void check_strands(const Hair& hair, const std::string& name) {
                  " points; a pinned catmullRom curve needs at least 2");
 }
 
-// Header, the Xform and the BasisCurves prim up to (not including) its points.
-void begin_layer(Out& o, const Hair& hair, const std::string& extra_metadata) {
+// Header, the Xform and the BasisCurves prim up to (not including) its points. GroomAPI is
+// what Unreal's USD importer looks for to read a BasisCurves prim as a groom.
+void begin_layer(Out& o, const Hair& hair, const std::string& extra_metadata, bool z_up = false) {
     std::string& out = o.buf;
     out += "#usda 1.0\n(\n    defaultPrim = \"hair\"\n";
     out += extra_metadata;
-    out += "    metersPerUnit = 0.01\n    upAxis = \"Y\"\n)\n\n";
-    out += "def Xform \"hair\"\n{\n    def BasisCurves \"strands\"\n    {\n";
+    out += z_up ? "    metersPerUnit = 0.01\n    upAxis = \"Z\"\n)\n\n"
+                : "    metersPerUnit = 0.01\n    upAxis = \"Y\"\n)\n\n";
+    out += "def Xform \"hair\"\n{\n    def BasisCurves \"strands\" (\n";
+    out += "        prepend apiSchemas = [\"GroomAPI\"]\n    )\n    {\n";
     out += "        uniform token type = \"cubic\"\n";
     out += "        uniform token basis = \"catmullRom\"\n";
     out += "        uniform token wrap = \"pinned\"\n";
@@ -203,18 +217,40 @@ void end_layer(Out& o, const Hair& hair) {
         }
         out += "] (\n            interpolation = \"uniform\"\n        )\n";
     }
+    // Unreal's groom attributes (primvars named groom_*, arrays even when constant: its
+    // importer reads every primvar as an array). One group; the strand color again as
+    // float3, the type Unreal converts (it skips color3f).
+    out +=
+        "        int[] primvars:groom_group_id = [0] (\n            interpolation = "
+        "\"constant\"\n        )\n";
+    if (hair.colors.empty()) {
+        out += "        float3[] primvars:groom_color = [";
+        append_vec(out, hair.default_color);
+        out += "] (\n            interpolation = \"constant\"\n        )\n";
+    } else {
+        out += "        float3[] primvars:groom_color = [\n";
+        for (size_t s = 0; s < S; ++s) {
+            out += "            ";
+            append_raw(out, 3 * kMaxFloatChars + 8,
+                       [&](char* p) { return put_vec(p, hair.colors[s]); });
+            out += s + 1 < S ? ",\n" : "\n";
+            if ((s & 4095) == 0) o.flush();
+        }
+        out += "        ] (\n            interpolation = \"uniform\"\n        )\n";
+    }
     out += "    }\n}\n";
     o.flush(true);
 }
 
-void write_single(Out& out, const Hair& hair) {
+void write_single(Out& out, const Hair& hair, const UsdaWriteOptions& options) {
     begin_layer(out, hair,
                 cat("    doc = \"wisp hair: ", hair.strand_count(), " strands, ",
-                    hair.point_count(), " control points\"\n"));
+                    hair.point_count(), " control points\"\n"),
+                options.z_up);
     out.buf += "        float3[] extent = ";
-    append_extent(out.buf, extent_of(hair));
+    append_extent(out.buf, extent_of(hair, options.z_up));
     out.buf += "\n        point3f[] points = [\n";
-    points_array(out, hair, "            ");
+    points_array(out, hair, "            ", options.z_up);
     out.buf += "        ]\n";
     end_layer(out, hair);
 }
@@ -281,20 +317,22 @@ void write_animation(Out& out, const std::vector<Hair>& frames, double fps) {
 
 }  // namespace
 
-std::string encode_usda(const Hair& hair, const std::string& name) {
+std::string encode_usda(const Hair& hair, const std::string& name,
+                        const UsdaWriteOptions& options) {
     check_strands(hair, name);
     Out out;
-    out.buf.reserve(hair.point_count() * 48 + hair.strand_count() * 64 + 1024);
-    write_single(out, hair);
+    out.buf.reserve(hair.point_count() * 48 + hair.strand_count() * 96 + 1024);
+    write_single(out, hair, options);
     return std::move(out.buf);
 }
 
-void write_usda(const std::filesystem::path& path, const Hair& hair) {
+void write_usda(const std::filesystem::path& path, const Hair& hair,
+                const UsdaWriteOptions& options) {
     check_strands(hair, path.string());
     write_file_atomic(path, [&](std::ostream& os) {
         Out out;
         out.stream = &os;
-        write_single(out, hair);
+        write_single(out, hair, options);
     });
 }
 

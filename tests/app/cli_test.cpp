@@ -8,6 +8,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "io/hair_io.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -109,6 +111,23 @@ TEST(Cli, HeadAndRoundTrip) {
     ASSERT_EQ(run("convert " + hair.string() + " " + usda.string()), 0);
     ASSERT_EQ(run("convert " + usda.string() + " " + back.string()), 0);
     EXPECT_EQ(run("info " + back.string()), 0);
+}
+
+TEST(Cli, UpZWritesAZUpLayer) {
+    Dir d;
+    const fs::path y = d.path / "y.usda", z = d.path / "z.usda", zc = d.path / "zc.usda";
+    const std::string gen = "generate --preset short --strands 300 --wisps 30 -q ";
+    ASSERT_EQ(run(gen + "-o " + y.string()), 0);
+    ASSERT_EQ(run(gen + "--up z -o " + z.string()), 0);
+    ASSERT_EQ(run("convert " + y.string() + " " + zc.string() + " --up z"), 0);
+    EXPECT_EQ(run(gen + "--up x -o " + z.string()), 2);
+    EXPECT_NE(slurp(y).find("upAxis = \"Y\""), std::string::npos);
+    EXPECT_NE(slurp(z).find("upAxis = \"Z\""), std::string::npos);
+    EXPECT_EQ(slurp(z), slurp(zc));
+    // Both read back as the same strands in head space.
+    const wisp::Hair a = wisp::read_hair(y), b = wisp::read_hair(z);
+    ASSERT_EQ(a.points.size(), b.points.size());
+    EXPECT_TRUE(a.points == b.points);
 }
 
 TEST(Cli, AnimateWritesFramesDeterministically) {

@@ -2,8 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <regex>
 
 #include "core/timer.hpp"
 #include "io/hair_io.hpp"
@@ -72,6 +76,95 @@ TEST(Usda, WriterLayout) {
     Hair one;
     one.add_strand(std::vector<Vec3f>{{0, 0, 0}});
     expect_error([&] { encode_usda(one, "one.usda"); }, "one.usda: strand 0 has 1 points");
+}
+
+// The declarations of the BasisCurves prim's attributes as written: name -> type.
+std::map<std::string, std::string> declared_types(const std::string& text) {
+    static const std::regex decl(R"(\n\s*(?:uniform\s+)?([A-Za-z0-9]+(?:\[\])?)\s+([\w:]+)\s*=)");
+    std::map<std::string, std::string> types;
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), decl);
+         it != std::sregex_iterator(); ++it)
+        types[(*it)[2]] = (*it)[1];
+    return types;
+}
+
+// The values of a one-line-per-value array attribute `name = [ ... ]`, as text.
+size_t array_values(const std::string& text, const std::string& name) {
+    size_t at = text.find(name + " = [");
+    if (at == std::string::npos) return 0;
+    at += name.size() + 4;
+    const size_t end = text.find(']', at);
+    return static_cast<size_t>(std::count(text.begin() + at, text.begin() + end, '('));
+}
+
+// Unreal's USD importer (UsdGroomConversion.cpp) reads a BasisCurves prim with the GroomAPI
+// schema as a groom, and every primvar named groom_* of type int[], float[], float3[] or
+// float2[] (not color3f[]) as a strand (uniform, constant) or vertex attribute.
+TEST(Usda, UnrealGroomDeclarations) {
+    const Hair h = test::random_hair(5, 300);
+    const std::string text = encode_usda(h, "groom.usda");
+    EXPECT_NE(text.find("def BasisCurves \"strands\" (\n        prepend apiSchemas = "
+                        "[\"GroomAPI\"]\n    )\n    {"),
+              std::string::npos);
+    const auto types = declared_types(text);
+    EXPECT_EQ(types.at("primvars:groom_group_id"), "int[]");
+    EXPECT_EQ(types.at("primvars:groom_color"), "float3[]");
+    EXPECT_EQ(types.at("widths"), "float[]");
+    EXPECT_EQ(types.at("points"), "point3f[]");
+    EXPECT_NE(text.find("int[] primvars:groom_group_id = [0] (\n            interpolation = "
+                        "\"constant\""),
+              std::string::npos);
+    EXPECT_EQ(array_values(text, "float3[] primvars:groom_color"), h.strand_count());
+    EXPECT_EQ(array_values(text, "color3f[] primvars:displayColor"), h.strand_count());
+    // wisp's reader reads past the new metadata and primvars: the same hair comes back.
+    const UsdaLayer layer = parse_usda(text, "groom.usda");
+    ASSERT_EQ(layer.curves.size(), 1u);
+    EXPECT_EQ(usd_curves_problem(layer.curves[0]), "");
+    const Hair r = hair_from_usda(layer, "groom.usda");
+    test::expect_same_geometry(h, r);
+    test::expect_same_widths(h, r);
+    test::expect_same_colors(h, r);
+    EXPECT_EQ(r.wisp, h.wisp);
+    // Without colors, one constant groom color (the default color).
+    Hair plain = test::random_hair(6, 20, 6, false, false, false);
+    const std::string plain_text = encode_usda(plain);
+    EXPECT_NE(plain_text.find("float3[] primvars:groom_color = [(0.3, 0.2, 0.12)] (\n"
+                              "            interpolation = \"constant\""),
+              std::string::npos);
+}
+
+TEST(Usda, ZUpTurnsYIntoZAndReadsBack) {
+    const Hair h = test::random_hair(7, 200);
+    const std::string text = encode_usda(h, "z.usda", UsdaWriteOptions{.z_up = true});
+    EXPECT_NE(text.find("upAxis = \"Z\""), std::string::npos);
+    EXPECT_EQ(text.find("upAxis = \"Y\""), std::string::npos);
+    const UsdaLayer layer = parse_usda(text, "z.usda");
+    EXPECT_EQ(layer.up_axis, "Z");
+    ASSERT_EQ(layer.curves.size(), 1u);
+    const std::vector<Vec3f>& pts = layer.curves[0].points;
+    ASSERT_EQ(pts.size(), h.point_count());
+    for (size_t i = 0; i < pts.size(); ++i) {
+        const Vec3f& p = h.points[i];
+        ASSERT_EQ(pts[i], Vec3f(p.x(), -p.z(), p.y())) << "point " << i;
+    }
+    // The extent bounds the turned points.
+    const std::string extent = text.substr(text.find("float3[] extent = "), 200);
+    float lo[3], hi[3];
+    ASSERT_EQ(std::sscanf(extent.c_str(), "float3[] extent = [(%f, %f, %f), (%f, %f, %f)]", &lo[0],
+                          &lo[1], &lo[2], &hi[0], &hi[1], &hi[2]),
+              6);
+    for (const Vec3f& p : pts)
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_LE(lo[k], p[k]);
+            EXPECT_GE(hi[k], p[k]);
+        }
+    // read_usda turns a Z-up layer back to head space: bit-exact (only signs and order move).
+    const Hair r = hair_from_usda(layer, "z.usda");
+    test::expect_same_geometry(h, r);
+    test::expect_same_widths(h, r);
+    test::expect_same_colors(h, r);
+    // The default stays Y up, as before.
+    EXPECT_NE(encode_usda(h).find("upAxis = \"Y\""), std::string::npos);
 }
 
 TEST(Usda, AnimationTimeSamples) {
