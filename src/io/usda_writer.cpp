@@ -173,6 +173,30 @@ void begin_layer(Out& o, const Hair& hair, const std::string& extra_metadata, bo
     o.flush();
 }
 
+// The strands' colours as the primvar `declaration` (type and name): one value per strand
+// (uniform), or the default colour (constant) when the hair has none.
+void color_primvar(Out& o, const Hair& hair, const char* declaration) {
+    std::string& out = o.buf;
+    out += "        ";
+    out += declaration;
+    if (hair.colors.empty()) {
+        out += " = [";
+        append_vec(out, hair.default_color);
+        out += "] (\n            interpolation = \"constant\"\n        )\n";
+        return;
+    }
+    out += " = [\n";
+    const size_t S = hair.strand_count();
+    for (size_t s = 0; s < S; ++s) {
+        out += "            ";
+        append_raw(out, 3 * kMaxFloatChars + 8,
+                   [&](char* p) { return put_vec(p, hair.colors[s]); });
+        out += s + 1 < S ? ",\n" : "\n";
+        if ((s & 4095) == 0) o.flush();
+    }
+    out += "        ] (\n            interpolation = \"uniform\"\n        )\n";
+}
+
 // widths, displayColor, wisp ids and the closing braces.
 void end_layer(Out& o, const Hair& hair) {
     const size_t S = hair.strand_count();
@@ -194,21 +218,7 @@ void end_layer(Out& o, const Hair& hair) {
     });
     std::string& out = o.buf;
     out += "        ] (\n            interpolation = \"vertex\"\n        )\n";
-    if (hair.colors.empty()) {
-        out += "        color3f[] primvars:displayColor = [";
-        append_vec(out, hair.default_color);
-        out += "] (\n            interpolation = \"constant\"\n        )\n";
-    } else {
-        out += "        color3f[] primvars:displayColor = [\n";
-        for (size_t s = 0; s < S; ++s) {
-            out += "            ";
-            append_raw(out, 3 * kMaxFloatChars + 8,
-                       [&](char* p) { return put_vec(p, hair.colors[s]); });
-            out += s + 1 < S ? ",\n" : "\n";
-            if ((s & 4095) == 0) o.flush();
-        }
-        out += "        ] (\n            interpolation = \"uniform\"\n        )\n";
-    }
+    color_primvar(o, hair, "color3f[] primvars:displayColor");
     if (!hair.wisp.empty()) {
         out += "        int[] primvars:wisp_id = [";
         for (size_t s = 0; s < S; ++s) {
@@ -223,21 +233,7 @@ void end_layer(Out& o, const Hair& hair) {
     out +=
         "        int[] primvars:groom_group_id = [0] (\n            interpolation = "
         "\"constant\"\n        )\n";
-    if (hair.colors.empty()) {
-        out += "        float3[] primvars:groom_color = [";
-        append_vec(out, hair.default_color);
-        out += "] (\n            interpolation = \"constant\"\n        )\n";
-    } else {
-        out += "        float3[] primvars:groom_color = [\n";
-        for (size_t s = 0; s < S; ++s) {
-            out += "            ";
-            append_raw(out, 3 * kMaxFloatChars + 8,
-                       [&](char* p) { return put_vec(p, hair.colors[s]); });
-            out += s + 1 < S ? ",\n" : "\n";
-            if ((s & 4095) == 0) o.flush();
-        }
-        out += "        ] (\n            interpolation = \"uniform\"\n        )\n";
-    }
+    color_primvar(o, hair, "float3[] primvars:groom_color");
     out += "    }\n}\n";
     o.flush(true);
 }
