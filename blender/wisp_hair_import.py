@@ -1,5 +1,5 @@
 # wisp hair importer for Blender 3.4+: reads wisp's cyHair `.hair` files into a native hair
-# Curves object with per-point `radius` (metres) and `color` (linear RGB) attributes.
+# Curves object with per-point `radius` (metres) and `wisp_color` (linear RGB) attributes.
 #
 # Install: Edit > Preferences > Add-ons > Install... > this file, then tick
 # "Import-Export: wisp hair". Then File > Import > wisp hair (.hair).
@@ -38,6 +38,9 @@ bl_info = {
 
 _HEADER_BYTES = 128
 _RADIUS_SOURCE = "wisp_radius"
+# The strands' colour attribute. Not `color`: Cycles' Attribute node does not find a curves
+# attribute of that name (the hair renders black), while any other name works.
+COLOR_ATTRIBUTE = "wisp_color"
 
 
 class CyHair:
@@ -132,7 +135,7 @@ def wisp_to_blender(points, scale=0.01):
 
 def _polyline_mesh(name, hair, scale):
     """A mesh of loose edges: vertex i is point i, an edge joins consecutive points of a
-    strand; per-point float `wisp_radius` and float colour `color` attributes."""
+    strand; per-point float `wisp_radius` and float colour `wisp_color` attributes."""
     P = len(hair.points)
     ends = np.cumsum(hair.sizes)
     joined = np.ones(P, bool)
@@ -149,7 +152,7 @@ def _polyline_mesh(name, hair, scale):
     radius.data.foreach_set("value", (hair.thickness * np.float32(0.5 * scale)).astype(np.float32))
     rgba = np.ones((P, 4), np.float32)
     rgba[:, :3] = hair.colors
-    color = mesh.attributes.new("color", "FLOAT_COLOR", "POINT")
+    color = mesh.attributes.new(COLOR_ATTRIBUTE, "FLOAT_COLOR", "POINT")
     color.data.foreach_set("color", rgba.ravel())
     mesh.update()
     return mesh
@@ -182,7 +185,7 @@ def _to_curves_tree():
 
 
 def _hair_material(name):
-    """Principled Hair BSDF coloured by the `color` attribute."""
+    """Principled Hair BSDF coloured by the `wisp_color` attribute."""
     mat = bpy.data.materials.new(name)
     mat.use_nodes = True
     nt = mat.node_tree
@@ -190,7 +193,7 @@ def _hair_material(name):
     bsdf = nt.nodes.new("ShaderNodeBsdfHairPrincipled")
     bsdf.parametrization = "COLOR"
     attr = nt.nodes.new("ShaderNodeAttribute")
-    attr.attribute_name = "color"
+    attr.attribute_name = COLOR_ATTRIBUTE
     out = nt.nodes.new("ShaderNodeOutputMaterial")
     attr.location, bsdf.location, out.location = (-400, 0), (-150, 0), (150, 0)
     nt.links.new(attr.outputs["Color"], bsdf.inputs["Color"])
@@ -229,13 +232,13 @@ def import_wisp_hair(filepath, head_obj="", scale=0.01, material=True, name=None
     filepath    the cyHair file (wisp: centimetres, Y up, +Z forward)
     head_obj    optional OBJ of the head in the same space, imported beside the hair
     scale       Blender units per file unit (0.01: centimetres to metres)
-    material    add a Principled Hair BSDF material reading the `color` attribute
+    material    add a Principled Hair BSDF material reading the `wisp_color` attribute
     name        the object's name (default: the file's stem)
     collection  where the objects go (default: the active collection)
 
     The object (type 'CURVES') has one curve per strand, one point per control point
     (positions (x, -z, y) * scale), the built-in float `radius` (half the width * scale)
-    and a float colour `color` per point (linear RGB, alpha 1). The strand points are
+    and a float colour `wisp_color` per point (linear RGB, alpha 1). The strand points are
     control points of wisp's pinned Catmull-Rom spline, imported as poly curves.
     """
     t0 = time.perf_counter()
@@ -310,7 +313,7 @@ class ImportWispHair(bpy.types.Operator, ImportHelper):
         description="Blender units per file unit (0.01: wisp's centimetres to metres)")
     material: BoolProperty(
         name="Hair Material", default=True,
-        description="Add a Principled Hair BSDF coloured by the strands' color attribute")
+        description="Add a Principled Hair BSDF coloured by the strands' wisp_color attribute")
 
     def execute(self, context):
         try:

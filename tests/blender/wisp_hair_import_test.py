@@ -49,7 +49,7 @@ def curves_arrays(obj):
     radius = np.empty(P, np.float32)
     c.attributes["radius"].data.foreach_get("value", radius)
     color = np.empty(4 * P, np.float32)
-    c.attributes["color"].data.foreach_get("color", color)
+    c.attributes["wisp_color"].data.foreach_get("color", color)
     sizes = np.array([cv.points_length for cv in c.curves])
     return pos.reshape(-1, 3), radius, color.reshape(-1, 4), sizes
 
@@ -92,7 +92,7 @@ check(np.allclose(pos[1], [0.01, -0.03, 0.05], atol=1e-7),
       f"(1, 5, 3) cm -> (0.01, -0.03, 0.05) m, got {pos[1]}")
 check(np.allclose(radius, widths * 0.005, rtol=1e-6), "radius = width / 2 * 0.01")
 check(np.allclose(color[:, :3], cols) and np.all(color[:, 3] == 1), "per-point colors")
-check(obj.data.attributes["color"].data_type == "FLOAT_COLOR", "color is a float color")
+check(obj.data.attributes["wisp_color"].data_type == "FLOAT_COLOR", "wisp_color is a float color")
 check("wisp_radius" not in obj.data.attributes, "the helper attribute is removed")
 check(len(bpy.data.meshes) == 0 and len(bpy.data.node_groups) == 0,
       f"no helper mesh or node group is left ({len(bpy.data.meshes)}, "
