@@ -831,7 +831,12 @@ int run_cli(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        return app.exit(e) == 0 ? 0 : 2;
+        // --help and --version (exit code 0) print as CLI11 has them; a parse error may quote
+        // the user's arguments, so it goes through excerpt() like every other message.
+        if (e.get_exit_code() == 0) return app.exit(e);
+        std::cerr << "wisp: usage error: " << excerpt(e.what(), kMaxMessageBytes)
+                  << "\nRun with --help for more information.\n";
+        return 2;
     }
 
     try {

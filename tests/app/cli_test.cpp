@@ -226,6 +226,18 @@ TEST(Cli, RenderGivesTheSamePictureAtAnyThreadCount) {
     EXPECT_EQ(run("render " + hair.string() + " -o " + a.string() + " --threads -1"), 2);
 }
 
+TEST(Cli, UsageErrorsQuoteArgumentsEscaped) {
+    // CLI11's own messages quote the arguments it did not expect: a terminal escape sequence
+    // among them is shown escaped, not sent to the user's terminal.
+    Dir d;
+    const fs::path err = d.path / "err.txt";
+    EXPECT_EQ(run_capturing("presets '\x1b]0;owned\x07'", err), 2);
+    const std::string msg = slurp(err);
+    EXPECT_EQ(msg.find('\x1b'), std::string::npos) << msg;
+    EXPECT_NE(msg.find("\\x1b]0;owned"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("usage error"), std::string::npos) << msg;
+}
+
 // Issue 14: hostile inputs fail with exit 1 and one escaped line naming the file and what is
 // wrong; never a crash, a hang or memory running out.
 TEST(Cli, HostileInputsFailWithOneLineNamingTheFile) {
