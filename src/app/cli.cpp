@@ -219,7 +219,11 @@ void check_writable(const std::string& path) {
     if (dir.empty()) dir = ".";
     // The nearest folder that exists: the writer creates the ones below it.
     while (!fs::exists(dir, ec)) {
-        if (!dir.has_parent_path() || dir.parent_path() == dir) break;
+        if (!dir.has_parent_path()) {
+            dir = ".";  // a relative folder to create in the current one (`-o out/a.usda`)
+            break;
+        }
+        if (dir.parent_path() == dir) break;
         dir = dir.parent_path();
     }
     if (!fs::is_directory(dir, ec))

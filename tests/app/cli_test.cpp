@@ -341,6 +341,18 @@ TEST(Cli, InfoJsonReplacesBytesThatAreNotUtf8) {
 }
 
 // Usage errors are found before any work: no output is written, no temporary folder left.
+TEST(Cli, OutputsGoIntoNewRelativeFolders) {
+    // The README's first command writes into out/, which a fresh clone does not have: the
+    // check before the work must accept a folder the writer will create in the current one.
+    Dir d;
+    const std::string cmd = "cd " + d.path.string() + " && " + std::string(WISP_EXE) +
+                            " generate --preset short --strands 200 -o new/sub/a.hair -q";
+    const int status = std::system(cmd.c_str());
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 0);
+    EXPECT_TRUE(fs::exists(d.path / "new/sub/a.hair"));
+}
+
 TEST(Cli, ArgumentsAreCheckedBeforeTheWork) {
     Dir d;
     const std::string out = (d.path / "a.hair").string();
