@@ -9,6 +9,15 @@
 
 namespace wisp {
 
+namespace {
+// The grid covers the mesh's bounding box grown by this many cells on every side.
+constexpr float kPadCells = 3.f;
+}  // namespace
+
+double HeadField::node_count(const Box3& mesh_bounds, float cell) {
+    return grid_nodes(mesh_bounds.size() + Vec3f::Constant(2.f * kPadCells * cell), cell);
+}
+
 HeadField::HeadField(const Mesh& open_mesh, float cell) {
     // A head cut open at the neck or chest (most head meshes) encloses its inside only once
     // closed: otherwise the inside far from the skin is one region with the outside, through
@@ -17,7 +26,7 @@ HeadField::HeadField(const Mesh& open_mesh, float cell) {
     Mesh mesh;
     close_holes(open_mesh, &mesh);
     const Box3 b = mesh.bounds();
-    const Vec3f pad = Vec3f::Constant(3.f * cell);
+    const Vec3f pad = Vec3f::Constant(kPadCells * cell);
     const Vec3f lo = b.lo - pad;
     const Vec3f size = b.size() + 2.f * pad;
     Vec3i dims;

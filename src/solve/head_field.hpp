@@ -17,6 +17,9 @@ class HeadField {
     // mesh (a head cut at the neck or chest) is first closed by a fan over each hole
     // (close_holes), so that its inside is inside everywhere.
     HeadField(const Mesh& mesh, float cell);
+    // The node count of the grid the constructor builds for a mesh with these bounds (cm), to
+    // check against kMaxGridNodes before building it.
+    static double node_count(const Box3& mesh_bounds, float cell);
 
     // Trilinear signed distance, cm; points outside the grid get a large positive value.
     float sdf(const Vec3f& p) const;

@@ -157,7 +157,7 @@ HairstyleResult generate_hairstyle(const Style& style, const Head& head,
     if (!head_field) {
         const float cell = head_field_cell(style.solve);
         const Vec3f span = head.mesh->bounds().size();
-        if (const double nodes = grid_nodes(span + Vec3f::Constant(6.f * cell), cell);
+        if (const double nodes = HeadField::node_count(head.mesh->bounds(), cell);
             nodes > kMaxGridNodes)
             fail(head.source, ": the head's distance field would have ", nodes,
                  " nodes (the head spans ", span.maxCoeff(), " cm, its cell is ", cell,
