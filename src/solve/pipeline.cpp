@@ -88,6 +88,9 @@ size_t cut_hair(Hair& hair, const Vec3f& normal, float offset, size_t* removed,
         out.offsets.push_back(static_cast<uint32_t>(out.points.size()));
         if (!hair.colors.empty()) out.colors.push_back(hair.colors[i]);
         if (!hair.wisp.empty()) out.wisp.push_back(hair.wisp[i]);
+        if (!hair.root_uv.empty()) out.root_uv.push_back(hair.root_uv[i]);
+        if (!hair.root_normal.empty()) out.root_normal.push_back(hair.root_normal[i]);
+        if (!hair.group.empty()) out.group.push_back(hair.group[i]);
     }
     hair = std::move(out);
     if (removed) *removed = gone;
@@ -168,6 +171,15 @@ HairstyleResult generate_hairstyle(const Style& style, const Head& head,
         lap("head field");
     }
     const HeadFrame frame = head_frame(*head.scalp);
+    // The wisps of each constraint group; a wisp belongs to the first group that selects it
+    // (the solver's rule), which is also the group its strands export with (Hair::group).
+    std::vector<std::vector<uint32_t>> selected(style.groups.size());
+    std::vector<int32_t> wisp_group(r.masters.count(), 0);
+    for (size_t g = style.groups.size(); g-- > 0;) {
+        selected[g] = select_wisps(style.groups[g].selection, roots.masters, *head.scalp, frame);
+        for (uint32_t w : selected[g])
+            wisp_group[w] = static_cast<int32_t>(g + 1);
+    }
     if (style.solve.enabled) {
         // The grid spans everywhere the hair can reach: the head, grown by the longest master.
         float longest = 0.f;
@@ -194,10 +206,11 @@ HairstyleResult generate_hairstyle(const Style& style, const Head& head,
         SolveInput in;
         in.field = &field;
         in.head = head_field;
-        for (const GroupSpec& g : style.groups) {
+        for (size_t gi = 0; gi < style.groups.size(); ++gi) {
+            const GroupSpec& g = style.groups[gi];
             SolverGroup sg;
             sg.name = g.name;
-            sg.wisps = select_wisps(g.selection, roots.masters, *head.scalp, frame);
+            sg.wisps = std::move(selected[gi]);
             for (const ConstraintSpec& c : g.queue)
                 sg.queue.push_back(resolve_constraint(c, frame));
             in.groups.push_back(std::move(sg));
@@ -218,6 +231,10 @@ HairstyleResult generate_hairstyle(const Style& style, const Head& head,
         lap("solve");
     }
     r.hair = grow_members(style, r.masters, roots);
+    r.hair.group.resize(r.hair.strand_count());
+    for (size_t j = 0; j < r.hair.strand_count(); ++j)
+        r.hair.group[j] = wisp_group[static_cast<size_t>(r.hair.wisp[j])];
+    r.wisp_group = std::move(wisp_group);
     lap("members");
     if (style.cut.enabled && style.cut.normal.norm() > 0.f) {
         const Vec3f n = style.cut.normal.normalized();

@@ -16,7 +16,8 @@ namespace wisp {
 struct HairstyleResult {
     Hair hair;
     Masters masters;
-    StageTimes times;  // one entry per stage, in order
+    std::vector<int32_t> wisp_group;  // #W the group of each wisp (Hair::group's values)
+    StageTimes times;                 // one entry per stage, in order
     SolveStats solve;
     size_t points_pushed = 0;       // member points moved out of the head (collide stage)
     size_t points_inside_head = 0;  // after the collide stage: must be 0
