@@ -75,7 +75,20 @@ void catmull_rom_resample(std::span<const Vec3f> points, std::span<const float> 
     static thread_local std::vector<float> arc;
     dense.resize(m);
     arc.resize(m);
-    catmull_rom_sample(points, kPerSegment, dense);
+    // Each segment's cubic in power form, evaluated by Horner: a third of the work of
+    // catmull_rom() per sample (most of a resampling writer's time). t = 0 gives the control
+    // point exactly; the tip is set exactly.
+    for (size_t i = 0; i + 1 < n; ++i) {
+        Vec3f a, b, c, d;
+        segment_points(points, i, a, b, c, d);
+        const Vec3f k1 = 0.5f * (c - a), k2 = 0.5f * (2.f * a - 5.f * b + 4.f * c - d),
+                    k3 = 0.5f * (3.f * (b - c) + d - a);
+        for (int j = 0; j < kPerSegment; ++j) {
+            const float t = static_cast<float>(j) / kPerSegment;
+            dense[i * kPerSegment + j] = ((k3 * t + k2) * t + k1) * t + b;
+        }
+    }
+    dense[m - 1] = points[n - 1];
     arc[0] = 0.f;
     for (size_t i = 1; i < m; ++i)
         arc[i] = arc[i - 1] + (dense[i] - dense[i - 1]).norm();
