@@ -3,6 +3,7 @@
 // §3.3). Node (i, j, k) sits at origin + cell · (i, j, k); dims are node counts.
 #include <algorithm>
 #include <cmath>
+#include <concepts>
 #include <vector>
 
 #include "core/math.hpp"
@@ -67,6 +68,47 @@ class Grid3 {
         const T c11 = at(i[0], j1, k1) * (1 - f[0]) + at(i1, j1, k1) * f[0];
         const T c0 = c00 * (1 - f[1]) + c10 * f[1];
         const T c1 = c01 * (1 - f[1]) + c11 * f[1];
+        return c0 * (1 - f[2]) + c1 * f[2];
+    }
+
+    // The same value, and its exact gradient (per cm) in *gradient: the derivative of the
+    // trilinear interpolant inside the cell holding p (one-sided on a cell face), zero along
+    // an axis where p lies outside the box (the clamped value does not change there).
+    T trilinear(const Vec3f& p, Vec3f* gradient) const requires std::same_as<T, float> {
+        const Vec3f g = (p - origin_) / cell_;
+        int i[3];
+        float f[3];
+        bool inside[3];
+        for (int a = 0; a < 3; ++a) {
+            const float x = std::clamp(g[a], 0.f, static_cast<float>(dims_[a] - 1));
+            inside[a] = g[a] == x && dims_[a] > 1;
+            i[a] = std::min(static_cast<int>(x), dims_[a] - 2);
+            if (i[a] < 0) i[a] = 0;
+            f[a] = dims_[a] > 1 ? x - static_cast<float>(i[a]) : 0.f;
+        }
+        const int i1 = std::min(i[0] + 1, dims_[0] - 1), j1 = std::min(i[1] + 1, dims_[1] - 1),
+                  k1 = std::min(i[2] + 1, dims_[2] - 1);
+        const T v000 = at(i[0], i[1], i[2]), v100 = at(i1, i[1], i[2]);
+        const T v010 = at(i[0], j1, i[2]), v110 = at(i1, j1, i[2]);
+        const T v001 = at(i[0], i[1], k1), v101 = at(i1, i[1], k1);
+        const T v011 = at(i[0], j1, k1), v111 = at(i1, j1, k1);
+        // The same operations in the same order as trilinear(p), so the values agree exactly.
+        const T c00 = v000 * (1 - f[0]) + v100 * f[0];
+        const T c10 = v010 * (1 - f[0]) + v110 * f[0];
+        const T c01 = v001 * (1 - f[0]) + v101 * f[0];
+        const T c11 = v011 * (1 - f[0]) + v111 * f[0];
+        const T c0 = c00 * (1 - f[1]) + c10 * f[1];
+        const T c1 = c01 * (1 - f[1]) + c11 * f[1];
+        if (gradient) {
+            const T dx00 = v100 - v000, dx10 = v110 - v010, dx01 = v101 - v001, dx11 = v111 - v011;
+            const T dx0 = dx00 * (1 - f[1]) + dx10 * f[1];
+            const T dx1 = dx01 * (1 - f[1]) + dx11 * f[1];
+            const T dy0 = c10 - c00, dy1 = c11 - c01;
+            const float inv = 1.f / cell_;
+            (*gradient)[0] = inside[0] ? (dx0 * (1 - f[2]) + dx1 * f[2]) * inv : T{};
+            (*gradient)[1] = inside[1] ? (dy0 * (1 - f[2]) + dy1 * f[2]) * inv : T{};
+            (*gradient)[2] = inside[2] ? (c1 - c0) * inv : T{};
+        }
         return c0 * (1 - f[2]) + c1 * f[2];
     }
 

@@ -158,6 +158,7 @@ AwtSimulation::AwtSimulation(const Hierarchy& hierarchy, std::vector<Sphere> sph
     if (h.held.size() != nodes) fail("dynamics: the hierarchy's held fractions are missing");
     state_.assign(nodes, kMerged);
     collided_.assign(nodes, 0);
+    merge_step_.assign(nodes, 0);
     parent_.assign(nodes, 0);
     link_length_.assign(nodes, -1.f);
     rotation_.assign(nodes, Quat::Identity());
@@ -594,10 +595,28 @@ void AwtSimulation::integrate() {
         // merged node meeting the neighbours its wider radius now touches) is not motion to
         // resolve. One step's Δv/dt split 70% of merged nodes again within 0.1 s, and the tree
         // churned.
-        const Vec3f world = (v_[c] - v_old_[c]) * inv_dt;
-        const Vec3f relative = world - head_acceleration_.at(head_.to_local(x_[c]));
-        const Vec3f& a = relative.squaredNorm() < world.squaredNorm() ? relative : world;
-        acc_[c] += std::min(1.f, dt / kAccelerationTime) * (a - acc_[c]);
+        //
+        // The first step of a node made by a merge does not count at all: its Δv is the coarse
+        // approximation taking over, not motion. The super-node starts at its sub-nodes' centre
+        // of mass with their mean velocity and a radius that fits them, and that state is not
+        // one its own link, shape spring and contacts shaped: its link and spring meet a
+        // configuration they did not make, its wider cylinder touches neighbours its sub-nodes
+        // did not, its centre may lie in a body sphere (the centre of points on a convex
+        // surface lies inside it). The first step jolts it by a few cm/s, as §4.1 says of the
+        // coarse geometry ("new, undesired motion towards a slightly different rest state");
+        // averaged in, that jolt read 2–3 times the split threshold on coarse nodes of long
+        // hair, which split at the next step and merged again, 10 to 27 times a second, on
+        // hair at rest. The node keeps the acceleration its sub-nodes carried (try_merge) and
+        // measures its own from the next step, which §3.2's third condition (no merge that
+        // would split right away) assumes.
+        if (merge_step_[c]) {
+            merge_step_[c] = 0;
+        } else {
+            const Vec3f world = (v_[c] - v_old_[c]) * inv_dt;
+            const Vec3f relative = world - head_acceleration_.at(head_.to_local(x_[c]));
+            const Vec3f& a = relative.squaredNorm() < world.squaredNorm() ? relative : world;
+            acc_[c] += std::min(1.f, dt / kAccelerationTime) * (a - acc_[c]);
+        }
         rotation_[c] = segment_rotation(c, parent_[c], x_[c]);
     }
 }
@@ -778,6 +797,7 @@ bool AwtSimulation::try_merge(uint32_t g, int k) {
     }
     const uint32_t p = find_parent(g, k);
     state_[node] = kActive;
+    merge_step_[node] = 1;
     x_[node] = centre;
     v_[node] = velocity;
     acc_[node] = acceleration;
@@ -789,6 +809,7 @@ bool AwtSimulation::try_merge(uint32_t g, int k) {
     for (uint32_t s = first; s < last; ++s) {
         const uint32_t i = h.node(s, k);
         state_[i] = kMerged;
+        merge_step_[i] = 0;  // merged again before its first step: it starts afresh if split
         // Frozen relative to the super-node from now on (§3.2), in its segment's frame;
         // finer nodes move from the sub-node's frame to it.
         offset_[i] = inverse * (x_[i] - centre);

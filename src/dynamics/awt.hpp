@@ -35,7 +35,8 @@
 //      every length exactly;
 //   5. body (§4.3): a segment that penetrates a sphere is pushed out by moving its child
 //      node, whose velocity becomes the obstacle's;
-//   6. velocities from positions; accelerations a = Δv/dt, averaged over 50 ms;
+//   6. velocities from positions; accelerations a = Δv/dt, averaged over 50 ms (a node made
+//      by a merge skips its first step: that Δv is the coarse approximation taking over);
 //   7. adaptation: splits tip to root (§3.1: |a|·r over the threshold and the child node
 //      already split; sub-nodes take the offsets and the velocity of the split node), then
 //      merges root to tip (§3.2: sub-nodes of one super-node with the same AWT parent, within
@@ -181,6 +182,8 @@ class AwtSimulation {
     std::vector<Vec3f> x_, v_, acc_, force_, offset_, x_old_, v_old_;
     std::vector<float> radius_, link_length_;
     std::vector<uint8_t> state_, collided_;
+    // 1 for a node made by a merge at the last adapt(), until its first step (integrate()).
+    std::vector<uint8_t> merge_step_;
     std::vector<uint32_t> parent_;
     std::vector<Eigen::Quaternionf> rotation_;  // segment rotation of active nodes
     std::vector<uint32_t> active_;

@@ -23,6 +23,9 @@ class HeadField {
 
     // Trilinear signed distance, cm; points outside the grid get a large positive value.
     float sdf(const Vec3f& p) const;
+    // The same distance and, in *gradient, the exact gradient of the trilinear interpolant
+    // (≈ outward normal; zero outside the grid), for the price of one lookup.
+    float sdf(const Vec3f& p, Vec3f* gradient) const;
     // Gradient of the trilinear signed distance (central differences), ≈ outward normal.
     Vec3f gradient(const Vec3f& p) const;
     // Head density: 1 on and inside the surface, falling linearly to 0 at `margin` cm out.

@@ -110,24 +110,24 @@ size_t push_out_of_head(Hair& hair, const HeadField& head, float clearance,
                                        : nullptr;
             for (size_t k = 1; k < s.size(); ++k) {
                 if (flags && !flags[std::min<size_t>(k, n - 1)] && !flags[k - 1]) continue;
-                const float d = head.sdf(s[k]);
+                Vec3f g;
+                const float d = head.sdf(s[k], &g);
                 if (d >= clearance) continue;
-                Vec3f g = head.gradient(s[k]);
                 if (!(g.norm() > 1e-6f)) continue;
                 g.normalize();
                 // A few steps: the gradient of a trilinear field is only piecewise exact, and
-                // least so at sharp edges (the rim where an open bust is closed). The gradient
-                // is taken again only for a step that needs it.
+                // least so at sharp edges (the rim where an open bust is closed). Each lookup
+                // gives the distance and the exact gradient of the interpolant together.
                 float di = d;
                 bool out = false;
                 for (int it = 0; it < 6; ++it) {
                     if (it > 0) {
-                        di = head.sdf(s[k]);
+                        Vec3f g2;
+                        di = head.sdf(s[k], &g2);
                         if (di >= clearance) {
                             out = true;
                             break;
                         }
-                        const Vec3f g2 = head.gradient(s[k]);
                         if (g2.norm() > 1e-6f) g = g2.normalized();
                     }
                     s[k] += (clearance - di + 1e-3f) * g;

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.hpp"
@@ -357,6 +358,28 @@ TEST(Awt, ALowerSplitThresholdSplitsMore) {
     }
 }
 
+// A head (and body) that keeps accelerating forward at `acceleration` (cm/s², +z) for 4 s.
+Motion accelerating_head(double acceleration) {
+    Motion motion;
+    motion.duration = 4;
+    for (double t = 0; t <= motion.duration + 1e-9; t += 0.05) {
+        MotionKey key;
+        key.time = t;
+        key.translate = Vec3f(0, 0, static_cast<float>(0.5 * acceleration * t * t));
+        motion.head.keys.push_back(key);
+    }
+    motion.body = motion.head;
+    return motion;
+}
+
+// The parameters for accelerating_head(): without air drag, since still air would drag the
+// hair back harder as the head speeds up.
+AwtParams accelerating_head_params(const Scene& s) {
+    DynamicsSpec spec = s.groomed.style.dynamics;
+    spec.air_drag = 0;
+    return awt_params(spec, s.groomed.style.prototype.kind, false);
+}
+
 TEST(Awt, HairSettledOnAnAcceleratingHeadMergesBack) {
     // The split test reads the acceleration in the world or relative to the head's, whichever
     // is smaller. A head that keeps accelerating forward at 0.3 g sweeps the hair back, like
@@ -366,18 +389,8 @@ TEST(Awt, HairSettledOnAnAcceleratingHeadMergesBack) {
     const Scene& s = scene("long-straight");
     const Hierarchy& h = s.hierarchy;
     constexpr double kAcceleration = 300;  // cm/s², forward (+z)
-    Motion motion;
-    motion.duration = 4;
-    for (double t = 0; t <= motion.duration + 1e-9; t += 0.05) {
-        MotionKey key;
-        key.time = t;
-        key.translate = Vec3f(0, 0, static_cast<float>(0.5 * kAcceleration * t * t));
-        motion.head.keys.push_back(key);
-    }
-    motion.body = motion.head;
-    DynamicsSpec spec = s.groomed.style.dynamics;
-    spec.air_drag = 0;  // still air would drag the hair back harder as the head speeds up
-    const AwtParams params = awt_params(spec, s.groomed.style.prototype.kind, false);
+    const Motion motion = accelerating_head(kAcceleration);
+    const AwtParams params = accelerating_head_params(s);
     // Merging asks |a|·r under half the threshold: with the head's acceleration counted, no
     // coarse node could ever merge.
     float carried = INFINITY;  // the coarse nodes' smallest |a|·r, the head's acceleration
@@ -391,6 +404,46 @@ TEST(Awt, HairSettledOnAnAcceleratingHeadMergesBack) {
     EXPECT_GT(sim.total_splits(), 10u) << "the start sweeps the hair back";
     EXPECT_EQ(sim.active_per_level()[0], h.level_size(0) * (h.sections - 1))
         << "the hair rides the head but has not merged back";
+}
+
+// Hair that has settled does not chatter: no node splits and merges again and again. The
+// long hair riding a head accelerating at 0.3 g (settled by 1.5 s, some of it lying on the
+// back and shoulder spheres), and the same hair 1 to 4 s after a shake. Each merge puts a
+// coarse node where its sub-nodes' centre of mass is, with a radius that fits them: an
+// approximation whose first step jolts it (its link and shape spring meet a configuration
+// they did not shape, its wider cylinder touches new neighbours, its centre may lie in a body
+// sphere). Read as acceleration, that jolt split it again at the next step, and 1 to 3 coarse
+// nodes split and merged up to 27 times a second.
+TEST(Awt, SettledHairDoesNotChatter) {
+    const Scene& s = scene("long-straight");
+    const Hierarchy& h = s.hierarchy;
+    const Motion shake = motion_preset("shake", s.groomed.head);
+    struct Case {
+        const char* name;
+        Motion motion;
+        AwtParams params;
+        double from, to;  // the settled interval, s
+    };
+    const Case cases[] = {
+        {"accelerating head", accelerating_head(300), accelerating_head_params(s), 1.5, 3.0},
+        {"after a shake", shake, params_of(s), shake.duration + 1, shake.duration + 4},
+    };
+    for (const Case& c : cases) {
+        AwtSimulation sim(h, s.spheres, c.motion, c.params);
+        std::vector<int> splits(h.node_count(), 0);
+        size_t total = 0;
+        while (sim.time() < c.to) {
+            sim.step();
+            if (sim.time() < c.from) continue;
+            for (const AwtEvent& e : sim.last_events())
+                if (e.kind == AwtEvent::Kind::kSplit) ++splits[e.node], ++total;
+        }
+        const auto worst = std::max_element(splits.begin(), splits.end());
+        EXPECT_LE(*worst, 2) << c.name << ": node " << worst - splits.begin() << " split " << *worst
+                             << " times in " << c.to - c.from << " s";
+        EXPECT_LE(total, 10u) << c.name << ": " << total << " splits in " << c.to - c.from
+                              << " s of settled hair";
+    }
 }
 
 TEST(Awt, RootsMoveRigidlyWithTheHead) {
