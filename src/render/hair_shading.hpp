@@ -71,7 +71,7 @@ inline float shifted_cone_cosine(float sin_i, float sin_r, const LobeShift& shif
 // log2 x = e + log2 m with m in [√½, √2), log m = 2 atanh s, s = (m − 1)/(m + 1), |s| < 0.172
 // (four terms, error < 2·10⁻⁸); 2^y = 2^i · 2^f with f in [−½, ½] (Taylor to f⁶, relative
 // error < 2·10⁻⁷). Results below 2⁻¹²⁶ are 0.
-inline float pow_unit(float x, float n) {
+[[gnu::always_inline]] inline float pow_unit(float x, float n) {
     if (!(x > 0.f)) return 0.f;
     uint32_t bits;
     std::memcpy(&bits, &x, 4);

@@ -1,13 +1,15 @@
 #pragma once
 // The hair renderer (Choe & Ko 2005 §5 on the CPU): the head with diffuse skin shading and
-// every strand as a thin camera-facing ribbon along its Catmull-Rom curve, Kajiya-Kay
-// shaded (kajiya_kay.hpp) under a key light, a fill light and ambient, shadowed from the
-// key light by an opacity shadow map of the hair (opacity_shadow_map.hpp) and a depth map
-// of the head (shadow_depth_map.hpp), antialiased by coverage and composited front to back.
+// every strand as a thin camera-facing ribbon along its Catmull-Rom curve, shaded with the
+// lobes of real hair (hair_shading.hpp) or Kajiya-Kay (kajiya_kay.hpp) under a key, a fill
+// and a rim light and ambient, shadowed from the key and the rim light by an opacity shadow
+// map of the hair (opacity_shadow_map.hpp) and a depth map of the head (shadow_depth_map.hpp)
+// each, antialiased by coverage and composited front to back.
 //
 // Passes, each timed in RenderStats::stages:
 //   1. camera       named view framed on framing_bounds(), or an explicit look-at
-//   2. shadows      opacity shadow map of the hair + depth map of the head, from the key light
+//   2. shadows      opacity shadow map of the hair + depth map of the head, from the key and
+//                   from the rim light
 //   3. strands      each Catmull-Rom segment cut into pieces of ≤ ~6 pixels; every piece end
 //                   projected and shaded (Kajiya-Kay × shadow), width tapered to the tip
 //   4. bin          pieces and head triangles binned to 32×32-pixel tiles, in strand order
