@@ -26,7 +26,7 @@ const wisp::Mesh& bench_head() {
     return head;
 }
 
-void run(benchmark::State& state, bool shadows, const char* view) {
+void run(benchmark::State& state, bool shadows, const char* view, bool rim = true) {
     const wisp::Hair& hair = bench_hair();
     const wisp::Mesh& head = bench_head();
     wisp::ThreadLimit limit(static_cast<int>(state.range(0)));
@@ -34,6 +34,7 @@ void run(benchmark::State& state, bool shadows, const char* view) {
     options.width = options.height = 1024;
     options.shadows = shadows;
     options.view = view;
+    if (!rim) options.rim.color = wisp::Vec3f::Zero();
     wisp::RenderStats stats;
     std::vector<double> stage_ms;
     for (auto _ : state) {
@@ -53,6 +54,10 @@ void run(benchmark::State& state, bool shadows, const char* view) {
 void BM_Render100kShadows(benchmark::State& state) {
     run(state, true, "three-quarter");
 }
+// Without the rim light (and its shadow maps): what the rim costs.
+void BM_Render100kShadowsNoRim(benchmark::State& state) {
+    run(state, true, "three-quarter", false);
+}
 void BM_Render100kNoShadows(benchmark::State& state) {
     run(state, false, "three-quarter");
 }
@@ -63,5 +68,6 @@ void BM_Render100kBack(benchmark::State& state) {
 }  // namespace
 
 BENCHMARK(BM_Render100kShadows)->Arg(2)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Render100kShadowsNoRim)->Arg(2)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Render100kNoShadows)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Render100kBack)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();

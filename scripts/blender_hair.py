@@ -6,7 +6,7 @@
 # wisp's head space (cm, Y up, +Z forward) maps to Blender's (Z up, −Y forward) by
 # (x, y, z) → (x, −z, y), one Blender unit per centimetre. wisp's lights are given relative
 # to the camera (RenderOptions: key (−0.8, 0.6, 0.3) × 1.5, fill (0.8, 0.1, 0.6) × 0.2,
-# ambient 0.05); wisp's shading has no 1/π, so a sun of strength π·L gives the same
+# rim (0.45, 0.5, −0.75) × 1.6, ambient 0.05); wisp's shading has no 1/π, so a sun of strength π·L gives the same
 # irradiance on a Lambertian surface.
 import importlib.util
 import math
@@ -89,6 +89,7 @@ def camera_light(direction, strength, name):
 
 camera_light((-0.8, 0.6, 0.3), 1.5, "key")
 camera_light((0.8, 0.1, 0.6), 0.2, "fill")
+camera_light((0.45, 0.5, -0.75), 1.6, "rim")
 
 # Ambient 0.05 lights the scene; the camera sees wisp's grey background.
 world = bpy.data.worlds.new("world")

@@ -96,6 +96,7 @@ struct LookArgs {
     float fov = 30.f;
     float specular_exponent = 80.f, specular_strength = -1.f;
     std::string shading = "hair";
+    float rim = 1.f;
     bool no_shadows = false;
 
     void add_to(CLI::App* cmd) {
@@ -117,6 +118,10 @@ struct LookArgs {
                         "Highlight strength: Kajiya-Kay's k_s (0.5), or a factor on the hair "
                         "shading's highlights (1; 0 shows the hair's own colour)")
             ->check(CLI::Range(0.f, 100.f));
+        cmd->add_option("--rim", rim,
+                        "Rim (back) light strength, a factor on the default's (0: off)")
+            ->check(CLI::Range(0.f, 100.f))
+            ->capture_default_str();
         cmd->add_flag("--no-shadows", no_shadows, "Render without self-shadowing");
     }
     void apply(RenderOptions& o) const {
@@ -134,6 +139,7 @@ struct LookArgs {
             o.hair.primary *= specular_strength;
             o.hair.secondary *= specular_strength;
         }
+        o.rim.color *= rim;
         o.shadows = !no_shadows;
     }
 };

@@ -29,6 +29,10 @@ constexpr float kNear = 1e-2f;           // cm; geometry closer to the eye is dr
 constexpr float kOpaque = 1.f / 1024;    // transmittance below which a pixel is done
 constexpr float kHeadBias = 0.02f;       // cm; hair roots sit on the scalp
 constexpr int kSamples = 4;              // head samples per pixel (2×2)
+// Rim-light visibility below which the hair's rim shading is skipped: the rim's lobes weigh at
+// most ~0.5, so it adds under 1/4096 of the rim's colour, a fifth of a level on dark hair.
+// Inside the hair the rim's shadow map is rarely exactly 0, and this saves most of its cost.
+constexpr float kRimInvisible = 1.f / 4096;
 constexpr float kSampleOffsets[kSamples][2] = {
     {0.25f, 0.25f}, {0.75f, 0.25f}, {0.25f, 0.75f}, {0.75f, 0.75f}};
 
@@ -64,7 +68,24 @@ uint8_t to_srgb8(float linear) {
 }
 
 struct Lights {
-    Vec3f key_dir, key_color, fill_dir, fill_color, ambient;
+    Vec3f key_dir, key_color, fill_dir, fill_color, rim_dir, rim_color, ambient;
+    bool rim = false;  // rim_color is not black
+};
+
+// The shadows one directional light casts: the hair's opacity shadow map and the head's depth
+// map, either absent.
+struct LightShadow {
+    std::unique_ptr<OpacityShadowMap> hair;
+    std::unique_ptr<ShadowDepthMap> head;
+
+    // Visibility of the light in [0, 1] at p (cm, head space).
+    float visibility(const Vec3f& p, float bias = 0.05f) const {
+        float v = 1.f;
+        if (head) v *= head->visibility(p, bias);
+        if (hair && v > 0.f) v *= hair->transmittance(p);
+        return v;
+    }
+    float head_texel() const { return head ? head->texel_size() : 0.f; }
 };
 
 Vec3f camera_to_world(const Camera& cam, const Vec3f& d) {
@@ -153,42 +174,48 @@ struct Scene {
     const RenderOptions* options = nullptr;
     Camera camera;
     Lights lights;
-    std::unique_ptr<OpacityShadowMap> osm;
-    std::unique_ptr<ShadowDepthMap> head_shadow;
+    LightShadow key_shadow, rim_shadow;
     std::vector<uint32_t> strand_order;  // strands in Z-order of their projected middles
     float specular_floor = 0.f;          // cone cosine below which the specular term is < 1/4096
     Box3 hair_box;
-
-    // Key-light visibility in [0, 1] at p (cm, head space).
-    float key_visibility(const Vec3f& p, float bias = 0.05f) const {
-        float v = 1.f;
-        if (head_shadow) v *= head_shadow->visibility(p, bias);
-        if (osm && v > 0.f) v *= osm->transmittance(p);
-        return v;
-    }
 };
 
-// The hair's reflectance under the key light (visible fraction `shadow`), the fill light and
-// ambient: the lobes of real hair (`lobes`, the strand's), or Kajiya-Kay.
+// The hair's reflectance under the key light (visible fraction `shadow`), the fill light, the
+// rim light (visible fraction `rim_shadow`) and ambient: the lobes of real hair (`lobes`, the
+// strand's), or Kajiya-Kay.
 Vec3f shade_hair(const Scene& scene, const Vec3f& p, const Vec3f& t, const Vec3f& color,
-                 float shadow, const HairLobeSet& lobes) {
+                 float shadow, float rim_shadow, const HairLobeSet& lobes) {
     const RenderOptions& o = *scene.options;
     const Lights& l = scene.lights;
     const Vec3f e = (scene.camera.eye - p).normalized();
-    if (o.shading == RenderOptions::Shading::kHair)
-        return l.ambient.cwiseProduct(color) +
-               shadow * l.key_color.cwiseProduct(hair_reflectance(t, l.key_dir, e, color, lobes)) +
-               l.fill_color.cwiseProduct(hair_reflectance(t, l.fill_dir, e, color, lobes));
+    if (o.shading == RenderOptions::Shading::kHair) {
+        Vec3f c =
+            l.ambient.cwiseProduct(color) +
+            shadow * l.key_color.cwiseProduct(hair_reflectance(t, l.key_dir, e, color, lobes)) +
+            l.fill_color.cwiseProduct(hair_reflectance(t, l.fill_dir, e, color, lobes));
+        if (l.rim && rim_shadow > kRimInvisible) {
+            // Kajiya-Kay's diffuse term and the shifted lobes have no azimuth: they would light
+            // a strand's far side, where a back light shines, as brightly as its near side.
+            HairLobeSet rim_lobes = lobes;
+            rim_lobes.azimuthal = true;
+            c += rim_shadow *
+                 l.rim_color.cwiseProduct(hair_reflectance(t, l.rim_dir, e, color, rim_lobes));
+        }
+        return c;
+    }
     const Vec3f spec_color = Vec3f::Ones() + o.specular_tint * (color - Vec3f::Ones());
     auto light = [&](const Vec3f& dir) {
         // kajiya_kay_specular, with pow skipped where its value would be invisible.
         const float cone = kajiya_kay_cone_cosine(t, dir, e);
-        const float spec = cone > scene.specular_floor ? std::pow(cone, o.specular_exponent) : 0.f;
+        const float spec =
+            cone > scene.specular_floor ? pow_unit(std::min(cone, 1.f), o.specular_exponent) : 0.f;
         return (o.diffuse_strength * kajiya_kay_diffuse(t, dir)) * color +
                (o.specular_strength * spec) * spec_color;
     };
-    return l.ambient.cwiseProduct(color) + shadow * l.key_color.cwiseProduct(light(l.key_dir)) +
-           l.fill_color.cwiseProduct(light(l.fill_dir));
+    Vec3f c = l.ambient.cwiseProduct(color) + shadow * l.key_color.cwiseProduct(light(l.key_dir)) +
+              l.fill_color.cwiseProduct(light(l.fill_dir));
+    if (l.rim && rim_shadow > kRimInvisible) c += rim_shadow * l.rim_color.cwiseProduct(light(l.rim_dir));
+    return c;
 }
 
 // Pass 3: strand pieces. Strands are laid out in scene.strand_order (neighbours on screen
@@ -253,6 +280,9 @@ void tessellate_strands(const Scene& scene, std::vector<HairVertex>& vertices,
     vertices.resize(first_vertex[strands]);
     const float tip = hair.widths.empty() ? o.tip_width : 1.f;
     const HairLobeSet base_lobes(o.hair);
+    const LightShadow& key = scene.key_shadow;
+    const LightShadow& rim_light = scene.rim_shadow;
+    const bool rim = scene.lights.rim;
     parallel_for(
         strands,
         [&](size_t k_order) {
@@ -276,7 +306,7 @@ void tessellate_strands(const Scene& scene, std::vector<HairVertex>& vertices,
             // Shadows change slowly along a strand: looked up at the control points and
             // interpolated in between.
             int segment = -1;
-            float shadow0 = 1.f, shadow1 = 1.f;
+            float shadow0 = 1.f, shadow1 = 1.f, rim0 = 1.f, rim1 = 1.f;
             for_each_strand_sample(
                 hair, s, width_scale, tip,
                 [&](size_t i, const Vec3f&, const Vec3f&) { return static_cast<int>(m[i]); },
@@ -289,14 +319,21 @@ void tessellate_strands(const Scene& scene, std::vector<HairVertex>& vertices,
                     v.w = 0.f;
                     v.rgb = 0u;
                     if (sample.segment != segment) {
-                        shadow0 = segment < 0 ? scene.key_visibility(p[sample.segment]) : shadow1;
+                        const bool first_segment = segment < 0;
+                        shadow0 = first_segment ? key.visibility(p[sample.segment]) : shadow1;
+                        if (rim)
+                            rim0 = first_segment ? rim_light.visibility(p[sample.segment]) : rim1;
                         segment = sample.segment;
-                        shadow1 = p.size() > 1 ? scene.key_visibility(p[segment + 1]) : shadow0;
+                        const bool more = p.size() > 1;
+                        shadow1 = more ? key.visibility(p[segment + 1]) : shadow0;
+                        if (rim) rim1 = more ? rim_light.visibility(p[segment + 1]) : rim0;
                     }
                     if (q.z() <= kNear) return;
                     const float shadow = shadow0 + (shadow1 - shadow0) * sample.u;
+                    const float rim_shadow = rim0 + (rim1 - rim0) * sample.u;
                     v.w = sample.width * cam.focal_pixels / q.z();
-                    v.rgb = pack_color(shade_hair(scene, sample.p, sample.t, color, shadow, lobes));
+                    v.rgb = pack_color(
+                        shade_hair(scene, sample.p, sample.t, color, shadow, rim_shadow, lobes));
                 });
             if (k > first) vertices[k - 1].rgb |= kLastOfStrand;
         },
@@ -365,15 +402,18 @@ Vec3f shade_head(const Scene& scene, const HeadGeometry& g, uint32_t face, float
     const Vec3f normal =
         (wa * g.normals[t[0]] + wb * g.normals[t[1]] + wc * g.normals[t[2]]).normalized();
     const Lights& l = scene.lights;
-    const float key = lambert(normal, l.key_dir);
-    // The shadow is looked up off the surface along its normal, more so where the light
+    // A light's shadow is looked up off the surface along its normal, more so where the light
     // grazes it (normal-offset shadows): there a depth texel spans a long run of the faceted
     // surface, whose own depths would otherwise shadow it in stripes (acne).
-    const float texel = scene.head_shadow ? scene.head_shadow->texel_size() : 0.f;
-    const float offset = 0.05f + texel * (0.5f + 2.5f * (1.f - key));
-    const float shadow = key > 0.f ? scene.key_visibility(p + offset * normal, 0.1f) : 0.f;
-    const Vec3f light =
-        l.ambient + (key * shadow) * l.key_color + lambert(normal, l.fill_dir) * l.fill_color;
+    auto lit = [&](const Vec3f& dir, const LightShadow& shadow) {
+        const float cosine = lambert(normal, dir);
+        if (cosine <= 0.f) return 0.f;
+        const float offset = 0.05f + shadow.head_texel() * (0.5f + 2.5f * (1.f - cosine));
+        return cosine * shadow.visibility(p + offset * normal, 0.1f);
+    };
+    Vec3f light = l.ambient + lit(l.key_dir, scene.key_shadow) * l.key_color +
+                  lambert(normal, l.fill_dir) * l.fill_color;
+    if (l.rim) light += lit(l.rim_dir, scene.rim_shadow) * l.rim_color;
     return light.cwiseProduct(scene.options->skin_color);
 }
 
@@ -447,6 +487,12 @@ void render_tile(const Scene& scene, const HeadGeometry& head, const Bins<uint32
     accum.fill(0.f);
     trans.fill(1.f);
     int open = (x1 - x0) * (y1 - y0);
+    // Bit x of open_row[y] is set while pixel (x0 + x, y0 + y) is not yet opaque: a piece
+    // whose pixels are all closed is skipped before it is rasterized (in the middle of a dense
+    // layer, most are), which changes nothing in the picture.
+    std::array<uint32_t, kTile> open_row{};
+    for (int y = 0; y < y1 - y0; ++y)
+        open_row[y] = static_cast<uint32_t>((uint64_t{1} << (x1 - x0)) - 1);
     thread_local std::vector<uint32_t> order, scratch;
     const uint64_t begin = hair_bins.offsets[tile], end = hair_bins.offsets[tile + 1];
     sort_by_key(&hair_bins.keys[begin], &hair_bins.items[begin], end - begin, order, scratch);
@@ -463,6 +509,26 @@ void render_tile(const Scene& scene, const HeadGeometry& head, const Bins<uint32
         }
         const HairVertex& v0 = vertices[order[k]];
         const HairVertex& v1 = (&v0)[1];
+        {
+            // The piece's pixels: its ends' box widened by its width (rasterize_strand_piece
+            // reaches width / cos(slope) / 2 < 0.71 width across the line) and a pixel.
+            const float r = std::max(v0.w, v1.w) + 1.f;
+            const int px0 =
+                std::max(0, static_cast<int>(std::floor(std::min(v0.x, v1.x) - r)) - x0);
+            const int px1 =
+                std::min(x1 - x0 - 1, static_cast<int>(std::floor(std::max(v0.x, v1.x) + r)) - x0);
+            const int py0 =
+                std::max(0, static_cast<int>(std::floor(std::min(v0.y, v1.y) - r)) - y0);
+            const int py1 =
+                std::min(y1 - y0 - 1, static_cast<int>(std::floor(std::max(v0.y, v1.y) + r)) - y0);
+            if (px0 > px1 || py0 > py1) continue;
+            const uint32_t columns =
+                static_cast<uint32_t>(((uint64_t{2} << px1) - 1) & ~((uint64_t{1} << px0) - 1));
+            uint32_t any = 0;
+            for (int y = py0; y <= py1; ++y)
+                any |= open_row[y];
+            if ((any & columns) == 0) continue;
+        }
         const Piece piece{v0.x, v0.y, v1.x, v1.y, v0.z, v1.z, v0.w, v1.w, v0.rgb, v1.rgb};
         const Vec3f c0 = unpack_color(piece.c0), dc = unpack_color(piece.c1) - c0;
         const float z0 = piece.z0, dz = piece.z1 - piece.z0;
@@ -487,7 +553,10 @@ void render_tile(const Scene& scene, const HeadGeometry& head, const Bins<uint32
                                    accum[3 * p + 2] += w * (c0.z() + dc.z() * t);
                                    tr -= w;
                                    ++fragments;
-                                   if (tr < kOpaque) --open;
+                                   if (tr < kOpaque) {
+                                       --open;
+                                       open_row[y - y0] &= ~(1u << (x - x0));
+                                   }
                                });
     }
     counters.fragments += fragments;
@@ -550,8 +619,14 @@ Box3 hair_bounds(const Hair& hair) {
 Box3 framing_bounds(const Hair& hair, const Mesh* head) {
     const Box3 hair_box = hair_bounds(hair);
     Box3 box = hair_box;
-    if (head) {
-        const float floor_y = hair_box.empty() ? -INFINITY : hair_box.lo.y() - 4.f;
+    if (head && !head->vertices.empty()) {
+        // Down to 4 cm below the hair, and at least to the chin: a head is 22–24 cm from crown
+        // to chin, so 26 cm below the mesh's top frames the face under short hair too.
+        float head_top = -INFINITY;
+        for (const Vec3f& v : head->vertices)
+            head_top = std::max(head_top, v.y());
+        const float floor_y =
+            hair_box.empty() ? -INFINITY : std::min(hair_box.lo.y() - 4.f, head_top - 26.f);
         for (const Vec3f& v : head->vertices)
             if (v.y() >= floor_y) box.extend(v);
     }
@@ -589,6 +664,9 @@ RgbImage render(const Hair& hair, const Mesh* head, const RenderOptions& o, Rend
     scene.lights.key_color = o.key.color;
     scene.lights.fill_dir = camera_to_world(scene.camera, o.fill.direction);
     scene.lights.fill_color = o.fill.color;
+    scene.lights.rim_dir = camera_to_world(scene.camera, o.rim.direction);
+    scene.lights.rim_color = o.rim.color;
+    scene.lights.rim = o.rim.color.maxCoeff() > 0.f;
     scene.lights.ambient = o.ambient;
     scene.specular_floor = std::pow(1.f / 4096.f, 1.f / std::max(o.specular_exponent, 1e-3f));
     lap("camera");
@@ -596,18 +674,27 @@ RgbImage render(const Hair& hair, const Mesh* head, const RenderOptions& o, Rend
     if (o.shadows) {
         Box3 all = scene.hair_box;
         if (scene.head) all.extend(scene.head->bounds());
-        const LightFrame frame = LightFrame::towards(scene.lights.key_dir);
-        if (hair.point_count() > 0) {
-            OpacityShadowMapOptions so;
-            so.resolution = o.shadow_resolution;
-            so.slices = o.shadow_slices;
-            so.strand_opacity = o.shadow_opacity;
-            so.width_scale = o.width_scale;
-            so.tip_width = hair.widths.empty() ? o.tip_width : 1.f;
-            scene.osm = std::make_unique<OpacityShadowMap>(hair, frame, scene.hair_box, so);
-        }
-        if (scene.head)
-            scene.head_shadow = std::make_unique<ShadowDepthMap>(*scene.head, frame, all, 512);
+        auto cast = [&](const Vec3f& dir, int resolution, int slices, float opacity,
+                        int head_resolution, LightShadow& out) {
+            const LightFrame frame = LightFrame::towards(dir);
+            if (hair.point_count() > 0) {
+                OpacityShadowMapOptions so;
+                so.resolution = resolution;
+                so.slices = slices;
+                so.strand_opacity = opacity;
+                so.width_scale = o.width_scale;
+                so.tip_width = hair.widths.empty() ? o.tip_width : 1.f;
+                out.hair = std::make_unique<OpacityShadowMap>(hair, frame, scene.hair_box, so);
+            }
+            if (scene.head)
+                out.head =
+                    std::make_unique<ShadowDepthMap>(*scene.head, frame, all, head_resolution);
+        };
+        cast(scene.lights.key_dir, o.shadow_resolution, o.shadow_slices, o.shadow_opacity, 512,
+             scene.key_shadow);
+        if (scene.lights.rim)
+            cast(scene.lights.rim_dir, o.rim_shadow_resolution, o.rim_shadow_slices,
+                 o.rim_shadow_opacity, 256, scene.rim_shadow);
     }
     lap("shadows");
 

@@ -1,13 +1,15 @@
 #pragma once
 // The hair renderer (Choe & Ko 2005 §5 on the CPU): the head with diffuse skin shading and
-// every strand as a thin camera-facing ribbon along its Catmull-Rom curve, Kajiya-Kay
-// shaded (kajiya_kay.hpp) under a key light, a fill light and ambient, shadowed from the
-// key light by an opacity shadow map of the hair (opacity_shadow_map.hpp) and a depth map
-// of the head (shadow_depth_map.hpp), antialiased by coverage and composited front to back.
+// every strand as a thin camera-facing ribbon along its Catmull-Rom curve, shaded with the
+// lobes of real hair (hair_shading.hpp) or Kajiya-Kay (kajiya_kay.hpp) under a key, a fill
+// and a rim light and ambient, shadowed from the key and the rim light by an opacity shadow
+// map of the hair (opacity_shadow_map.hpp) and a depth map of the head (shadow_depth_map.hpp)
+// each, antialiased by coverage and composited front to back.
 //
 // Passes, each timed in RenderStats::stages:
 //   1. camera       named view framed on framing_bounds(), or an explicit look-at
-//   2. shadows      opacity shadow map of the hair + depth map of the head, from the key light
+//   2. shadows      opacity shadow map of the hair + depth map of the head, from the key and
+//                   from the rim light
 //   3. strands      each Catmull-Rom segment cut into pieces of ≤ ~6 pixels; every piece end
 //                   projected and shaded (Kajiya-Kay × shadow), width tapered to the tip
 //   4. bin          pieces and head triangles binned to 32×32-pixel tiles, in strand order
@@ -61,9 +63,13 @@ struct RenderOptions {
     float specular_strength = 0.5f;
     float specular_exponent = 80.f;
     float specular_tint = 0.4f;
-    // Key from the upper left, fill from the right, both relative to the camera.
+    // Key from the upper left, fill from the right, rim from behind on the upper right, all
+    // relative to the camera. The rim (back) light outlines the hair against the background
+    // and makes the hair at the silhouette glow through its transmission lobe; black turns it
+    // off (and its shadow maps with it).
     DirectionalLight key{Vec3f(-0.8f, 0.6f, 0.3f), Vec3f(1.5f, 1.47f, 1.4f)};
     DirectionalLight fill{Vec3f(0.8f, 0.1f, 0.6f), Vec3f(0.19f, 0.2f, 0.22f)};
+    DirectionalLight rim{Vec3f(0.45f, 0.5f, -0.75f), Vec3f(1.6f, 1.6f, 1.7f)};
     Vec3f ambient = Vec3f(0.05f, 0.05f, 0.055f);
 
     // Strands.
@@ -78,11 +84,18 @@ struct RenderOptions {
 
     Vec3f skin_color = Vec3f(0.62f, 0.42f, 0.32f);  // linear RGB albedo of the head
 
-    // Shadows from the key light.
+    // Shadows from the key and the rim light (the fill is soft and casts none).
     bool shadows = true;
-    int shadow_resolution = 192;  // opacity shadow map texels per side
-    int shadow_slices = 48;       // opacity shadow map slabs along the light
+    int shadow_resolution = 192;  // key light: opacity shadow map texels per side
+    int shadow_slices = 48;       // key light: opacity shadow map slabs along the light
+    // The rim light lights only the hair's outer layer at the silhouette, where a coarser
+    // map does as well: texels per side, slabs. Its head depth map is 256² (the key's 512²).
+    int rim_shadow_resolution = 128;
+    int rim_shadow_slices = 32;
     float shadow_opacity = 0.4f;  // light blocked by one strand fully covering a texel
+    // The same for the rim light: a fibre's full opacity, so that the rim lights the outermost
+    // strands of the silhouette and not, through a sparse layer, the whole hair's far side.
+    float rim_shadow_opacity = 1.f;
 };
 
 struct RenderStats {
@@ -94,8 +107,9 @@ struct RenderStats {
 };
 
 // The box that named views frame: the hair and the part of the head above the hair's
-// lowest point less 4 cm (so a bust mesh's shoulders do not shrink short hair); the whole
-// head if there is no hair. Empty only if both are.
+// lowest point less 4 cm, or above 26 cm below the head's top if that is lower (so that the
+// face shows under short hair, and a bust mesh's shoulders do not shrink it); the whole head
+// if there is no hair. Empty only if both are.
 Box3 framing_bounds(const Hair& hair, const Mesh* head);
 
 // The camera render() uses for these options.

@@ -30,6 +30,9 @@ class ShadowDepthMap {
     float texel_ = 1;
     int n_ = 0;
     std::vector<float> depth_;  // #n·n, light-space depth nearest the light (+inf if none)
+    // #n·n, the least and greatest depth_ over the 4×4 texels visibility() reads for a lookup
+    // whose first bilinear texel is (x, y): texels [x−1, x+2] × [y−1, y+2], +inf outside.
+    std::vector<float> footprint_lo_, footprint_hi_;
 };
 
 }  // namespace wisp

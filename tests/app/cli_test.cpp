@@ -268,6 +268,21 @@ TEST(Cli, RenderGivesTheSamePictureAtAnyThreadCount) {
     EXPECT_EQ(run("render " + hair.string() + " -o " + a.string() + " --threads -1"), 2);
 }
 
+TEST(Cli, RenderRimLightScalesAndTurnsOff) {
+    Dir d;
+    const fs::path style = d.path / "s.toml";
+    write(style, "[roots]\nwisps = 60\nstrands = 600\npoints_per_strand = 12\n");
+    const fs::path hair = d.path / "h.hair", a = d.path / "a.png", b = d.path / "b.png";
+    ASSERT_EQ(run("generate " + style.string() + " -q -o " + hair.string()), 0);
+    const std::string common = "render " + hair.string() + " --size 64x64 -q --view back -o ";
+    ASSERT_EQ(run(common + a.string()), 0);
+    ASSERT_EQ(run(common + b.string() + " --rim 0"), 0);
+    EXPECT_NE(slurp(a), slurp(b));  // the default rig has a rim light
+    ASSERT_EQ(run(common + b.string() + " --rim 1"), 0);
+    EXPECT_EQ(slurp(a), slurp(b));
+    EXPECT_EQ(run(common + b.string() + " --rim -1"), 2);
+}
+
 TEST(Cli, UsageErrorsQuoteArgumentsEscaped) {
     // CLI11's own messages quote the arguments it did not expect: a terminal escape sequence
     // among them is shown escaped, not sent to the user's terminal.
