@@ -1,8 +1,13 @@
 // The usda writer: text built into one std::string with std::to_chars, strands formatted
 // in parallel blocks and joined in order, so the bytes never depend on the thread count.
 #include <algorithm>
+#include <bit>
 #include <charconv>
 #include <cmath>
+#include <cstring>
+
+#include <tbb/parallel_pipeline.h>
+#include <tbb/task_arena.h>
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
@@ -56,40 +61,65 @@ void append_raw(std::string& out, size_t max_bytes, Write&& write) {
 }
 
 // Text goes to `buf`; with a stream, buf is written out whenever it grows past a few MB,
-// so writing a file never holds the whole text in memory.
+// so writing a file never holds the whole text in memory. `parts` are the block buffers of
+// format_strands, kept from one array to the next so their pages are touched once.
 struct Out {
     std::string buf;
     std::ostream* stream = nullptr;
+    std::vector<std::string> parts;
 
     void flush(bool force = false) {
         if (!stream || (!force && buf.size() < (8u << 20))) return;
         stream->write(buf.data(), static_cast<std::streamsize>(buf.size()));
         buf.clear();
     }
+    // Appends text; with a stream, big blocks go straight to it (no copy into buf).
+    void put(const std::string& text) {
+        if (!stream) {
+            buf += text;
+            return;
+        }
+        flush(true);
+        stream->write(text.data(), static_cast<std::streamsize>(text.size()));
+    }
 };
 
-// Formats strands in parallel: body(strand, text) appends one strand's text. Batches of
-// blocks of strands are formatted in parallel and appended in order, so the bytes never
-// depend on the thread count.
+// Formats strands in blocks: body(strand, text) appends one strand's text. The blocks are
+// formatted on the worker threads while the finished ones go to the output in order (a TBB
+// pipeline whose last stage is serial and in order), so formatting overlaps writing and
+// the bytes never depend on the thread count. A block's buffer is reused by the block
+// `tokens` later: at most `tokens` blocks are in flight and they leave in order, so block b
+// has left before block b + tokens enters.
 template <typename Body>
 void format_strands(Out& out, const Hair& hair, size_t bytes_per_point, Body&& body) {
-    constexpr size_t kBlock = 1024, kBlocksPerBatch = 64;
+    constexpr size_t kBlock = 512;
     const size_t strands = hair.strand_count();
-    std::vector<std::string> parts(kBlocksPerBatch);
-    for (size_t first = 0; first < strands; first += kBlock * kBlocksPerBatch) {
-        const size_t blocks = std::min(kBlocksPerBatch, (strands - first + kBlock - 1) / kBlock);
-        parallel_for(blocks, [&](size_t b) {
-            const size_t lo = first + b * kBlock, hi = std::min(strands, lo + kBlock);
-            std::string& s = parts[b];
-            s.clear();
-            s.reserve((hair.offsets[hi] - hair.offsets[lo]) * bytes_per_point + 32 * (hi - lo));
-            for (size_t i = lo; i < hi; ++i)
-                body(i, s);
-        });
-        for (size_t b = 0; b < blocks; ++b)
-            out.buf += parts[b];
-        out.flush();
-    }
+    const size_t blocks = (strands + kBlock - 1) / kBlock;
+    if (blocks == 0) return;
+    const size_t tokens = 2 * static_cast<size_t>(tbb::this_task_arena::max_concurrency()) + 2;
+    if (out.parts.size() < tokens) out.parts.resize(tokens);
+    size_t next = 0;
+    tbb::parallel_pipeline(
+        tokens,
+        tbb::make_filter<void, size_t>(tbb::filter_mode::serial_in_order,
+                                       [&](tbb::flow_control& fc) -> size_t {
+                                           if (next == blocks) fc.stop();
+                                           return next++;
+                                       }) &
+            tbb::make_filter<size_t, size_t>(
+                tbb::filter_mode::parallel,
+                [&](size_t b) {
+                    const size_t lo = b * kBlock, hi = std::min(strands, lo + kBlock);
+                    std::string& s = out.parts[b % tokens];
+                    s.clear();
+                    s.reserve((hair.offsets[hi] - hair.offsets[lo]) * bytes_per_point +
+                              64 * (hi - lo));
+                    for (size_t i = lo; i < hi; ++i)
+                        body(i, s);
+                    return b;
+                }) &
+            tbb::make_filter<size_t, void>(tbb::filter_mode::serial_in_order,
+                                           [&](size_t b) { out.put(out.parts[b % tokens]); }));
 }
 
 // Head space (Y up) to the layer's axes: Z up turns +Y into +Z, (x, y, z) -> (x, -z, y), the
@@ -187,13 +217,11 @@ void color_primvar(Out& o, const Hair& hair, const char* declaration) {
     }
     out += " = [\n";
     const size_t S = hair.strand_count();
-    for (size_t s = 0; s < S; ++s) {
-        out += "            ";
-        append_raw(out, 3 * kMaxFloatChars + 8,
-                   [&](char* p) { return put_vec(p, hair.colors[s]); });
-        out += s + 1 < S ? ",\n" : "\n";
-        if ((s & 4095) == 0) o.flush();
-    }
+    format_strands(o, hair, 0, [&](size_t s, std::string& t) {
+        t += "            ";
+        append_raw(t, 3 * kMaxFloatChars + 8, [&](char* p) { return put_vec(p, hair.colors[s]); });
+        t += s + 1 < S ? ",\n" : "\n";
+    });
     out += "        ] (\n            interpolation = \"uniform\"\n        )\n";
 }
 
@@ -205,8 +233,24 @@ void end_layer(Out& o, const Hair& hair) {
         t += "            ";
         const uint32_t a = hair.offsets[s], b = hair.offsets[s + 1];
         append_raw(t, (b - a) * (kMaxFloatChars + 2) + 1, [&](char* p) {
+            // Widths repeat along a strand (and are all the default when the hair has none):
+            // a repeated value copies the text of the one before.
+            char last[kMaxFloatChars];
+            size_t last_size = 0;
+            uint32_t last_bits = 0;
             for (uint32_t i = a; i < b; ++i) {
-                p = put_float(p, hair.width_at(i));
+                const float w = hair.width_at(i);
+                const uint32_t bits = std::bit_cast<uint32_t>(w);
+                if (last_size > 0 && bits == last_bits) {
+                    std::memcpy(p, last, last_size);
+                    p += last_size;
+                } else {
+                    char* end = put_float(p, w);
+                    last_size = static_cast<size_t>(end - p);
+                    std::memcpy(last, p, last_size);
+                    last_bits = bits;
+                    p = end;
+                }
                 if (i + 1 < hair.point_count()) {
                     *p++ = ',';
                     *p++ = ' ';

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <regex>
 
+#include "core/parallel.hpp"
 #include "core/timer.hpp"
 #include "io/hair_io.hpp"
 #include "io_test_util.hpp"
@@ -24,6 +25,10 @@ const UsdCurves& prim(const std::vector<UsdCurves>& curves, const std::string& p
     for (const UsdCurves& c : curves)
         if (c.path == path) return c;
     throw std::runtime_error("no prim " + path);
+}
+
+Hair read_usda_from_text(const std::string& text) {
+    return hair_from_usda(parse_usda(text, "mem.usda"), "mem.usda");
 }
 
 std::vector<size_t> segments_of(const UsdCurves& c) {
@@ -44,6 +49,32 @@ TEST(Usda, RoundTripIsBitExact) {
     ASSERT_EQ(r.colors.size(), h.colors.size());
     test::expect_same_colors(h, r);
     EXPECT_EQ(r.wisp, h.wisp);
+}
+
+// Strands are formatted in blocks on the worker threads: the bytes, streamed to a file or
+// built in memory, must not depend on the thread count. Enough strands for many blocks, and
+// widths that repeat along strands (the writer copies a repeated width's text).
+TEST(Usda, BytesIdenticalAtAnyThreadCount) {
+    Hair h = test::random_hair(11, 5000);
+    for (size_t i = 0; i < h.widths.size(); ++i)
+        if (i % 3) h.widths[i] = h.widths[i - 1];
+    h.widths[7] = -0.f;  // same value as 0 but not the same text
+    h.widths[8] = 0.f;
+    std::string one;
+    {
+        const ThreadLimit limit(1);
+        one = encode_usda(h);
+    }
+    for (int threads : {2, 3, 8}) {
+        const ThreadLimit limit(threads);
+        EXPECT_EQ(encode_usda(h), one) << threads << " threads";
+        test::TempPath p(".usda");
+        write_usda(p, h);
+        EXPECT_EQ(test::read_file_text(p), one) << threads << " threads, file";
+    }
+    EXPECT_NE(one.find(", -0, 0, "), std::string::npos);
+    // The reader keeps widths exact (it turns -0 into 0, which == compares equal).
+    EXPECT_EQ(read_usda_from_text(one).widths, h.widths);
 }
 
 TEST(Usda, RoundTripWithDefaults) {
