@@ -252,6 +252,51 @@ constexpr auto kPlainArrayChars = [] {
     return ok;
 }();
 
+// Numbers already parsed, by their text: arrays of scalars that repeat a few values
+// (widths: a taper along the strand, the same for every strand of a length) skip
+// from_chars on a hit. Direct-mapped on a hash of the text.
+struct NumberTextCache {
+    static constexpr size_t kSlots = 64, kMaxText = 16;
+    struct Slot {
+        uint8_t size = 0;  // 0: empty
+        char text[kMaxText];
+        float value;
+    };
+    std::array<Slot, kSlots> slots;
+
+    // Parses the number at [p, e) ending at the first character that cannot continue it;
+    // false if from_chars does not take exactly that text.
+    bool parse(const char*& p, const char* e, float& v) {
+        const char* q = p;
+        while (q < e &&
+               (digit(*q) || *q == '.' || *q == '-' || *q == '+' || *q == 'e' || *q == 'E'))
+            ++q;
+        const size_t n = static_cast<size_t>(q - p);
+        if (n == 0 || n > kMaxText) return from_chars_exact(p, q, v);
+        uint32_t h = 2166136261u;
+        for (size_t k = 0; k < n; ++k)
+            h = (h ^ static_cast<unsigned char>(p[k])) * 16777619u;
+        Slot& slot = slots[h % kSlots];
+        if (slot.size == n && std::memcmp(slot.text, p, n) == 0) {
+            v = slot.value;
+            p = q;
+            return true;
+        }
+        const char* start = p;
+        if (!from_chars_exact(p, q, v)) return false;
+        slot.size = static_cast<uint8_t>(n);
+        std::memcpy(slot.text, start, n);
+        slot.value = v;
+        return true;
+    }
+    static bool from_chars_exact(const char*& p, const char* q, float& v) {
+        const auto r = std::from_chars(p, q, v);
+        if (r.ec != std::errc() || r.ptr != q) return false;
+        p = q;
+        return true;
+    }
+};
+
 // Parses `number` or `(number, ...)` elements separated by commas from [p, e) into out;
 // false on anything else.
 bool parse_plain_block(const char* p, const char* e, std::vector<float>& out, size_t& elements,
@@ -267,6 +312,13 @@ bool parse_plain_block(const char* p, const char* e, std::vector<float>& out, si
         if (r.ec != std::errc()) return false;
         out.push_back(v);
         p = r.ptr;
+        return true;
+    };
+    NumberTextCache cache;
+    auto scalar = [&] {
+        float v;
+        if (!cache.parse(p, e, v)) return false;
+        out.push_back(v);
         return true;
     };
     elements = 0;
@@ -291,7 +343,7 @@ bool parse_plain_block(const char* p, const char* e, std::vector<float>& out, si
                 }
                 return false;
             }
-        } else if (!number()) {
+        } else if (!scalar()) {
             return false;
         }
         if (arity >= 0 && n != arity) return false;
@@ -826,19 +878,21 @@ bool Lexer::float_array_fast(std::vector<float>& out, size_t& elements, int& ari
     });
     arity = -1;
     elements = 0;
-    size_t total = 0;
     for (size_t k = 0; k < blocks; ++k) {
         if (!ok[k]) return false;
         if (counts[k] == 0) continue;
         if (arity >= 0 && arities[k] != arity) return false;
         arity = arities[k];
         elements += counts[k];
-        total += values[k].size();
     }
     if (arity < 0) return false;  // only white space: let the token path handle it
-    out.reserve(out.size() + total);
-    for (const std::vector<float>& v : values)
-        out.insert(out.end(), v.begin(), v.end());
+    std::vector<size_t> at(blocks + 1, out.size());
+    for (size_t k = 0; k < blocks; ++k)
+        at[k + 1] = at[k] + values[k].size();
+    out.resize(at[blocks]);
+    parallel_for(blocks, [&](size_t k) {
+        std::copy(values[k].begin(), values[k].end(), out.begin() + static_cast<long>(at[k]));
+    });
     // Move past the `]`, keeping line numbers right.
     for (const char* q = b; (q = static_cast<const char*>(std::memchr(q, '\n', size_t(e - q))));
          ++q) {

@@ -1,6 +1,7 @@
 // The usda writer: text built into one std::string with std::to_chars, strands formatted
 // in parallel blocks and joined in order, so the bytes never depend on the thread count.
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <charconv>
 #include <cmath>
@@ -50,6 +51,32 @@ char* put_vec(char* p, const Vec3f& v) {
     *p++ = ')';
     return p;
 }
+
+// put_float through a small direct-mapped cache of values already formatted: for arrays
+// that repeat a few values (widths), a hit copies the text instead of formatting.
+struct FloatTextCache {
+    static constexpr size_t kSlots = 64;
+    struct Slot {
+        uint32_t bits = 0;
+        uint8_t size = 0;  // 0: empty
+        char text[kMaxFloatChars];
+    };
+    std::array<Slot, kSlots> slots;
+
+    char* put(char* p, float v) {
+        const uint32_t bits = std::bit_cast<uint32_t>(v);
+        Slot& slot = slots[(bits * 2654435761u) >> 26];
+        if (slot.size > 0 && slot.bits == bits) {
+            std::memcpy(p, slot.text, slot.size);
+            return p + slot.size;
+        }
+        char* end = put_float(p, v);
+        slot.bits = bits;
+        slot.size = static_cast<uint8_t>(end - p);
+        std::memcpy(slot.text, p, slot.size);
+        return end;
+    }
+};
 
 // Appends up to `max_bytes` written by write(char*) -> char* end.
 template <typename Write>
@@ -233,24 +260,12 @@ void end_layer(Out& o, const Hair& hair) {
         t += "            ";
         const uint32_t a = hair.offsets[s], b = hair.offsets[s + 1];
         append_raw(t, (b - a) * (kMaxFloatChars + 2) + 1, [&](char* p) {
-            // Widths repeat along a strand (and are all the default when the hair has none):
-            // a repeated value copies the text of the one before.
-            char last[kMaxFloatChars];
-            size_t last_size = 0;
-            uint32_t last_bits = 0;
+            // Widths take few values (a taper along the strand, the same for strands of the
+            // same length; all the default when the hair has none): a value met before on
+            // this thread copies its text.
+            thread_local FloatTextCache cache;
             for (uint32_t i = a; i < b; ++i) {
-                const float w = hair.width_at(i);
-                const uint32_t bits = std::bit_cast<uint32_t>(w);
-                if (last_size > 0 && bits == last_bits) {
-                    std::memcpy(p, last, last_size);
-                    p += last_size;
-                } else {
-                    char* end = put_float(p, w);
-                    last_size = static_cast<size_t>(end - p);
-                    std::memcpy(last, p, last_size);
-                    last_bits = bits;
-                    p = end;
-                }
+                p = cache.put(p, hair.width_at(i));
                 if (i + 1 < hair.point_count()) {
                     *p++ = ',';
                     *p++ = ' ';
