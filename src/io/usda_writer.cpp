@@ -210,13 +210,16 @@ void check_strands(const Hair& hair, const std::string& name) {
 
 // Header, the Xform and the BasisCurves prim up to (not including) its points. GroomAPI is
 // what Unreal's USD importer looks for to read a BasisCurves prim as a groom.
-void begin_layer(Out& o, const Hair& hair, const std::string& extra_metadata, bool z_up = false) {
+void begin_layer(Out& o, const Hair& hair, const std::string& extra_metadata, bool z_up = false,
+                 const std::string& hair_metadata = {}) {
     std::string& out = o.buf;
     out += "#usda 1.0\n(\n    defaultPrim = \"hair\"\n";
     out += extra_metadata;
     out += z_up ? "    metersPerUnit = 0.01\n    upAxis = \"Z\"\n)\n\n"
                 : "    metersPerUnit = 0.01\n    upAxis = \"Y\"\n)\n\n";
-    out += "def Xform \"hair\"\n{\n    def BasisCurves \"strands\" (\n";
+    out += hair_metadata.empty() ? "def Xform \"hair\"\n{\n"
+                                 : cat("def Xform \"hair\" (\n", hair_metadata, ")\n{\n");
+    out += "    def BasisCurves \"strands\" (\n";
     out += "        prepend apiSchemas = [\"GroomAPI\"]\n    )\n    {\n";
     out += "        uniform token type = \"cubic\"\n";
     out += "        uniform token basis = \"catmullRom\"\n";
@@ -455,6 +458,137 @@ void UsdaAnimationWriter::finish() {
         fail(path_.string(), ": ", m.written, " frames written of ", m.frames, " announced");
     end_animation(m.out, m.first, m.extents);
     m.file.commit();
+}
+
+// ---- Value clips
+
+namespace {
+
+int frame_digits(size_t frames) {
+    int d = 1;
+    for (size_t n = frames > 0 ? frames - 1 : 0; n >= 10; n /= 10)
+        ++d;
+    return std::max(4, d);
+}
+
+// `<dir>/<stem>.` for the files beside `path`.
+std::string clip_prefix(const std::filesystem::path& path) {
+    return (path.parent_path() / path.stem()).string() + ".";
+}
+
+void write_clip_frame(const std::filesystem::path& file, const Hair& frame, size_t index,
+                      const std::string& top) {
+    AtomicFile f(file);
+    Out out;
+    out.stream = &f.stream();
+    out.buf += cat("#usda 1.0\n(\n    doc = \"wisp animation: frame ", index, ", a value clip of ",
+                   top, "\"\n)\n\n");
+    out.buf += "over \"hair\"\n{\n    over BasisCurves \"strands\"\n    {\n";
+    out.buf += "        float3[] extent.timeSamples = {\n            ";
+    append_number(out.buf, index);
+    out.buf += ": ";
+    append_extent(out.buf, extent_of(frame));
+    out.buf += ",\n        }\n        point3f[] points.timeSamples = {\n";
+    add_animation_frame(out, frame, index);
+    out.buf += "        }\n    }\n}\n";
+    out.flush(true);
+    f.commit();
+}
+
+}  // namespace
+
+struct UsdaClipWriter::Impl {
+    Hair first;
+    double fps = 24;
+    size_t frames = 0, written = 0;
+    FileSeries series;
+    Impl(const std::filesystem::path& path, size_t n)
+        : series(clip_prefix(path), ".usda", frame_digits(n)) {}
+};
+
+std::filesystem::path UsdaClipWriter::frame_path(const std::filesystem::path& path, size_t i,
+                                                 size_t frames) {
+    std::string n = std::to_string(i);
+    const auto digits = static_cast<size_t>(frame_digits(frames));
+    if (n.size() < digits) n.insert(0, digits - n.size(), '0');
+    return clip_prefix(path) + n + ".usda";
+}
+
+UsdaClipWriter::UsdaClipWriter(const std::filesystem::path& path, const Hair& first, double fps,
+                               size_t frames)
+    : path_(path) {
+    const std::string name = path.string();
+    if (frames == 0) fail(name, ": an animation needs at least one frame");
+    if (!(fps > 0) || !std::isfinite(fps))
+        fail(name, ": frames per second must be positive, not ", fps);
+    // The frame files are named in the top layer as @./<stem>.<i>.usda@.
+    const std::string stem = path.stem().string();
+    if (stem.empty() || stem.find('@') != std::string::npos || excerpt(stem, SIZE_MAX) != stem)
+        fail(name,
+             ": a value clip animation needs a file name without `@` or control "
+             "characters (its frames are named after it)");
+    check_strands(first, name);
+    impl_ = std::make_unique<Impl>(path, frames);
+    impl_->first = first;
+    impl_->fps = fps;
+    impl_->frames = frames;
+}
+
+UsdaClipWriter::~UsdaClipWriter() = default;
+
+void UsdaClipWriter::add(const Hair& frame) {
+    Impl& m = *impl_;
+    if (m.written == m.frames)
+        fail(path_.string(), ": more frames than announced (", m.frames, ")");
+    frame.validate(cat(path_.string(), " frame ", m.written));
+    if (frame.offsets != m.first.offsets)
+        fail(path_.string(), ": frame ", m.written,
+             " has a different topology (strand point counts) than frame 0");
+    const std::filesystem::path file = m.series.path(m.written);
+    write_clip_frame(file, frame, m.written, path_.filename().string());
+    m.series.added(m.written);
+    ++m.written;
+}
+
+void UsdaClipWriter::finish() {
+    Impl& m = *impl_;
+    if (m.written != m.frames)
+        fail(path_.string(), ": ", m.written, " frames written of ", m.frames, " announced");
+    const std::string stem = path_.stem().string();
+    const std::filesystem::path manifest = path_.parent_path() / (stem + ".manifest.usda");
+    write_file_atomic(manifest,
+                      "#usda 1.0\n(\n    doc = \"wisp animation: the attributes its value clips "
+                      "animate\"\n)\n\nover \"hair\"\n{\n    over \"strands\"\n    {\n"
+                      "        float3[] extent\n        point3f[] points\n    }\n}\n");
+    try {
+        std::string clips = "    clips = {\n        dictionary default = {\n";
+        std::string pairs;
+        for (size_t f = 0; f < m.frames; ++f)
+            pairs += cat(f ? ", (" : "(", f, ", ", f, ")");
+        clips += cat("            double2[] active = [", pairs, "]\n");
+        clips += "            asset[] assetPaths = [";
+        for (size_t f = 0; f < m.frames; ++f)
+            clips +=
+                cat(f ? ", @./" : "@./", frame_path(path_, f, m.frames).filename().string(), "@");
+        clips += "]\n";
+        clips +=
+            cat("            asset manifestAssetPath = @./", manifest.filename().string(), "@\n");
+        clips += "            string primPath = \"/hair\"\n";
+        clips += cat("            double2[] times = [", pairs, "]\n        }\n    }\n");
+        write_file_atomic(path_, [&](std::ostream& os) {
+            Out out;
+            out.stream = &os;
+            begin_layer(out, m.first, animation_metadata(m.frames, m.fps), false, clips);
+            // Declared without a value: a local value would be stronger than the clips.
+            out.buf += "        float3[] extent\n        point3f[] points\n";
+            end_layer(out, m.first);
+        });
+    } catch (...) {
+        std::error_code ec;
+        std::filesystem::remove(manifest, ec);
+        throw;
+    }
+    m.series.keep();
 }
 
 }  // namespace wisp
