@@ -486,20 +486,22 @@ struct AnimateArgs {
     float head_scale = 1.f;
     int threads = 0, strands = 0, levels = 0, sub_wisps = 0, wisps_per_group = 0, sections = 0;
     bool single_level = false, quiet = false;
+    std::string usda = "clips";  // .usda layout: clips (a layer per frame) or single
     LookArgs look;
 };
+
+// `name` with a run of '#': itself, or with "_####" before the extension.
+std::string numbered_pattern(const std::string& name) {
+    if (name.find('#') != std::string::npos) return name;
+    const std::filesystem::path p(name);
+    return (p.parent_path() / (p.stem().string() + "_####" + p.extension().string())).string();
+}
 
 // `name` with its run of '#' replaced by the zero-padded frame number; without one,
 // "_####" goes before the extension.
 std::string numbered(const std::string& name, int frame) {
-    std::string pattern = name;
-    size_t first = pattern.find('#');
-    if (first == std::string::npos) {
-        const std::filesystem::path p(name);
-        pattern =
-            (p.parent_path() / (p.stem().string() + "_####" + p.extension().string())).string();
-        first = pattern.find('#');
-    }
+    std::string pattern = numbered_pattern(name);
+    const size_t first = pattern.find('#');
     size_t last = first;
     while (last < pattern.size() && pattern[last] == '#')
         ++last;
@@ -613,14 +615,25 @@ int run_animate(const AnimateArgs& args) {
             settings.strand_held[s] = std::max(settings.strand_held[s], caught[s]);
     }
 
-    // Outputs: one animated .usda, or a numbered file per frame for the other formats.
+    // Outputs: .usda as value clips (a layer per frame and a small top-level layer) or one
+    // time-sampled layer (--usda single); a numbered file per frame for the other formats.
+    // Until the run ends well, every file written so far is removed on an error or a signal.
     std::vector<std::unique_ptr<UsdaAnimationWriter>> usda;
+    std::vector<std::unique_ptr<UsdaClipWriter>> clips;
     std::vector<std::string> per_frame;
+    std::vector<std::unique_ptr<FileSeries>> series;
     for (const std::string& out : args.outputs) {
-        if (hair_format_from_path(out) == HairFormat::kUsda)
-            usda.push_back(std::make_unique<UsdaAnimationWriter>(out, rest, args.fps, args.frames));
-        else
+        if (hair_format_from_path(out) != HairFormat::kUsda) {
             per_frame.push_back(out);
+            const std::string pattern = numbered_pattern(out);
+            const size_t first = pattern.find('#'), last = pattern.find_last_of('#') + 1;
+            series.push_back(std::make_unique<FileSeries>(
+                pattern.substr(0, first), pattern.substr(last), static_cast<int>(last - first)));
+        } else if (args.usda == "single") {
+            usda.push_back(std::make_unique<UsdaAnimationWriter>(out, rest, args.fps, args.frames));
+        } else {
+            clips.push_back(std::make_unique<UsdaClipWriter>(out, rest, args.fps, args.frames));
+        }
     }
     // The frames of an MP4 without --png go to a temporary folder, removed however the run
     // ends.
@@ -650,8 +663,12 @@ int run_animate(const AnimateArgs& args) {
                 [&](int f, const Hair& hair, const FramePose& pose) {
                     for (auto& writer : usda)
                         writer->add(hair);
-                    for (const std::string& out : per_frame)
-                        write_hair(numbered(out, f), hair, write_options);
+                    for (auto& writer : clips)
+                        writer->add(hair);
+                    for (size_t k = 0; k < per_frame.size(); ++k) {
+                        write_hair(numbered(per_frame[k], f), hair, write_options);
+                        series[k]->added(static_cast<size_t>(f));
+                    }
                     if (!png_pattern.empty()) {
                         const Mesh body = pose_body(*head.mesh, frame, pose);
                         // One camera for the clip, following the head's translation so a running
@@ -678,10 +695,19 @@ int run_animate(const AnimateArgs& args) {
                 });
     for (auto& writer : usda)
         writer->finish();
+    for (auto& writer : clips)
+        writer->finish();
+    for (auto& s : series)
+        s->keep();
     for (const std::string& out : args.outputs)
         info(args.quiet,
              cat("wisp: wrote ",
-                 hair_format_from_path(out) == HairFormat::kUsda ? out : numbered(out, 0) + " …"));
+                 hair_format_from_path(out) != HairFormat::kUsda ? numbered(out, 0) + " …"
+                 : args.usda == "single"
+                     ? out
+                     : cat(out, " (value clips ",
+                           UsdaClipWriter::frame_path(out, 0, size_t(args.frames)).string(),
+                           " …)")));
     if (!args.png.empty()) info(args.quiet, cat("wisp: wrote ", numbered(args.png, 0), " …"));
     if (!args.mp4.empty()) {
         // ffmpeg writes beside the target and the file is renamed when complete.
@@ -871,6 +897,12 @@ int run_cli(int argc, char** argv) {
         ->capture_default_str();
     animate_cmd->add_option("--frames", anim.frames, "Frames to write")
         ->check(CLI::Range(1, 100000))
+        ->capture_default_str();
+    animate_cmd
+        ->add_option("--usda", anim.usda,
+                     ".usda output: clips (a layer per frame, referenced by a small top-level "
+                     "layer as USD value clips) or single (one time-sampled layer)")
+        ->check(CLI::IsMember({"clips", "single"}))
         ->capture_default_str();
     animate_cmd->add_option("--fps", anim.fps, "Frames per second")
         ->check(CLI::Range(1.0, 1000.0))

@@ -29,6 +29,39 @@ struct TemporarySlot {
 };
 TemporarySlot g_temporaries[kMaxTemporaries];
 
+// File series (FileSeries): a prefix, a suffix, a digit count and how many files exist, so
+// the handler rebuilds each name without allocating.
+constexpr int kMaxSeries = 8;
+constexpr size_t kMaxSeriesSuffix = 64;
+struct SeriesSlot {
+    std::atomic<int> state{0};  // 0 free, 1 being filled, 2 live
+    std::atomic<size_t> count{0};
+    int digits = 0;
+    size_t prefix_size = 0;
+    char prefix[kMaxTemporaryPath];
+    char suffix[kMaxSeriesSuffix];
+};
+SeriesSlot g_series[kMaxSeries];
+
+// `<prefix><i zero-padded to digits><suffix>` into out (async-signal-safe); false if too long.
+bool series_name(const SeriesSlot& s, size_t i, char* out, size_t cap) {
+    char digits[24];
+    int n = 0;
+    do {
+        digits[n++] = static_cast<char>('0' + i % 10);
+        i /= 10;
+    } while (i > 0 && n < 20);
+    while (n < s.digits && n < 20)
+        digits[n++] = '0';
+    const size_t suffix = std::strlen(s.suffix);
+    if (s.prefix_size + static_cast<size_t>(n) + suffix + 1 > cap) return false;
+    std::memcpy(out, s.prefix, s.prefix_size);
+    for (int k = 0; k < n; ++k)
+        out[s.prefix_size + static_cast<size_t>(k)] = digits[n - 1 - k];
+    std::memcpy(out + s.prefix_size + static_cast<size_t>(n), s.suffix, suffix + 1);
+    return true;
+}
+
 constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP};
 struct sigaction g_previous[std::size(kSignals)];
 
@@ -36,6 +69,12 @@ struct sigaction g_previous[std::size(kSignals)];
 extern "C" void remove_temporaries(int sig) {
     for (TemporarySlot& slot : g_temporaries)
         if (slot.state.load() == 2) ::unlink(slot.path);
+    for (SeriesSlot& series : g_series) {
+        if (series.state.load() != 2) continue;
+        char name[kMaxTemporaryPath + kMaxSeriesSuffix + 24];
+        for (size_t i = 0, n = series.count.load(); i < n; ++i)
+            if (series_name(series, i, name, sizeof name)) ::unlink(name);
+    }
     for (size_t i = 0; i < std::size(kSignals); ++i)
         if (kSignals[i] == sig) ::sigaction(sig, &g_previous[i], nullptr);
     // Delivered with the previous action (by default: terminate) once this handler returns.
@@ -116,6 +155,53 @@ void AtomicFile::commit() {
     if (ec) fail(path_.string(), ": cannot rename temporary file: ", ec.message());
     committed_ = true;
     unregister_temporary(slot_);
+    slot_ = -1;
+}
+
+FileSeries::FileSeries(std::string prefix, std::string suffix, int digits)
+    : prefix_(std::move(prefix)), suffix_(std::move(suffix)), digits_(digits) {
+    if (prefix_.size() >= kMaxTemporaryPath || suffix_.size() >= kMaxSeriesSuffix) return;
+    install_handlers();
+    for (int i = 0; i < kMaxSeries; ++i) {
+        int expected = 0;
+        if (g_series[i].state.compare_exchange_strong(expected, 1)) {
+            SeriesSlot& s = g_series[i];
+            s.count.store(0);
+            s.digits = digits_;
+            s.prefix_size = prefix_.size();
+            std::memcpy(s.prefix, prefix_.data(), prefix_.size());
+            std::memcpy(s.suffix, suffix_.c_str(), suffix_.size() + 1);
+            s.state.store(2);
+            slot_ = i;
+            return;
+        }
+    }
+}
+
+FileSeries::~FileSeries() {
+    if (slot_ >= 0) g_series[slot_].state.store(0);
+    if (kept_) return;
+    for (size_t i = 0; i < count_; ++i) {
+        std::error_code ec;
+        std::filesystem::remove(path(i), ec);
+    }
+}
+
+std::filesystem::path FileSeries::path(size_t i) const {
+    std::string n = std::to_string(i);
+    if (n.size() < static_cast<size_t>(digits_))
+        n.insert(0, static_cast<size_t>(digits_) - n.size(), '0');
+    return prefix_ + n + suffix_;
+}
+
+void FileSeries::added(size_t i) {
+    count_ = std::max(count_, i + 1);
+    if (slot_ >= 0) g_series[slot_].count.store(count_);
+}
+
+void FileSeries::keep() {
+    kept_ = true;
+    if (slot_ >= 0) g_series[slot_].state.store(0);
     slot_ = -1;
 }
 

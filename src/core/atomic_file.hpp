@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <string>
 #include <string_view>
 
 namespace wisp {
@@ -27,6 +28,29 @@ class AtomicFile {
     std::ofstream out_;
     bool committed_ = false;
     int slot_ = -1;  // in the table of temporaries the signal handler removes
+};
+
+// Numbered files written one after another (an animation's frames, `<prefix><i><suffix>`
+// with i zero-padded to `digits`), removed together unless kept: by the destructor, and by
+// the signal handler above on SIGINT, SIGTERM and SIGHUP, so an interrupted run leaves none
+// of them behind. Write each file with an AtomicFile at path(i), then call added(i).
+class FileSeries {
+  public:
+    FileSeries(std::string prefix, std::string suffix, int digits);
+    ~FileSeries();  // removes files 0 .. count-1 unless kept
+    FileSeries(const FileSeries&) = delete;
+    FileSeries& operator=(const FileSeries&) = delete;
+
+    std::filesystem::path path(size_t i) const;
+    void added(size_t i);  // files 0 .. i exist now
+    void keep();           // the series is complete: nothing is removed
+
+  private:
+    std::string prefix_, suffix_;
+    int digits_;
+    size_t count_ = 0;
+    bool kept_ = false;
+    int slot_ = -1;
 };
 
 // Writes `bytes` to path atomically.

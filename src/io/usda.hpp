@@ -18,6 +18,7 @@
 // ("...", '...', """..."""), asset and path literals, `#`, `//` and `/* */` comments
 // anywhere (also inside arrays). Value of an attribute: the default value when one is
 // authored and not blocked, else the earliest time sample (else none).
+#include <array>
 #include <filesystem>
 #include <memory>
 #include <span>
@@ -47,12 +48,27 @@ struct UsdCurves {
     bool has_normals = false;  // ribbons: normals are read past, not kept
 };
 
-// Layer metadata wisp uses, and the BasisCurves prims in file order.
+// One explicit set of USD value clips, authored on prim `prim` as
+// `clips = { dictionary <name> = { ... } }` (the clips API's metadata, as written).
+struct UsdClipSet {
+    std::string prim;  // prim path holding the metadata, e.g. "/hair"
+    std::string name;  // clip set, e.g. "default"
+    size_t line = 0;
+    std::vector<std::string> asset_paths;       // assetPaths, as authored
+    std::vector<std::array<double, 2>> active;  // active: (stage time, asset index)
+    std::vector<std::array<double, 2>> times;   // times: (stage time, clip time)
+    std::string prim_path;                      // primPath: `prim` inside each clip
+    std::string manifest, template_asset_path;  // as authored, "" when not
+};
+
+// Layer metadata wisp uses, the BasisCurves prims in file order and the value clip sets.
 struct UsdaLayer {
     std::string up_axis = "Y";      // "Y" or "Z"; USD's fallback when unauthored is Y
     double meters_per_unit = 0.01;  // USD's fallback (centimetres)
     double time_codes_per_second = 24.0;
+    double start_time_code = 0;  // startTimeCode (0 when unauthored)
     std::vector<UsdCurves> curves;
+    std::vector<UsdClipSet> clip_sets;
 };
 
 // Parses usda text; `name` (the file) starts every error message ("name:line:col: ...").
@@ -126,6 +142,31 @@ class UsdaAnimationWriter {
     ~UsdaAnimationWriter();
     void add(const Hair& frame);
     void finish();
+
+  private:
+    struct Impl;
+    std::filesystem::path path_;
+    std::unique_ptr<Impl> impl_;
+};
+
+// Animation as USD value clips, so a long animation is written frame by frame and loads
+// lazily: frame i goes to its own layer `<stem>.<iiii>.usda` beside `path` (points and
+// extent at time code i under `over "hair" { over BasisCurves "strands" }`) as add() gets it;
+// finish() writes `<stem>.manifest.usda` (the animated attributes, declared) and the small
+// top-level layer at `path`: the topology, widths and colors of frame 0 with `points` and
+// `extent` declared, and on /hair the metadata `clips = { dictionary default = { active,
+// assetPaths, manifestAssetPath, primPath, times } }` (frame i active from time code i,
+// clip time i). Each file is written atomically; destroying the writer unfinished, or
+// SIGINT/SIGTERM/SIGHUP, removes the frames already written.
+class UsdaClipWriter {
+  public:
+    UsdaClipWriter(const std::filesystem::path& path, const Hair& first, double fps, size_t frames);
+    ~UsdaClipWriter();
+    void add(const Hair& frame);
+    void finish();
+    // The file frame `i` of an animation of `frames` frames written to `path` goes to.
+    static std::filesystem::path frame_path(const std::filesystem::path& path, size_t i,
+                                            size_t frames);
 
   private:
     struct Impl;

@@ -252,6 +252,51 @@ constexpr auto kPlainArrayChars = [] {
     return ok;
 }();
 
+// Numbers already parsed, by their text: arrays of scalars that repeat a few values
+// (widths: a taper along the strand, the same for every strand of a length) skip
+// from_chars on a hit. Direct-mapped on a hash of the text.
+struct NumberTextCache {
+    static constexpr size_t kSlots = 64, kMaxText = 16;
+    struct Slot {
+        uint8_t size = 0;  // 0: empty
+        char text[kMaxText];
+        float value;
+    };
+    std::array<Slot, kSlots> slots;
+
+    // Parses the number at [p, e) ending at the first character that cannot continue it;
+    // false if from_chars does not take exactly that text.
+    bool parse(const char*& p, const char* e, float& v) {
+        const char* q = p;
+        while (q < e &&
+               (digit(*q) || *q == '.' || *q == '-' || *q == '+' || *q == 'e' || *q == 'E'))
+            ++q;
+        const size_t n = static_cast<size_t>(q - p);
+        if (n == 0 || n > kMaxText) return from_chars_exact(p, q, v);
+        uint32_t h = 2166136261u;
+        for (size_t k = 0; k < n; ++k)
+            h = (h ^ static_cast<unsigned char>(p[k])) * 16777619u;
+        Slot& slot = slots[h % kSlots];
+        if (slot.size == n && std::memcmp(slot.text, p, n) == 0) {
+            v = slot.value;
+            p = q;
+            return true;
+        }
+        const char* start = p;
+        if (!from_chars_exact(p, q, v)) return false;
+        slot.size = static_cast<uint8_t>(n);
+        std::memcpy(slot.text, start, n);
+        slot.value = v;
+        return true;
+    }
+    static bool from_chars_exact(const char*& p, const char* q, float& v) {
+        const auto r = std::from_chars(p, q, v);
+        if (r.ec != std::errc() || r.ptr != q) return false;
+        p = q;
+        return true;
+    }
+};
+
 // Parses `number` or `(number, ...)` elements separated by commas from [p, e) into out;
 // false on anything else.
 bool parse_plain_block(const char* p, const char* e, std::vector<float>& out, size_t& elements,
@@ -267,6 +312,13 @@ bool parse_plain_block(const char* p, const char* e, std::vector<float>& out, si
         if (r.ec != std::errc()) return false;
         out.push_back(v);
         p = r.ptr;
+        return true;
+    };
+    NumberTextCache cache;
+    auto scalar = [&] {
+        float v;
+        if (!cache.parse(p, e, v)) return false;
+        out.push_back(v);
         return true;
     };
     elements = 0;
@@ -291,7 +343,7 @@ bool parse_plain_block(const char* p, const char* e, std::vector<float>& out, si
                 }
                 return false;
             }
-        } else if (!number()) {
+        } else if (!scalar()) {
             return false;
         }
         if (arity >= 0 && n != arity) return false;
@@ -350,6 +402,7 @@ class Parser {
                     layer_.up_axis = std::string(v.text);
                 if (key == "metersPerUnit") layer_.meters_per_unit = number(v);
                 if (key == "timeCodesPerSecond") layer_.time_codes_per_second = number(v);
+                if (key == "startTimeCode") layer_.start_time_code = number(v);
             });
         }
         for (;;) {
@@ -397,6 +450,12 @@ class Parser {
     // values (lists, dictionaries) are skipped.
     template <typename On>
     void parse_metadata(On&& on) {
+        parse_metadata(on, [](std::string_view) { return false; });
+    }
+    // on_group(key) may read a group value (the next token opens it) and return true;
+    // returning false skips it.
+    template <typename On, typename OnGroup>
+    void parse_metadata(On&& on, OnGroup&& on_group) {
         for (;;) {
             Token t = lx_.next();
             if (t.is(')')) return;
@@ -427,7 +486,7 @@ class Parser {
             lx_.next();
             const Token& v = lx_.peek();
             if (v.opens()) {
-                skip_value();
+                if (!on_group(key)) skip_value();
             } else {
                 Token value = lx_.next();
                 if (value.closes() || value.kind == TokKind::kEnd)
@@ -542,6 +601,107 @@ class Parser {
         }
     }
 
+    // A type in a dictionary entry: `double2[]`, `asset`, `string`, `dictionary`.
+    Token dictionary_type() {
+        const Token t = lx_.next();
+        if (t.kind != TokKind::kIdent)
+            lx_.error(t, "expected a type in a dictionary, found ", describe(t));
+        if (lx_.peek().is('[')) {
+            lx_.next();
+            lx_.expect(']', "after `[` in an array type");
+        }
+        return t;
+    }
+    Token dictionary_key(const Token& type) {
+        const Token k = lx_.next();
+        if (k.kind != TokKind::kIdent && k.kind != TokKind::kString)
+            lx_.error(k, "expected a name after `", excerpt(type.text), "`, found ", describe(k));
+        lx_.expect('=', cat("after `", excerpt(k.text), "`"));
+        return k;
+    }
+
+    // `[(a, b), ...]` of a clip's active or times.
+    std::vector<std::array<double, 2>> number_pairs(std::string_view what) {
+        std::vector<std::array<double, 2>> out;
+        lx_.expect('[', cat("to open clip ", what));
+        if (lx_.accept(']')) return out;
+        for (;;) {
+            lx_.expect('(', cat("to open a pair of clip ", what));
+            std::array<double, 2> pair{};
+            pair[0] = number(lx_.next());
+            lx_.expect(',', cat("in a pair of clip ", what));
+            pair[1] = number(lx_.next());
+            lx_.expect(')', cat("to close a pair of clip ", what));
+            out.push_back(pair);
+            const Token sep = lx_.next();
+            if (sep.is(']')) return out;
+            if (!sep.is(','))
+                lx_.error(sep, "expected `,` or `]` in clip ", what, ", found ", describe(sep));
+            if (lx_.accept(']')) return out;
+        }
+    }
+
+    // The `clips = { dictionary <set> = { ... } }` metadata of prim `prim`: USD value clips
+    // (https://openusd.org/release/api/_usd__page__value_clips.html). Explicit clip sets are
+    // kept (assetPaths, active, times, primPath, manifestAssetPath); other entries skipped.
+    void parse_clips(const std::string& prim) {
+        const Token open = lx_.expect('{', "to open clips");
+        for (;;) {
+            if (lx_.accept('}')) return;
+            if (lx_.peek().kind == TokKind::kEnd) lx_.error(open, "clips `{` is never closed");
+            if (lx_.accept(';') || lx_.accept(',')) continue;
+            const Token type = dictionary_type();
+            const Token name = dictionary_key(type);
+            if (!type.is_ident("dictionary") || !lx_.peek().is('{')) {
+                skip_value();
+                continue;
+            }
+            UsdClipSet set;
+            set.prim = prim;
+            set.name = std::string(name.text);
+            set.line = name.line;
+            const Token set_open = lx_.expect('{', "to open a clip set");
+            for (;;) {
+                if (lx_.accept('}')) break;
+                if (lx_.peek().kind == TokKind::kEnd)
+                    lx_.error(set_open, "clip set `{` is never closed");
+                if (lx_.accept(';') || lx_.accept(',')) continue;
+                const Token entry_type = dictionary_type();
+                const Token key = dictionary_key(entry_type);
+                if (key.text == "assetPaths") {
+                    lx_.expect('[', "to open clip assetPaths");
+                    while (!lx_.accept(']')) {
+                        const Token a = lx_.next();
+                        if (a.kind != TokKind::kAsset)
+                            lx_.error(a, "expected an asset path @...@ in clip assetPaths, found ",
+                                      describe(a));
+                        set.asset_paths.emplace_back(a.text);
+                        if (!lx_.accept(',') && !lx_.peek().is(']'))
+                            lx_.error(lx_.peek(), "expected `,` or `]` in clip assetPaths, found ",
+                                      describe(lx_.peek()));
+                    }
+                } else if (key.text == "active") {
+                    set.active = number_pairs("active");
+                } else if (key.text == "times") {
+                    set.times = number_pairs("times");
+                } else if (key.text == "primPath" || key.text == "manifestAssetPath" ||
+                           key.text == "templateAssetPath") {
+                    const Token v = lx_.next();
+                    if (v.kind != TokKind::kString && v.kind != TokKind::kAsset)
+                        lx_.error(v, "expected a string for clip ", key.text, ", found ",
+                                  describe(v));
+                    (key.text == "primPath"            ? set.prim_path
+                     : key.text == "manifestAssetPath" ? set.manifest
+                                                       : set.template_asset_path) =
+                        std::string(v.text);
+                } else {
+                    skip_value();
+                }
+            }
+            layer_.clip_sets.push_back(std::move(set));
+        }
+    }
+
     void parse_prim(const std::string& parent, int depth, bool in_class) {
         const Token keyword = lx_.next();
         if (depth > kMaxDepth) lx_.error(keyword, "prims nested too deeply");
@@ -560,7 +720,12 @@ class Parser {
         const std::string path = cat(parent, "/", t.text);
         if (lx_.peek().is('(')) {
             lx_.next();
-            parse_metadata([](std::string_view, const Token&) {});
+            parse_metadata([](std::string_view, const Token&) {},
+                           [&](std::string_view key) {
+                               if (key != "clips" || !lx_.peek().is('{') || in_class) return false;
+                               parse_clips(path);
+                               return true;
+                           });
         }
         lx_.expect('{', cat("to open prim ", path));
         const bool is_class = in_class || keyword.text == "class";
@@ -826,19 +991,21 @@ bool Lexer::float_array_fast(std::vector<float>& out, size_t& elements, int& ari
     });
     arity = -1;
     elements = 0;
-    size_t total = 0;
     for (size_t k = 0; k < blocks; ++k) {
         if (!ok[k]) return false;
         if (counts[k] == 0) continue;
         if (arity >= 0 && arities[k] != arity) return false;
         arity = arities[k];
         elements += counts[k];
-        total += values[k].size();
     }
     if (arity < 0) return false;  // only white space: let the token path handle it
-    out.reserve(out.size() + total);
-    for (const std::vector<float>& v : values)
-        out.insert(out.end(), v.begin(), v.end());
+    std::vector<size_t> at(blocks + 1, out.size());
+    for (size_t k = 0; k < blocks; ++k)
+        at[k + 1] = at[k] + values[k].size();
+    out.resize(at[blocks]);
+    parallel_for(blocks, [&](size_t k) {
+        std::copy(values[k].begin(), values[k].end(), out.begin() + static_cast<long>(at[k]));
+    });
     // Move past the `]`, keeping line numbers right.
     for (const char* q = b; (q = static_cast<const char*>(std::memchr(q, '\n', size_t(e - q))));
          ++q) {
@@ -859,10 +1026,92 @@ UsdaLayer parse_usda(std::string_view text, const std::string& name) {
     return Parser(text, name).parse();
 }
 
-UsdaLayer read_usda_layer(const std::filesystem::path& path) {
+namespace {
+
+UsdaLayer read_layer_file(const std::filesystem::path& path) {
     return parse_usda(io_detail::read_whole_file(
                           path, {io_detail::kMaxHairFileBytes, "a usda file", true, "#usda "}),
                       path.string());
+}
+
+// The clip set that applies to prim `path`: the one authored on it or on its nearest
+// ancestor (the first in file order when a prim holds several).
+const UsdClipSet* clip_set_for(const UsdaLayer& layer, const std::string& path) {
+    const UsdClipSet* best = nullptr;
+    for (const UsdClipSet& set : layer.clip_sets) {
+        const bool covers =
+            path == set.prim || (path.starts_with(set.prim) && path.size() > set.prim.size() &&
+                                 path[set.prim.size()] == '/');
+        if (covers && (!best || set.prim.size() > best->prim.size())) best = &set;
+    }
+    return best;
+}
+
+// A layer whose BasisCurves prims take their points from value clips (wisp animate's
+// top-level file, or any explicit clip set): each such prim without points of its own gets
+// those of the clip active at the layer's start time code (the clip's earliest sample), so
+// `info`, `render` and `convert` see the first frame. Clips inside clips are not followed
+// (USD ignores a clip's own metadata too).
+void resolve_clips(UsdaLayer& layer, const std::filesystem::path& path) {
+    const std::string name = path.string();
+    std::map<std::string, UsdaLayer> loaded;  // by resolved clip path
+    for (UsdCurves& c : layer.curves) {
+        if (!c.points.empty()) continue;
+        const UsdClipSet* set = clip_set_for(layer, c.path);
+        if (!set) continue;
+        const std::string where = cat(name, ":", set->line, ": clip set \"", excerpt(set->name),
+                                      "\" on ", excerpt(set->prim, 256));
+        if (set->asset_paths.empty()) {
+            if (!set->template_asset_path.empty())
+                fail(where,
+                     ": template clips (templateAssetPath) are not read by wisp; "
+                     "author explicit assetPaths and active (wisp animate does)");
+            fail(where, ": no assetPaths");
+        }
+        if (set->active.empty()) fail(where, ": no active clips");
+        // USD: the clip of the last `active` entry at or before the time; before the first
+        // entry, the first one.
+        std::array<double, 2> pick = set->active.front();
+        for (const auto& a : set->active)
+            if (a[0] < pick[0]) pick = a;
+        for (const auto& a : set->active)
+            if (a[0] <= layer.start_time_code && a[0] >= pick[0]) pick = a;
+        const double index = pick[1];
+        if (!(index >= 0) || index != std::floor(index) ||
+            index >= static_cast<double>(set->asset_paths.size()))
+            fail(where, ": active clip ", index, " is not an index into the ",
+                 set->asset_paths.size(), " assetPaths");
+        const std::string& asset = set->asset_paths[static_cast<size_t>(index)];
+        if (asset.empty() || excerpt(asset, SIZE_MAX) != asset)
+            fail(where, ": clip asset path \"", excerpt(asset),
+                 "\" is empty or holds control characters");
+        const std::filesystem::path file = path.parent_path() / asset;
+        auto it = loaded.find(file.string());
+        if (it == loaded.end()) {
+            try {
+                it = loaded.emplace(file.string(), read_layer_file(file)).first;
+            } catch (const Error& e) {
+                fail(where, ": value clip @", excerpt(asset), "@: ", e.what());
+            }
+        }
+        const std::string anchor = set->prim_path.empty() ? set->prim : set->prim_path;
+        const std::string inside = anchor + c.path.substr(set->prim.size());
+        const UsdCurves* found = nullptr;
+        for (const UsdCurves& k : it->second.curves)
+            if (k.path == inside) found = &k;
+        if (!found || found->points.empty())
+            fail(where, ": value clip @", excerpt(asset), "@ has no points for ",
+                 excerpt(inside, 256));
+        c.points = found->points;
+    }
+}
+
+}  // namespace
+
+UsdaLayer read_usda_layer(const std::filesystem::path& path) {
+    UsdaLayer layer = read_layer_file(path);
+    if (!layer.clip_sets.empty()) resolve_clips(layer, path);
+    return layer;
 }
 
 std::vector<UsdCurves> read_usda_curves(const std::filesystem::path& path) {

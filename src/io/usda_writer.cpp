@@ -1,8 +1,14 @@
 // The usda writer: text built into one std::string with std::to_chars, strands formatted
 // in parallel blocks and joined in order, so the bytes never depend on the thread count.
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <charconv>
 #include <cmath>
+#include <cstring>
+
+#include <tbb/parallel_pipeline.h>
+#include <tbb/task_arena.h>
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
@@ -46,6 +52,32 @@ char* put_vec(char* p, const Vec3f& v) {
     return p;
 }
 
+// put_float through a small direct-mapped cache of values already formatted: for arrays
+// that repeat a few values (widths), a hit copies the text instead of formatting.
+struct FloatTextCache {
+    static constexpr size_t kSlots = 64;
+    struct Slot {
+        uint32_t bits = 0;
+        uint8_t size = 0;  // 0: empty
+        char text[kMaxFloatChars];
+    };
+    std::array<Slot, kSlots> slots;
+
+    char* put(char* p, float v) {
+        const uint32_t bits = std::bit_cast<uint32_t>(v);
+        Slot& slot = slots[(bits * 2654435761u) >> 26];
+        if (slot.size > 0 && slot.bits == bits) {
+            std::memcpy(p, slot.text, slot.size);
+            return p + slot.size;
+        }
+        char* end = put_float(p, v);
+        slot.bits = bits;
+        slot.size = static_cast<uint8_t>(end - p);
+        std::memcpy(slot.text, p, slot.size);
+        return end;
+    }
+};
+
 // Appends up to `max_bytes` written by write(char*) -> char* end.
 template <typename Write>
 void append_raw(std::string& out, size_t max_bytes, Write&& write) {
@@ -56,40 +88,65 @@ void append_raw(std::string& out, size_t max_bytes, Write&& write) {
 }
 
 // Text goes to `buf`; with a stream, buf is written out whenever it grows past a few MB,
-// so writing a file never holds the whole text in memory.
+// so writing a file never holds the whole text in memory. `parts` are the block buffers of
+// format_strands, kept from one array to the next so their pages are touched once.
 struct Out {
     std::string buf;
     std::ostream* stream = nullptr;
+    std::vector<std::string> parts;
 
     void flush(bool force = false) {
         if (!stream || (!force && buf.size() < (8u << 20))) return;
         stream->write(buf.data(), static_cast<std::streamsize>(buf.size()));
         buf.clear();
     }
+    // Appends text; with a stream, big blocks go straight to it (no copy into buf).
+    void put(const std::string& text) {
+        if (!stream) {
+            buf += text;
+            return;
+        }
+        flush(true);
+        stream->write(text.data(), static_cast<std::streamsize>(text.size()));
+    }
 };
 
-// Formats strands in parallel: body(strand, text) appends one strand's text. Batches of
-// blocks of strands are formatted in parallel and appended in order, so the bytes never
-// depend on the thread count.
+// Formats strands in blocks: body(strand, text) appends one strand's text. The blocks are
+// formatted on the worker threads while the finished ones go to the output in order (a TBB
+// pipeline whose last stage is serial and in order), so formatting overlaps writing and
+// the bytes never depend on the thread count. A block's buffer is reused by the block
+// `tokens` later: at most `tokens` blocks are in flight and they leave in order, so block b
+// has left before block b + tokens enters.
 template <typename Body>
 void format_strands(Out& out, const Hair& hair, size_t bytes_per_point, Body&& body) {
-    constexpr size_t kBlock = 1024, kBlocksPerBatch = 64;
+    constexpr size_t kBlock = 512;
     const size_t strands = hair.strand_count();
-    std::vector<std::string> parts(kBlocksPerBatch);
-    for (size_t first = 0; first < strands; first += kBlock * kBlocksPerBatch) {
-        const size_t blocks = std::min(kBlocksPerBatch, (strands - first + kBlock - 1) / kBlock);
-        parallel_for(blocks, [&](size_t b) {
-            const size_t lo = first + b * kBlock, hi = std::min(strands, lo + kBlock);
-            std::string& s = parts[b];
-            s.clear();
-            s.reserve((hair.offsets[hi] - hair.offsets[lo]) * bytes_per_point + 32 * (hi - lo));
-            for (size_t i = lo; i < hi; ++i)
-                body(i, s);
-        });
-        for (size_t b = 0; b < blocks; ++b)
-            out.buf += parts[b];
-        out.flush();
-    }
+    const size_t blocks = (strands + kBlock - 1) / kBlock;
+    if (blocks == 0) return;
+    const size_t tokens = 2 * static_cast<size_t>(tbb::this_task_arena::max_concurrency()) + 2;
+    if (out.parts.size() < tokens) out.parts.resize(tokens);
+    size_t next = 0;
+    tbb::parallel_pipeline(
+        tokens,
+        tbb::make_filter<void, size_t>(tbb::filter_mode::serial_in_order,
+                                       [&](tbb::flow_control& fc) -> size_t {
+                                           if (next == blocks) fc.stop();
+                                           return next++;
+                                       }) &
+            tbb::make_filter<size_t, size_t>(
+                tbb::filter_mode::parallel,
+                [&](size_t b) {
+                    const size_t lo = b * kBlock, hi = std::min(strands, lo + kBlock);
+                    std::string& s = out.parts[b % tokens];
+                    s.clear();
+                    s.reserve((hair.offsets[hi] - hair.offsets[lo]) * bytes_per_point +
+                              64 * (hi - lo));
+                    for (size_t i = lo; i < hi; ++i)
+                        body(i, s);
+                    return b;
+                }) &
+            tbb::make_filter<size_t, void>(tbb::filter_mode::serial_in_order,
+                                           [&](size_t b) { out.put(out.parts[b % tokens]); }));
 }
 
 // Head space (Y up) to the layer's axes: Z up turns +Y into +Z, (x, y, z) -> (x, -z, y), the
@@ -172,16 +229,21 @@ void begin_curves(Out& o, const Hair& hair, const char* name, bool groom_api) {
 
 // Header, the Xform and the BasisCurves prim "strands" up to (not including) its points.
 // GroomAPI goes on the strands, or on the Xform when it holds guides too (Unreal then reads
-// every BasisCurves under it into one groom).
+// every BasisCurves under it into one groom). `hair_metadata` (lines) goes into the Xform's
+// metadata: the value clips of an animation's top-level layer.
 void begin_layer(Out& o, const Hair& hair, const std::string& extra_metadata, bool z_up = false,
-                 bool groom_on_xform = false) {
+                 bool groom_on_xform = false, const std::string& hair_metadata = {}) {
     std::string& out = o.buf;
     out += "#usda 1.0\n(\n    defaultPrim = \"hair\"\n";
     out += extra_metadata;
     out += z_up ? "    metersPerUnit = 0.01\n    upAxis = \"Z\"\n)\n\n"
                 : "    metersPerUnit = 0.01\n    upAxis = \"Y\"\n)\n\n";
-    out += groom_on_xform ? "def Xform \"hair\" (\n    prepend apiSchemas = [\"GroomAPI\"]\n)\n{\n"
-                          : "def Xform \"hair\"\n{\n";
+    const std::string metadata =
+        (groom_on_xform ? std::string("    prepend apiSchemas = [\"GroomAPI\"]\n")
+                        : std::string()) +
+        hair_metadata;
+    out += metadata.empty() ? "def Xform \"hair\"\n{\n"
+                            : cat("def Xform \"hair\" (\n", metadata, ")\n{\n");
     begin_curves(o, hair, "strands", !groom_on_xform);
 }
 
@@ -248,13 +310,11 @@ void color_primvar(Out& o, const Hair& hair, const char* declaration) {
     }
     out += " = [\n";
     const size_t S = hair.strand_count();
-    for (size_t s = 0; s < S; ++s) {
-        out += "            ";
-        append_raw(out, 3 * kMaxFloatChars + 8,
-                   [&](char* p) { return put_vec(p, hair.colors[s]); });
-        out += s + 1 < S ? ",\n" : "\n";
-        if ((s & 4095) == 0) o.flush();
-    }
+    format_strands(o, hair, 0, [&](size_t s, std::string& t) {
+        t += "            ";
+        append_raw(t, 3 * kMaxFloatChars + 8, [&](char* p) { return put_vec(p, hair.colors[s]); });
+        t += s + 1 < S ? ",\n" : "\n";
+    });
     out += "        ] (\n            interpolation = \"uniform\"\n        )\n";
 }
 
@@ -267,8 +327,12 @@ void end_curves(Out& o, const Hair& hair, bool with_guides = false, size_t first
         t += "            ";
         const uint32_t a = hair.offsets[s], b = hair.offsets[s + 1];
         append_raw(t, (b - a) * (kMaxFloatChars + 2) + 1, [&](char* p) {
+            // Widths take few values (a taper along the strand, the same for strands of the
+            // same length; all the default when the hair has none): a value met before on
+            // this thread copies its text.
+            thread_local FloatTextCache cache;
             for (uint32_t i = a; i < b; ++i) {
-                p = put_float(p, hair.width_at(i));
+                p = cache.put(p, hair.width_at(i));
                 if (i + 1 < hair.point_count()) {
                     *p++ = ',';
                     *p++ = ' ';
@@ -560,6 +624,137 @@ void UsdaAnimationWriter::finish() {
         fail(path_.string(), ": ", m.written, " frames written of ", m.frames, " announced");
     end_animation(m.out, m.first, m.extents);
     m.file.commit();
+}
+
+// ---- Value clips
+
+namespace {
+
+int frame_digits(size_t frames) {
+    int d = 1;
+    for (size_t n = frames > 0 ? frames - 1 : 0; n >= 10; n /= 10)
+        ++d;
+    return std::max(4, d);
+}
+
+// `<dir>/<stem>.` for the files beside `path`.
+std::string clip_prefix(const std::filesystem::path& path) {
+    return (path.parent_path() / path.stem()).string() + ".";
+}
+
+void write_clip_frame(const std::filesystem::path& file, const Hair& frame, size_t index,
+                      const std::string& top) {
+    AtomicFile f(file);
+    Out out;
+    out.stream = &f.stream();
+    out.buf += cat("#usda 1.0\n(\n    doc = \"wisp animation: frame ", index, ", a value clip of ",
+                   top, "\"\n)\n\n");
+    out.buf += "over \"hair\"\n{\n    over BasisCurves \"strands\"\n    {\n";
+    out.buf += "        float3[] extent.timeSamples = {\n            ";
+    append_number(out.buf, index);
+    out.buf += ": ";
+    append_extent(out.buf, extent_of(frame));
+    out.buf += ",\n        }\n        point3f[] points.timeSamples = {\n";
+    add_animation_frame(out, frame, index);
+    out.buf += "        }\n    }\n}\n";
+    out.flush(true);
+    f.commit();
+}
+
+}  // namespace
+
+struct UsdaClipWriter::Impl {
+    Hair first;
+    double fps = 24;
+    size_t frames = 0, written = 0;
+    FileSeries series;
+    Impl(const std::filesystem::path& path, size_t n)
+        : series(clip_prefix(path), ".usda", frame_digits(n)) {}
+};
+
+std::filesystem::path UsdaClipWriter::frame_path(const std::filesystem::path& path, size_t i,
+                                                 size_t frames) {
+    std::string n = std::to_string(i);
+    const auto digits = static_cast<size_t>(frame_digits(frames));
+    if (n.size() < digits) n.insert(0, digits - n.size(), '0');
+    return clip_prefix(path) + n + ".usda";
+}
+
+UsdaClipWriter::UsdaClipWriter(const std::filesystem::path& path, const Hair& first, double fps,
+                               size_t frames)
+    : path_(path) {
+    const std::string name = path.string();
+    if (frames == 0) fail(name, ": an animation needs at least one frame");
+    if (!(fps > 0) || !std::isfinite(fps))
+        fail(name, ": frames per second must be positive, not ", fps);
+    // The frame files are named in the top layer as @./<stem>.<i>.usda@.
+    const std::string stem = path.stem().string();
+    if (stem.empty() || stem.find('@') != std::string::npos || excerpt(stem, SIZE_MAX) != stem)
+        fail(name,
+             ": a value clip animation needs a file name without `@` or control "
+             "characters (its frames are named after it)");
+    check_strands(first, name);
+    impl_ = std::make_unique<Impl>(path, frames);
+    impl_->first = first;
+    impl_->fps = fps;
+    impl_->frames = frames;
+}
+
+UsdaClipWriter::~UsdaClipWriter() = default;
+
+void UsdaClipWriter::add(const Hair& frame) {
+    Impl& m = *impl_;
+    if (m.written == m.frames)
+        fail(path_.string(), ": more frames than announced (", m.frames, ")");
+    frame.validate(cat(path_.string(), " frame ", m.written));
+    if (frame.offsets != m.first.offsets)
+        fail(path_.string(), ": frame ", m.written,
+             " has a different topology (strand point counts) than frame 0");
+    const std::filesystem::path file = m.series.path(m.written);
+    write_clip_frame(file, frame, m.written, path_.filename().string());
+    m.series.added(m.written);
+    ++m.written;
+}
+
+void UsdaClipWriter::finish() {
+    Impl& m = *impl_;
+    if (m.written != m.frames)
+        fail(path_.string(), ": ", m.written, " frames written of ", m.frames, " announced");
+    const std::string stem = path_.stem().string();
+    const std::filesystem::path manifest = path_.parent_path() / (stem + ".manifest.usda");
+    write_file_atomic(manifest,
+                      "#usda 1.0\n(\n    doc = \"wisp animation: the attributes its value clips "
+                      "animate\"\n)\n\nover \"hair\"\n{\n    over \"strands\"\n    {\n"
+                      "        float3[] extent\n        point3f[] points\n    }\n}\n");
+    try {
+        std::string clips = "    clips = {\n        dictionary default = {\n";
+        std::string pairs;
+        for (size_t f = 0; f < m.frames; ++f)
+            pairs += cat(f ? ", (" : "(", f, ", ", f, ")");
+        clips += cat("            double2[] active = [", pairs, "]\n");
+        clips += "            asset[] assetPaths = [";
+        for (size_t f = 0; f < m.frames; ++f)
+            clips +=
+                cat(f ? ", @./" : "@./", frame_path(path_, f, m.frames).filename().string(), "@");
+        clips += "]\n";
+        clips +=
+            cat("            asset manifestAssetPath = @./", manifest.filename().string(), "@\n");
+        clips += "            string primPath = \"/hair\"\n";
+        clips += cat("            double2[] times = [", pairs, "]\n        }\n    }\n");
+        write_file_atomic(path_, [&](std::ostream& os) {
+            Out out;
+            out.stream = &os;
+            begin_layer(out, m.first, animation_metadata(m.frames, m.fps), false, false, clips);
+            // Declared without a value: a local value would be stronger than the clips.
+            out.buf += "        float3[] extent\n        point3f[] points\n";
+            end_layer(out, m.first);
+        });
+    } catch (...) {
+        std::error_code ec;
+        std::filesystem::remove(manifest, ec);
+        throw;
+    }
+    m.series.keep();
 }
 
 }  // namespace wisp

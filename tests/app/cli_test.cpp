@@ -178,16 +178,31 @@ TEST(Cli, AnimateWritesFramesDeterministically) {
     write(style,
           "[roots]\nwisps = 80\nstrands = 800\npoints_per_strand = 12\n"
           "[maps]\nlength = 30\n[dynamics]\nsections = 6\n");
-    const fs::path a = d.path / "a.usda", b = d.path / "b.usda";
+    // Value clips (the default) at 1 and 2 threads: same top layer, same frames.
+    const fs::path a = d.path / "a.usda", b = d.path / "two" / "a.usda";
     const std::string common = "animate " + style.string() + " --motion shake --frames 6 -q ";
     ASSERT_EQ(run(common + "--threads 1 -o " + a.string() + " -o " +
                   (d.path / "f_##.hair").string() + " --stats " + (d.path / "s.json").string()),
               0);
     ASSERT_EQ(run(common + "--threads 2 -o " + b.string()), 0);
     EXPECT_EQ(slurp(a), slurp(b));
-    const std::string usda = slurp(a);
+    for (int f = 0; f < 6; ++f) {
+        const std::string name = "a.000" + std::to_string(f) + ".usda";
+        EXPECT_EQ(slurp(d.path / name), slurp(d.path / "two" / name)) << name;
+    }
+    EXPECT_NE(slurp(a).find("asset[] assetPaths = [@./a.0000.usda@, @./a.0001.usda@"),
+              std::string::npos);
+    EXPECT_NE(slurp(d.path / "a.0005.usda").find("points.timeSamples = {\n            5: ["),
+              std::string::npos);
+    // The single time-sampled layer on request.
+    const fs::path single = d.path / "single.usda";
+    ASSERT_EQ(run(common + "--usda single -o " + single.string()), 0);
+    const std::string usda = slurp(single);
     EXPECT_NE(usda.find("points.timeSamples"), std::string::npos);
     EXPECT_NE(usda.find("endTimeCode = 5"), std::string::npos);
+    EXPECT_FALSE(fs::exists(d.path / "single.0000.usda"));
+    // wisp reads the clips' top layer as frame 0, the same strands as the single layer's.
+    EXPECT_EQ(wisp::read_hair(a).points, wisp::read_hair(single).points);
     for (int f = 0; f < 6; ++f)
         EXPECT_TRUE(fs::exists(d.path / ("f_0" + std::to_string(f) + ".hair"))) << f;
     const std::string stats = slurp(d.path / "s.json");

@@ -61,6 +61,49 @@ TEST(AtomicFileDeathTest, SignalsRemoveTheTemporaries) {
     }
 }
 
+// A series of numbered files (an animation's frames) is removed whole unless kept: when
+// its owner unwinds, and on a signal (the files are complete, so AtomicFile's temporaries
+// alone would leave them).
+TEST(FileSeries, RemovedUnlessKeptAlsoOnSignals) {
+    const auto dir = std::filesystem::temp_directory_path();
+    const std::string prefix = (dir / "wisp_series_test_").string();
+    auto write = [&](FileSeries& s, size_t n) {
+        for (size_t i = 0; i < n; ++i) {
+            write_file_atomic(s.path(i), std::string_view("frame"));
+            s.added(i);
+        }
+    };
+    {
+        FileSeries s(prefix, ".hair", 4);
+        EXPECT_EQ(s.path(7).string(), prefix + "0007.hair");
+        EXPECT_EQ(s.path(12345).string(), prefix + "12345.hair");
+        write(s, 3);
+        EXPECT_TRUE(std::filesystem::exists(prefix + "0002.hair"));
+    }
+    for (int i = 0; i < 3; ++i)
+        EXPECT_FALSE(std::filesystem::exists(FileSeries(prefix, ".hair", 4).path(i)));
+    {
+        FileSeries s(prefix, ".hair", 4);
+        write(s, 2);
+        s.keep();
+    }
+    EXPECT_TRUE(std::filesystem::exists(prefix + "0001.hair"));
+    std::filesystem::remove(prefix + "0000.hair");
+    std::filesystem::remove(prefix + "0001.hair");
+
+    GTEST_FLAG_SET(death_test_style, "threadsafe");
+    EXPECT_EXIT(
+        {
+            FileSeries s(prefix, ".usda", 2);
+            write(s, 12);
+            std::raise(SIGINT);
+        },
+        testing::KilledBySignal(SIGINT), "");
+    for (const auto& e : std::filesystem::directory_iterator(dir))
+        EXPECT_EQ(e.path().filename().string().find("wisp_series_test_"), std::string::npos)
+            << e.path();
+}
+
 // Endless files (/dev/zero reports size 0) and files over a limit fail while being read.
 TEST(AtomicFile, ReadLimitsAreCheckedWhileReading) {
     try {

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
@@ -9,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <regex>
 
+#include "core/parallel.hpp"
 #include "core/timer.hpp"
 #include "io/hair_io.hpp"
 #include "io_test_util.hpp"
@@ -24,6 +26,10 @@ const UsdCurves& prim(const std::vector<UsdCurves>& curves, const std::string& p
     for (const UsdCurves& c : curves)
         if (c.path == path) return c;
     throw std::runtime_error("no prim " + path);
+}
+
+Hair read_usda_from_text(const std::string& text) {
+    return hair_from_usda(parse_usda(text, "mem.usda"), "mem.usda");
 }
 
 std::vector<size_t> segments_of(const UsdCurves& c) {
@@ -44,6 +50,32 @@ TEST(Usda, RoundTripIsBitExact) {
     ASSERT_EQ(r.colors.size(), h.colors.size());
     test::expect_same_colors(h, r);
     EXPECT_EQ(r.wisp, h.wisp);
+}
+
+// Strands are formatted in blocks on the worker threads: the bytes, streamed to a file or
+// built in memory, must not depend on the thread count. Enough strands for many blocks, and
+// widths that repeat along strands (the writer copies a repeated width's text).
+TEST(Usda, BytesIdenticalAtAnyThreadCount) {
+    Hair h = test::random_hair(11, 5000);
+    for (size_t i = 0; i < h.widths.size(); ++i)
+        if (i % 3) h.widths[i] = h.widths[i - 1];
+    h.widths[7] = -0.f;  // same value as 0 but not the same text
+    h.widths[8] = 0.f;
+    std::string one;
+    {
+        const ThreadLimit limit(1);
+        one = encode_usda(h);
+    }
+    for (int threads : {2, 3, 8}) {
+        const ThreadLimit limit(threads);
+        EXPECT_EQ(encode_usda(h), one) << threads << " threads";
+        test::TempPath p(".usda");
+        write_usda(p, h);
+        EXPECT_EQ(test::read_file_text(p), one) << threads << " threads, file";
+    }
+    EXPECT_NE(one.find(", -0, 0, "), std::string::npos);
+    // The reader keeps widths exact (it turns -0 into 0, which == compares equal).
+    EXPECT_EQ(read_usda_from_text(one).widths, h.widths);
 }
 
 TEST(Usda, RoundTripWithDefaults) {
@@ -214,6 +246,90 @@ TEST(Usda, StreamedAnimationMatchesTheWholeOne) {
                      "frame 1 has a different topology");
     }
     EXPECT_FALSE(std::filesystem::exists(q.path()));  // never committed: nothing left behind
+}
+
+// Value clips: a layer per frame, a manifest and a top-level layer whose clips metadata
+// names them; wisp reads the top-level layer as frame 0.
+TEST(Usda, ValueClipsWriteAFilePerFrame) {
+    std::vector<Hair> frames;
+    for (int f = 0; f < 3; ++f) {
+        Hair h = test::random_hair(5, 30, 4);
+        for (Vec3f& p : h.points)
+            p.x() += 2.f * float(f);
+        frames.push_back(h);
+    }
+    const auto dir =
+        std::filesystem::temp_directory_path() / ("wisp_clips_test_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const auto top = dir / "anim.usda";
+    {
+        UsdaClipWriter writer(top, frames[0], 24.0, frames.size());
+        for (const Hair& f : frames)
+            writer.add(f);
+        writer.finish();
+    }
+    EXPECT_EQ(UsdaClipWriter::frame_path(top, 2, 3), dir / "anim.0002.usda");
+    EXPECT_EQ(UsdaClipWriter::frame_path(top, 2, 12345), dir / "anim.00002.usda");
+    const std::string text = test::read_file_text(top);
+    for (const char* line :
+         {"def Xform \"hair\" (\n    clips = {\n        dictionary default = {\n",
+          "            double2[] active = [(0, 0), (1, 1), (2, 2)]\n",
+          "            asset[] assetPaths = [@./anim.0000.usda@, @./anim.0001.usda@, "
+          "@./anim.0002.usda@]\n",
+          "            asset manifestAssetPath = @./anim.manifest.usda@\n",
+          "            string primPath = \"/hair\"\n",
+          "            double2[] times = [(0, 0), (1, 1), (2, 2)]\n", "        point3f[] points\n",
+          "    endTimeCode = 2\n"})
+        EXPECT_NE(text.find(line), std::string::npos) << line;
+    EXPECT_EQ(text.find("points = "), std::string::npos);  // a local value would hide the clips
+    const UsdaLayer layer = read_usda_layer(top);
+    ASSERT_EQ(layer.clip_sets.size(), 1u);
+    EXPECT_EQ(layer.clip_sets[0].prim, "/hair");
+    EXPECT_EQ(layer.clip_sets[0].asset_paths.size(), 3u);
+    const Hair first = read_usda(top);
+    test::expect_same_geometry(frames[0], first);
+    EXPECT_EQ(first.colors.size(), frames[0].colors.size());
+    // Each clip holds its frame's points at its time code.
+    const UsdaLayer clip = read_usda_layer(dir / "anim.0002.usda");
+    ASSERT_EQ(clip.curves.size(), 1u);
+    EXPECT_EQ(clip.curves[0].path, "/hair/strands");
+    EXPECT_EQ(clip.curves[0].points, frames[2].points);
+    EXPECT_NE(test::read_file_text(dir / "anim.0002.usda")
+                  .find("        point3f[] points.timeSamples = {\n            2: ["),
+              std::string::npos);
+    EXPECT_TRUE(std::filesystem::exists(dir / "anim.manifest.usda"));
+
+    // A missing clip is named.
+    std::filesystem::remove(dir / "anim.0000.usda");
+    expect_error([&] { read_usda(top); }, "value clip @./anim.0000.usda@");
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    {
+        UsdaClipWriter writer(top, frames[0], 24.0, 3);
+        writer.add(frames[0]);
+        writer.add(frames[1]);
+        EXPECT_TRUE(std::filesystem::exists(dir / "anim.0001.usda"));
+    }  // unfinished: nothing left behind
+    EXPECT_TRUE(std::filesystem::is_empty(dir));
+    std::filesystem::remove_all(dir);
+}
+
+TEST(Usda, ClipMetadataErrors) {
+    const std::string head =
+        "#usda 1.0\ndef Xform \"hair\" (\n clips = {\n dictionary default = {\n";
+    const std::string tail =
+        "}\n}\n)\n{\n def BasisCurves \"c\" {\n int[] curveVertexCounts = [2]\n point3f[] points\n"
+        "}\n}\n";
+    test::TempPath p(".usda");
+    test::write_bytes(p, head + "string templateAssetPath = \"a.#.usd\"\n" + tail);
+    expect_error([&] { read_usda(p); }, "template clips (templateAssetPath) are not read");
+    test::write_bytes(
+        p, head + "asset[] assetPaths = [@x.usda@]\ndouble2[] active = [(0, 3)]\n" + tail);
+    expect_error([&] { read_usda(p); }, "active clip 3 is not an index into the 1 assetPaths");
+    expect_error([&] { parse_usda(head + "asset[] assetPaths = [\"x\"]\n" + tail, "m.usda"); },
+                 "m.usda:5:23: expected an asset path @...@ in clip assetPaths");
+    expect_error([&] { parse_usda(head + "double2[] active = [(0 1)]\n" + tail, "m.usda"); },
+                 "in a pair of clip active");
 }
 
 TEST(Usda, OpenUsdFilesLoad) {
