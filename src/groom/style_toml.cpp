@@ -1433,7 +1433,9 @@ std::string toml_field_terms(const std::vector<FieldTerm>& terms, const fs::path
     return out + "]";
 }
 
-std::string toml_groups(const std::vector<GroupSpec>& groups, const fs::path& base_dir) {
+}  // namespace
+
+std::string groups_to_toml(const std::vector<GroupSpec>& groups, const fs::path& base_dir) {
     std::string out;
     for (const GroupSpec& g : groups) {
         const Selection& s = g.selection;
@@ -1482,8 +1484,6 @@ std::string toml_groups(const std::vector<GroupSpec>& groups, const fs::path& ba
     }
     return out;
 }
-
-}  // namespace
 
 std::string style_field_toml(const Style& style, const StyleField& field,
                              const fs::path& base_dir) {
@@ -1569,7 +1569,7 @@ std::string style_to_toml(const Style& style, const fs::path& base_dir) {
         }
         out += std::string(field_key(field.path)) + " = " + text + "\n";
     }
-    return out + toml_groups(style.groups, base_dir);
+    return out + groups_to_toml(style.groups, base_dir);
 }
 
 void set_style_field(Style& style, std::string_view path, std::string_view toml_value,

@@ -42,6 +42,10 @@ std::string style_field_toml(const Style& style, const StyleField& field,
 // groups they expand into).
 std::string style_to_toml(const Style& style, const std::filesystem::path& base_dir = {});
 
+// Constraint groups as [[group]] entries that parse_style reads back to the same groups.
+std::string groups_to_toml(const std::vector<GroupSpec>& groups,
+                           const std::filesystem::path& base_dir = {});
+
 // Sets the field at `path` ("solve.stiffness") from an inline TOML value with the reader's
 // checks and messages, then the checks between the fields of its section: on error, throws
 // wisp::Error "SOURCE: field 'PATH': REASON" and leaves `style` unchanged. The editor and

@@ -44,6 +44,30 @@ size_t push_out_of_head(Hair& hair, const HeadField& head, float clearance,
                         const std::vector<uint8_t>* near = nullptr, int n = 0,
                         size_t* inside = nullptr);
 
+// The stages generate_hairstyle runs, each a function of the outputs before it (the
+// editor's stage cache, edit/stage_cache.hpp, keeps those and re-runs from a change on).
+// Each appends its sub-stages' times to `times` when given.
+
+// The head's distance field at head_field_cell(style.solve); throws wisp::Error naming the
+// head if its grid would be too large.
+HeadField build_head_field(const Style& style, const Head& head);
+
+// Styling field, density grid and Algorithm 1 (§3, §4): solves `masters` in place.
+SolveStats solve_stage(const Style& style, const Head& head, const HeadField& head_field,
+                       const Roots& roots, Masters& masters, StageTimes* times = nullptr);
+
+struct MembersResult {
+    Hair hair;  // without colors
+    size_t points_pushed = 0, points_inside_head = 0, strands_cut = 0, strands_removed = 0;
+};
+// Members (§2.1), the cut plane (§6.2) and the push out of the head.
+MembersResult members_stage(const Style& style, const Head& head, const HeadField& head_field,
+                            const Roots& roots, const Masters& masters,
+                            StageTimes* times = nullptr);
+
+// A color per strand (§5).
+void color_stage(const Style& style, Hair& hair);
+
 // Runs every stage. The head field is built here unless `head_field` is given (callers
 // that solve repeatedly on one head, like the editor and benchmarks, keep it).
 HairstyleResult generate_hairstyle(const Style& style, const Head& head,
