@@ -29,7 +29,9 @@ std::filesystem::path bench_file(const char* extension) {
            ("wisp_io_bench_" + std::to_string(::getpid()) + "." + extension);
 }
 
-const char* const kFormats[] = {"hair", "usda", "obj", "ply"};
+// .data is written as USC-HairSalon has it (100 points per strand, so it holds 10 M points);
+// .npz resamples to 32 points and is written only.
+const char* const kFormats[] = {"hair", "usda", "obj", "ply", "data", "npz"};
 
 void BM_Write(benchmark::State& state) {
     const ThreadLimit limit(2);
@@ -41,7 +43,7 @@ void BM_Write(benchmark::State& state) {
     state.SetLabel(kFormats[state.range(0)]);
     std::filesystem::remove(path);
 }
-BENCHMARK(BM_Write)->DenseRange(0, 3)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Write)->DenseRange(0, 5)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_Read(benchmark::State& state) {
     const ThreadLimit limit(2);
@@ -55,7 +57,7 @@ void BM_Read(benchmark::State& state) {
     state.SetLabel(kFormats[state.range(0)]);
     std::filesystem::remove(path);
 }
-BENCHMARK(BM_Read)->DenseRange(0, 3)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Read)->DenseRange(0, 4)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 }  // namespace wisp

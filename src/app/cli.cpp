@@ -139,6 +139,43 @@ struct LookArgs {
     }
 };
 
+// What every hair output of generate and convert shares: a subset of the strands, and the
+// points per strand of the resampling formats (.npz, .data).
+struct ExportArgs {
+    size_t strands = 0;   // --export-strands; 0: all
+    double fraction = 0;  // --export-fraction; 0: all
+    int resample = 0;     // --resample; 0: the format's own
+
+    void add_to(CLI::App* cmd) {
+        cmd->add_option("--export-strands", strands,
+                        "Write only N of the strands, spread evenly over them (deterministic)")
+            ->check(CLI::Range(size_t(1), size_t(1) << 32));
+        cmd->add_option("--export-fraction", fraction,
+                        "Write only this fraction (0, 1] of the strands, spread evenly")
+            ->check(CLI::Range(1e-9, 1.0));
+        cmd->add_option("--resample", resample,
+                        ".npz and .data: points per strand, evenly spaced along each strand "
+                        "(default: .npz 32, .data 100 as USC-HairSalon has them)")
+            ->check(CLI::Range(2, 4096));
+    }
+    void check() const {
+        if (strands && fraction > 0)
+            throw CLI::ValidationError("--export-strands and --export-fraction: give one");
+    }
+    // The strands to write (all of them when no subset was asked for).
+    Hair apply(Hair hair) const {
+        check();
+        const size_t S = hair.strand_count();
+        size_t n = S;
+        if (strands) n = std::min(S, strands);
+        if (fraction > 0)
+            n = std::max<size_t>(1, static_cast<size_t>(std::llround(fraction * double(S))));
+        if (n >= S) return hair;
+        const std::vector<uint32_t> keep = even_subset(S, n);
+        return select_strands(hair, keep);
+    }
+};
+
 struct GenerateArgs {
     std::string style_path;
     std::string preset;
@@ -148,6 +185,8 @@ struct GenerateArgs {
     std::string stats;
     bool obj_segments = false;
     std::string up = "y";  // .usda up axis: "y" (head space) or "z"
+    ExportArgs exports;
+    bool guides = false, with_head = false;
     bool quiet = false;
     std::string png;
     std::string views;
@@ -233,11 +272,9 @@ void check_writable(const std::string& path) {
         fail(path, ": cannot write in ", dir.string(), ": ", std::strerror(errno));
 }
 
-// Checks an output hair file: its format is one wisp writes, and it can be written.
+// Checks an output hair file: its format is one wisp knows, and it can be written.
 void check_hair_output(const std::string& path) {
-    const HairFormat format = hair_format_from_path(path);
-    if (format == HairFormat::kData)
-        fail(path, ": .data (USC-HairSalon) is read-only; write .usda, .hair, .obj or .ply");
+    hair_format_from_path(path);
     check_writable(path);
 }
 
@@ -329,6 +366,15 @@ int run_generate(const GenerateArgs& args) {
     // it would cost the whole generation.
     for (const std::string& out : args.outputs)
         check_hair_output(out);
+    args.exports.check();
+    if (args.guides || args.with_head) {
+        bool usda = false;
+        for (const std::string& out : args.outputs)
+            usda |= hair_format_from_path(out) == HairFormat::kUsda;
+        if (!usda)
+            throw CLI::ValidationError(args.guides ? "--guides" : "--with-head",
+                                       "is written into .usda outputs only; give -o FILE.usda");
+    }
     std::optional<PngArgs> png;
     if (!args.png.empty()) {
         png = png_args(args.views, args.size, args.look, "--views");
@@ -349,10 +395,24 @@ int run_generate(const GenerateArgs& args) {
     HairWriteOptions options;
     options.obj_segments = args.obj_segments;
     options.usda_z_up = args.up == "z";
+    options.resample_points = args.exports.resample;
     options.camera = export_camera(result.hair, *head.mesh);
+    const Hair guides =
+        args.guides ? guide_strands(result.masters, result.wisp_group, style.root_width) : Hair();
+    if (args.guides) options.usda_guides = &guides;
+    if (args.with_head) {
+        options.usda_head = head.mesh.get();
+        options.usda_head_scalp = head.scalp->faces();
+    }
+    const bool subset = args.exports.strands || args.exports.fraction > 0;
+    const Hair exported = subset ? args.exports.apply(result.hair) : Hair();
+    const Hair& written = subset ? exported : result.hair;
+    if (subset)
+        info(args.quiet, cat("wisp: writing ", written.strand_count(), " of ",
+                             result.hair.strand_count(), " strands"));
     for (const std::string& out : args.outputs) {
         watch = Stopwatch();
-        write_hair(out, result.hair, options);
+        write_hair(out, written, options);
         times.emplace_back("write " + out, watch.ms());
         info(args.quiet, cat("wisp: wrote ", out));
     }
@@ -707,7 +767,8 @@ int run_cli(int argc, char** argv) {
     generate_cmd->add_option("--preset", gen.preset, "A shipped preset (see `wisp presets`)");
     generate_cmd->add_option(
         "-o,--output", gen.outputs,
-        "Output file(s); the format follows the extension: .usda .hair .obj .ply");
+        "Output file(s); the format follows the extension: .usda .hair .obj .ply .data .npz "
+        ".rib .pbrt");
     generate_cmd->add_option("--png", gen.png, "Also render the hairstyle to this PNG");
     generate_cmd->add_option("--views", gen.views,
                              "Views for --png, comma-separated (front, back, left, right, "
@@ -729,6 +790,14 @@ int run_cli(int argc, char** argv) {
     generate_cmd
         ->add_option("--up", gen.up, "USD: up axis, y (wisp's) or z (points turned +Y to +Z)")
         ->check(CLI::IsMember({"y", "z"}));
+    gen.exports.add_to(generate_cmd);
+    generate_cmd->add_flag("--guides", gen.guides,
+                           "USD: also write the master strands (one per wisp) as guides, "
+                           "flagged groom_guide = 1, each strand tied to its wisp's guide "
+                           "(Unreal's groom_closest_guides)");
+    generate_cmd->add_flag("--with-head", gen.with_head,
+                           "USD: also write the head mesh (and its scalp faces as a subset) "
+                           "into the stage, aligned with the hair");
     generate_cmd->add_flag("-q,--quiet", gen.quiet, "Print nothing but errors");
 
     std::string head_out = "head.obj";
@@ -748,10 +817,14 @@ int run_cli(int argc, char** argv) {
     std::string convert_up = "y";
     CLI::App* convert_cmd = app.add_subcommand("convert", "Convert a hair file to another format");
     convert_cmd->add_option("input", convert_in, "Input: .hair .usda .obj .ply .data")->required();
-    convert_cmd->add_option("output", convert_out, "Output: .hair .usda .obj .ply")->required();
+    convert_cmd
+        ->add_option("output", convert_out, "Output: .usda .hair .obj .ply .data .npz .rib .pbrt")
+        ->required();
     convert_cmd->add_flag("--obj-segments", convert_segments, "OBJ: one `l` per segment");
     convert_cmd->add_option("--up", convert_up, "USD: up axis, y or z")
         ->check(CLI::IsMember({"y", "z"}));
+    ExportArgs convert_exports;
+    convert_exports.add_to(convert_cmd);
 
     app.add_subcommand("presets", "List the shipped style presets");
 
@@ -911,10 +984,12 @@ int run_cli(int argc, char** argv) {
         if (*convert_cmd) {
             const HairFormat format = hair_format_from_path(convert_out);
             check_hair_output(convert_out);
-            const Hair hair = read_hair(convert_in);
+            convert_exports.check();
+            const Hair hair = convert_exports.apply(read_hair(convert_in));
             HairWriteOptions options;
             options.obj_segments = convert_segments;
             options.usda_z_up = convert_up == "z";
+            options.resample_points = convert_exports.resample;
             // Only scenes have a camera; framing it builds the head, a tenth of a second.
             if (format == HairFormat::kRib || format == HairFormat::kPbrt)
                 options.camera = export_camera(hair, builtin_head_mesh());

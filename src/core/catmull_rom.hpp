@@ -35,4 +35,12 @@ Vec3f catmull_rom_derivative(std::span<const Vec3f> points, float s);
 // segment into out (#(n-1)·per_segment + 1), first = p1, last = pn.
 void catmull_rom_sample(std::span<const Vec3f> points, int per_segment, std::span<Vec3f> out);
 
+// Resamples a strand (points #n >= 1; widths #n, or empty for the constant `width`) to
+// out_points and out_widths (#N each): N points evenly spaced in arc length along the pinned
+// spline through the points (measured on 8 samples per segment), root and tip exact; widths
+// are linear in the spline parameter between control points. A 1-point strand repeats its
+// point. Uses a per-thread scratch, no allocation per call once warm.
+void catmull_rom_resample(std::span<const Vec3f> points, std::span<const float> widths, float width,
+                          std::span<Vec3f> out_points, std::span<float> out_widths);
+
 }  // namespace wisp

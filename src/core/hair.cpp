@@ -1,8 +1,10 @@
 #include "core/hair.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.hpp"
+#include "core/parallel.hpp"
 
 namespace wisp {
 
@@ -20,6 +22,12 @@ void Hair::validate(const std::string& what) const {
         fail(what, ": colors has ", colors.size(), " values, expected ", s);
     if (!wisp.empty() && wisp.size() != s)
         fail(what, ": wisp has ", wisp.size(), " values, expected ", s);
+    if (!root_uv.empty() && root_uv.size() != s)
+        fail(what, ": root_uv has ", root_uv.size(), " values, expected ", s);
+    if (!root_normal.empty() && root_normal.size() != s)
+        fail(what, ": root_normal has ", root_normal.size(), " values, expected ", s);
+    if (!group.empty() && group.size() != s)
+        fail(what, ": group has ", group.size(), " values, expected ", s);
     for (size_t st = 0; st < s; ++st)
         for (uint32_t i = offsets[st]; i < offsets[st + 1]; ++i) {
             const Vec3f& p = points[i];
@@ -36,6 +44,58 @@ void Hair::validate(const std::string& what) const {
             fail(what, ": width ", i, " is negative or not finite");
     for (size_t i = 0; i < colors.size(); ++i)
         if (!colors[i].allFinite()) fail(what, ": color ", i, " is not finite");
+    for (size_t i = 0; i < root_uv.size(); ++i)
+        if (!root_uv[i].allFinite()) fail(what, ": root_uv ", i, " is not finite");
+    for (size_t i = 0; i < root_normal.size(); ++i)
+        if (!root_normal[i].allFinite()) fail(what, ": root_normal ", i, " is not finite");
+    for (size_t i = 0; i < group.size(); ++i)
+        if (group[i] < 0) fail(what, ": group ", i, " is ", group[i], ", below 0");
+}
+
+Hair select_strands(const Hair& hair, std::span<const uint32_t> keep) {
+    const size_t S = hair.strand_count();
+    Hair out;
+    out.default_width = hair.default_width;
+    out.default_color = hair.default_color;
+    out.offsets.assign(keep.size() + 1, 0);
+    for (size_t k = 0; k < keep.size(); ++k) {
+        if (keep[k] >= S)
+            fail("select_strands: strand ", keep[k], " of ", S, " strands is out of range");
+        out.offsets[k + 1] = out.offsets[k] + hair.strand_size(keep[k]);
+    }
+    out.points.resize(out.offsets.back());
+    if (!hair.widths.empty()) out.widths.resize(out.offsets.back());
+    const auto per_strand = [&](const auto& from, auto& to) {
+        if (from.empty()) return;
+        to.resize(keep.size());
+        for (size_t k = 0; k < keep.size(); ++k)
+            to[k] = from[keep[k]];
+    };
+    per_strand(hair.colors, out.colors);
+    per_strand(hair.wisp, out.wisp);
+    per_strand(hair.root_uv, out.root_uv);
+    per_strand(hair.root_normal, out.root_normal);
+    per_strand(hair.group, out.group);
+    parallel_for(
+        keep.size(),
+        [&](size_t k) {
+            const uint32_t a = hair.offsets[keep[k]], b = hair.offsets[keep[k] + 1];
+            std::copy(hair.points.begin() + a, hair.points.begin() + b,
+                      out.points.begin() + out.offsets[k]);
+            if (!hair.widths.empty())
+                std::copy(hair.widths.begin() + a, hair.widths.begin() + b,
+                          out.widths.begin() + out.offsets[k]);
+        },
+        1024);
+    return out;
+}
+
+std::vector<uint32_t> even_subset(size_t total, size_t n) {
+    n = std::min(n, total);
+    std::vector<uint32_t> out(n);
+    for (size_t k = 0; k < n; ++k)
+        out[k] = static_cast<uint32_t>((unsigned __int128)(2 * k + 1) * total / (2 * n));
+    return out;
 }
 
 }  // namespace wisp

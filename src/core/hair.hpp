@@ -26,6 +26,16 @@ struct Hair {
     std::vector<Vec3f> colors;
     // wisp     #S wisp id per strand (-1 for none), or empty when unknown (imported hair).
     std::vector<int32_t> wisp;
+    // root_uv      #S scalp UV of each strand's root (geometry/scalp.hpp: the crown at (0.5,
+    //              0.5), the lowest hairline on the circle of radius 0.5 about it), or empty
+    //              when unknown (imported hair).
+    std::vector<Vec2f> root_uv;
+    // root_normal  #S unit scalp normal at each strand's root, head space, or empty.
+    std::vector<Vec3f> root_normal;
+    // group        #S wisp group of each strand, >= 0: 1 + the index in Style::groups of the
+    //              first constraint group (hairdressing sections expand into these) that
+    //              holds the strand's wisp, 0 for wisps in none; empty when unknown.
+    std::vector<int32_t> group;
     float default_width = 0.008f;  // 80 µm
     Vec3f default_color = Vec3f(0.30f, 0.20f, 0.12f);
 
@@ -55,5 +65,15 @@ struct Hair {
     // returns, and by every writer).
     void validate(const std::string& what) const;
 };
+
+// The strands `keep` (#K indices into hair's strands, any order, repeats allowed) as a new
+// Hair, with every per-point and per-strand array that hair has and its defaults. Throws
+// wisp::Error for an index out of range.
+Hair select_strands(const Hair& hair, std::span<const uint32_t> keep);
+
+// n strand indices spread evenly over [0, total): index k is floor((k + 0.5)·total / n), so
+// the subset is deterministic and takes strands from every part of the strand order (wisp
+// after wisp). n >= total gives every index.
+std::vector<uint32_t> even_subset(size_t total, size_t n);
 
 }  // namespace wisp

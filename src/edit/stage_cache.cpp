@@ -78,16 +78,18 @@ void StageCache::run_until(Stage last) {
                     head_field_cell_ = cell;
                     ++head_field_runs_;
                 }
+                groups_ = select_groups(style_, head_, roots_);
+                result_.wisp_group = groups_.wisp_group;
                 result_.masters = masters_;
                 result_.solve = {};
                 if (style_.solve.enabled)
                     result_.solve =
-                        solve_stage(style_, head_, *head_field_, roots_, result_.masters);
+                        solve_stage(style_, head_, *head_field_, roots_, groups_, result_.masters);
                 break;
             }
             case Stage::kMembers: {
-                MembersResult m =
-                    members_stage(style_, head_, *head_field_, roots_, result_.masters);
+                MembersResult m = members_stage(style_, head_, *head_field_, roots_,
+                                                result_.masters, groups_.wisp_group);
                 result_.hair = std::move(m.hair);
                 result_.points_pushed = m.points_pushed;
                 result_.points_inside_head = m.points_inside_head;

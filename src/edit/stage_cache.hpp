@@ -63,7 +63,7 @@ class StageCache {
     float head_field_cell_ = 0.f;
     Roots roots_;
     Masters masters_;         // as synthesized
-    Masters solved_;          // after the solve (a copy of masters_ when it is off)
+    GroupSelection groups_;   // the constraint groups' wisps (the solve stage)
     HairstyleResult result_;  // hair, solved masters, stats
     Stage stale_ = Stage::kRoots;
     std::array<int, kStageCount> runs_{};

@@ -122,6 +122,12 @@ Hair grow_members(const Style& style, const Masters& masters, const Roots& roots
     Hair hair;
     hair.default_width = style.root_width;
     hair.wisp.resize(s_count);
+    hair.root_uv.resize(s_count);
+    hair.root_normal.resize(s_count);
+    for (size_t j = 0; j < s_count; ++j) {
+        hair.root_uv[j] = roots.members[j].uv;
+        hair.root_normal[j] = roots.members[j].normal;
+    }
     hair.offsets.assign(s_count + 1, 0);
     std::vector<float> u(s_count);
     parallel_for(
@@ -168,6 +174,25 @@ Hair grow_members(const Style& style, const Masters& masters, const Roots& roots
         }
     });
     return hair;
+}
+
+Hair guide_strands(const Masters& masters, std::span<const int32_t> wisp_group, float width) {
+    const size_t W = masters.count(), n = static_cast<size_t>(masters.points);
+    Hair g;
+    g.default_width = width;
+    g.points = masters.control;
+    g.offsets.resize(W + 1);
+    g.wisp.resize(W);
+    g.root_uv.resize(W);
+    g.root_normal.resize(W);
+    for (size_t w = 0; w < W; ++w) {
+        g.offsets[w + 1] = static_cast<uint32_t>((w + 1) * n);
+        g.wisp[w] = static_cast<int32_t>(w);
+        g.root_uv[w] = masters.roots[w].uv;
+        g.root_normal[w] = masters.roots[w].normal;
+    }
+    if (!wisp_group.empty()) g.group.assign(wisp_group.begin(), wisp_group.end());
+    return g;
 }
 
 GenerateResult generate(const Style& style, const Head& head) {

@@ -20,8 +20,14 @@ Roots grow_roots(const Style& style, const Head& head);
 // from the prototype. Throws wisp::Error if the prototype is too short for the window.
 Masters synthesize_masters(const Style& style, const Head& head, const Roots& roots);
 
-// Stage 4 (§2.1): every member strand of every wisp, with widths and wisp ids (no colors).
+// Stage 4 (§2.1): every member strand of every wisp, with widths, wisp ids and the scalp UV
+// and normal of its root (no colors, no groups).
 Hair grow_members(const Style& style, const Masters& masters, const Roots& roots);
+
+// The masters as strands (the guides a DCC or Unreal rebuilds or drives the members from):
+// strand w is master w's control points, wisp id w, its root's scalp UV and normal, width
+// `width`, and group wisp_group[w] (#W, or empty for none).
+Hair guide_strands(const Masters& masters, std::span<const int32_t> wisp_group, float width);
 
 // Deviation radius r(s) at s in [0,1] from the style's table (linear interpolation).
 float deviation_radius(const std::vector<float>& table, float s);

@@ -10,6 +10,7 @@
 #include "io/cyhair.hpp"
 #include "io/hairsalon.hpp"
 #include "io/io_util.hpp"
+#include "io/npz.hpp"
 #include "io/obj_curves.hpp"
 #include "io/ply.hpp"
 #include "io/usda.hpp"
@@ -32,6 +33,8 @@ const char* hair_format_name(HairFormat format) {
             return "rib";
         case HairFormat::kPbrt:
             return "pbrt";
+        case HairFormat::kNpz:
+            return "npz";
     }
     return "?";
 }
@@ -45,8 +48,9 @@ HairFormat hair_format_from_path(const std::filesystem::path& path) {
     if (ext == ".data") return HairFormat::kData;
     if (ext == ".rib") return HairFormat::kRib;
     if (ext == ".pbrt") return HairFormat::kPbrt;
+    if (ext == ".npz") return HairFormat::kNpz;
     fail(path.string(), ": unknown hair file extension \"", path.extension().string(),
-         "\" (supported: .usda, .hair, .obj, .ply, .data; written only: .rib, .pbrt)");
+         "\" (supported: .usda, .hair, .obj, .ply, .data; written only: .rib, .pbrt, .npz)");
 }
 
 Hair read_hair(const std::filesystem::path& path) {
@@ -64,6 +68,8 @@ Hair read_hair(const std::filesystem::path& path) {
         case HairFormat::kRib:
         case HairFormat::kPbrt:
             fail(path.string(), ": .rib and .pbrt are scenes wisp writes but does not read");
+        case HairFormat::kNpz:
+            fail(path.string(), ": .npz is written for numpy; wisp does not read it");
     }
     fail(path.string(), ": unreachable");
 }
@@ -72,7 +78,11 @@ void write_hair(const std::filesystem::path& path, const Hair& hair,
                 const HairWriteOptions& options) {
     switch (hair_format_from_path(path)) {
         case HairFormat::kUsda:
-            return write_usda(path, hair, UsdaWriteOptions{.z_up = options.usda_z_up});
+            return write_usda(path, hair,
+                              UsdaWriteOptions{.z_up = options.usda_z_up,
+                                               .guides = options.usda_guides,
+                                               .head = options.usda_head,
+                                               .head_scalp = options.usda_head_scalp});
         case HairFormat::kHair:
             return write_cyhair(path, hair);
         case HairFormat::kObj:
@@ -80,8 +90,13 @@ void write_hair(const std::filesystem::path& path, const Hair& hair,
         case HairFormat::kPly:
             return write_ply(path, hair);
         case HairFormat::kData:
-            fail(path.string(),
-                 ": .data (USC-HairSalon) is read-only; write .usda, .hair, .obj or .ply");
+            return write_hairsalon(
+                path, hair, options.resample_points ? options.resample_points : kHairSalonPoints);
+        case HairFormat::kNpz:
+            return write_npz(
+                path, hair,
+                NpzWriteOptions{.points_per_strand =
+                                    options.resample_points ? options.resample_points : 32});
         case HairFormat::kRib:
             return write_rib(path, hair, options.camera);
         case HairFormat::kPbrt:

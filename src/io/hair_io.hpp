@@ -7,22 +7,25 @@
 // (byte offset or line) and what is wrong; every writer writes atomically (a temporary
 // file renamed over the target).
 #include <filesystem>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "core/hair.hpp"
 #include "core/math.hpp"
+#include "geometry/mesh.hpp"
 #include "io/export_camera.hpp"
 
 namespace wisp {
 
-enum class HairFormat { kUsda, kHair, kObj, kPly, kData, kRib, kPbrt };
+enum class HairFormat { kUsda, kHair, kObj, kPly, kData, kRib, kPbrt, kNpz };
 
-// "usda", "hair", "obj", "ply", "data", "rib", "pbrt" (the last two are write-only scenes for
-// RenderMan and pbrt-v4).
+// "usda", "hair", "obj", "ply", "data", "rib", "pbrt", "npz" (the last three are write-only:
+// scenes for RenderMan and pbrt-v4, and numpy arrays).
 const char* hair_format_name(HairFormat format);
 
-// The format of path's extension (case-insensitive): .usda, .hair, .obj, .ply, .data.
+// The format of path's extension (case-insensitive): .usda, .hair, .obj, .ply, .data, .rib,
+// .pbrt, .npz.
 // Throws wisp::Error naming the path and listing the supported extensions.
 HairFormat hair_format_from_path(const std::filesystem::path& path);
 
@@ -33,9 +36,16 @@ struct HairWriteOptions {
     bool obj_segments = false;  // .obj: one `l a b` per segment instead of one `l` per strand
     bool usda_z_up = false;     // .usda: Z up, (x, y, z) -> (x, -z, y) (UsdaWriteOptions)
     ExportCamera camera;        // .rib, .pbrt: the scene's camera
+    // .usda: guide strands and a head mesh with its scalp faces (UsdaWriteOptions).
+    const Hair* usda_guides = nullptr;
+    const Mesh* usda_head = nullptr;
+    std::span<const uint32_t> usda_head_scalp;
+    // .npz and .data: points per strand after resampling; 0 = the format's own (.npz 32,
+    // .data 100, the USC-HairSalon data set's).
+    int resample_points = 0;
 };
 
-// Writes .usda, .hair, .obj or .ply; .data is read-only (throws).
+// Writes any format by its extension.
 void write_hair(const std::filesystem::path& path, const Hair& hair,
                 const HairWriteOptions& options = {});
 

@@ -1,6 +1,12 @@
 #include "io/hairsalon.hpp"
 
+#include <cstring>
+#include <vector>
+
+#include "core/atomic_file.hpp"
+#include "core/catmull_rom.hpp"
 #include "core/error.hpp"
+#include "core/parallel.hpp"
 #include "io/io_util.hpp"
 
 namespace wisp {
@@ -59,7 +65,70 @@ Hair decode(Reader& in, HairSalonStats* stats) {
     return hair;
 }
 
+void check_writable_hair(const Hair& hair, const std::string& name, int points_per_strand) {
+    hair.validate(name);
+    if (points_per_strand < 2 || points_per_strand > 4096)
+        fail(name, ": points per strand must be in [2, 4096], not ", points_per_strand);
+    if (hair.strand_count() > size_t(INT32_MAX))
+        fail(name, ": ", hair.strand_count(), " strands, more than a .data file can count");
+    for (size_t s = 0; s < hair.strand_count(); ++s)
+        if (hair.strand_size(s) == 0) fail(name, ": strand ", s, " has no points");
+}
+
+// Strands are resampled and converted in parallel, each into its own bytes, in blocks so
+// that a large file is never held whole; the bytes never depend on the thread count.
+template <typename Sink>
+void encode(const Hair& hair, int points_per_strand, Sink&& sink) {
+    const size_t S = hair.strand_count(), N = size_t(points_per_strand);
+    const size_t record = 4 + N * 12;
+    std::string buf;
+    const int32_t count = static_cast<int32_t>(S);
+    buf.append(reinterpret_cast<const char*>(&count), 4);
+    sink(buf);
+    constexpr size_t kBlock = 16384;
+    for (size_t first = 0; first < S; first += kBlock) {
+        const size_t last = std::min(S, first + kBlock);
+        buf.resize((last - first) * record);
+        parallel_for(
+            last - first,
+            [&](size_t i) {
+                const size_t s = first + i;
+                static thread_local std::vector<Vec3f> pts;
+                static thread_local std::vector<float> widths;
+                pts.resize(N);
+                widths.resize(N);
+                catmull_rom_resample(hair.strand(s), {}, 0.f, pts, widths);
+                // Centimetres to metres. The curve can overshoot a strand's control points:
+                // clamped to ±kMaxCoordinate, so that what is written always reads back.
+                for (Vec3f& p : pts)
+                    p = p.cwiseMax(-kMaxCoordinate).cwiseMin(kMaxCoordinate) / 100.f;
+                char* out = buf.data() + i * record;
+                const int32_t n = static_cast<int32_t>(N);
+                std::memcpy(out, &n, 4);
+                std::memcpy(out + 4, pts.data(), N * 12);
+            },
+            256);
+        sink(buf);
+    }
+}
+
 }  // namespace
+
+std::string encode_hairsalon(const Hair& hair, const std::string& name, int points_per_strand) {
+    check_writable_hair(hair, name, points_per_strand);
+    std::string out;
+    encode(hair, points_per_strand, [&](const std::string& b) { out += b; });
+    return out;
+}
+
+void write_hairsalon(const std::filesystem::path& path, const Hair& hair, int points_per_strand) {
+    check_writable_hair(hair, path.string(), points_per_strand);
+    write_file_atomic(path, [&](std::ostream& os) {
+        encode(hair, points_per_strand, [&](const std::string& b) {
+            os.write(b.data(), static_cast<std::streamsize>(b.size()));
+        });
+    });
+}
 
 Hair decode_hairsalon(std::string_view bytes, const std::string& name, HairSalonStats* stats) {
     io_detail::ByteReader in(bytes, name);

@@ -20,11 +20,13 @@
 // authored and not blocked, else the earliest time sample (else none).
 #include <filesystem>
 #include <memory>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "core/hair.hpp"
+#include "geometry/mesh.hpp"
 
 namespace wisp {
 
@@ -87,6 +89,16 @@ struct UsdaWriteOptions {
     // Z up for Z-up pipelines: points (and extent) turned (x, y, z) -> (x, -z, y), so +Y
     // becomes +Z and the face looks along -Y; upAxis "Z". read_usda turns it back exactly.
     bool z_up = false;
+    // Guide strands (the masters, one per wisp), written as a second BasisCurves prim
+    // "/hair/guides" flagged primvars:groom_guide = 1; render strand s is driven by guide
+    // hair.wisp[s] (Unreal's groom_closest_guides, weight 1), so the hair needs wisp ids below
+    // the guide count. GroomAPI then moves to the Xform "/hair", so that Unreal imports both
+    // prims as one groom. Null: no guides.
+    const Hair* guides = nullptr;
+    // A head mesh written as `def Mesh "head"` beside "/hair" (same units and up axis), its
+    // scalp faces (`head_scalp`, indices into head->faces) as a GeomSubset "scalp". Null: none.
+    const Mesh* head = nullptr;
+    std::span<const uint32_t> head_scalp;
 };
 
 // The usda layer described above. Throws for a strand of fewer than 2 points (a pinned

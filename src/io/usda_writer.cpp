@@ -151,16 +151,13 @@ void check_strands(const Hair& hair, const std::string& name) {
                  " points; a pinned catmullRom curve needs at least 2");
 }
 
-// Header, the Xform and the BasisCurves prim up to (not including) its points. GroomAPI is
-// what Unreal's USD importer looks for to read a BasisCurves prim as a groom.
-void begin_layer(Out& o, const Hair& hair, const std::string& extra_metadata, bool z_up = false) {
+// A BasisCurves prim under the Xform up to (not including) its points, with GroomAPI
+// applied when `groom_api` (what Unreal's USD importer looks for to read it as a groom).
+void begin_curves(Out& o, const Hair& hair, const char* name, bool groom_api) {
     std::string& out = o.buf;
-    out += "#usda 1.0\n(\n    defaultPrim = \"hair\"\n";
-    out += extra_metadata;
-    out += z_up ? "    metersPerUnit = 0.01\n    upAxis = \"Z\"\n)\n\n"
-                : "    metersPerUnit = 0.01\n    upAxis = \"Y\"\n)\n\n";
-    out += "def Xform \"hair\"\n{\n    def BasisCurves \"strands\" (\n";
-    out += "        prepend apiSchemas = [\"GroomAPI\"]\n    )\n    {\n";
+    out += cat("    def BasisCurves \"", name, "\"");
+    out +=
+        groom_api ? " (\n        prepend apiSchemas = [\"GroomAPI\"]\n    )\n    {\n" : "\n    {\n";
     out += "        uniform token type = \"cubic\"\n";
     out += "        uniform token basis = \"catmullRom\"\n";
     out += "        uniform token wrap = \"pinned\"\n";
@@ -171,6 +168,70 @@ void begin_layer(Out& o, const Hair& hair, const std::string& extra_metadata, bo
     }
     out += "]\n";
     o.flush();
+}
+
+// Header, the Xform and the BasisCurves prim "strands" up to (not including) its points.
+// GroomAPI goes on the strands, or on the Xform when it holds guides too (Unreal then reads
+// every BasisCurves under it into one groom).
+void begin_layer(Out& o, const Hair& hair, const std::string& extra_metadata, bool z_up = false,
+                 bool groom_on_xform = false) {
+    std::string& out = o.buf;
+    out += "#usda 1.0\n(\n    defaultPrim = \"hair\"\n";
+    out += extra_metadata;
+    out += z_up ? "    metersPerUnit = 0.01\n    upAxis = \"Z\"\n)\n\n"
+                : "    metersPerUnit = 0.01\n    upAxis = \"Y\"\n)\n\n";
+    out += groom_on_xform ? "def Xform \"hair\" (\n    prepend apiSchemas = [\"GroomAPI\"]\n)\n{\n"
+                          : "def Xform \"hair\"\n{\n";
+    begin_curves(o, hair, "strands", !groom_on_xform);
+}
+
+// An int primvar of n values value(i), or of the one value(0) when `constant`.
+template <typename Value>
+void int_primvar(Out& o, const char* name, size_t n, bool constant, Value&& value) {
+    std::string& out = o.buf;
+    out += cat("        int[] primvars:", name, " = [");
+    for (size_t i = 0; i < (constant ? 1 : n); ++i) {
+        if (i) out += ", ";
+        append_number(out, static_cast<int64_t>(value(i)));
+        if ((i & 65535) == 65535) o.flush();
+    }
+    out += cat("] (\n            interpolation = \"", constant ? "constant" : "uniform",
+               "\"\n        )\n");
+}
+
+// Unreal's per-strand groom attributes beyond colour: the group (per strand, or one group),
+// the root's scalp UV, and with guides the guide flag, ids and each strand's guide.
+// `first_id` numbers the prim's strands for groom_id; `guide_base` is the groom_id of guide 0
+// for render strands (their closest guide is guide_base + wisp id), or -1 for a guides prim.
+void groom_primvars(Out& o, const Hair& hair, bool with_guides, size_t first_id,
+                    int64_t guide_base) {
+    const size_t S = hair.strand_count();
+    if (hair.group.empty())
+        int_primvar(o, "groom_group_id", S, true, [](size_t) { return 0; });
+    else
+        int_primvar(o, "groom_group_id", S, false, [&](size_t i) { return hair.group[i]; });
+    if (!hair.root_uv.empty()) {
+        o.buf += "        float2[] primvars:groom_root_uv = [";
+        for (size_t i = 0; i < S; ++i) {
+            o.buf += i ? ", (" : "(";
+            append_number(o.buf, hair.root_uv[i].x());
+            o.buf += ", ";
+            append_number(o.buf, hair.root_uv[i].y());
+            o.buf += ')';
+            if ((i & 65535) == 65535) o.flush();
+        }
+        o.buf += "] (\n            interpolation = \"uniform\"\n        )\n";
+    }
+    if (!with_guides) return;
+    const bool guide = guide_base < 0;
+    int_primvar(o, "groom_guide", S, true, [&](size_t) { return guide ? 1 : 0; });
+    int_primvar(o, "groom_id", S, false, [&](size_t i) { return first_id + i; });
+    if (guide) return;
+    int_primvar(o, "groom_closest_guides", S, false,
+                [&](size_t i) { return guide_base + hair.wisp[i]; });
+    o.buf +=
+        "        float[] primvars:groom_guide_weights = [1] (\n            interpolation = "
+        "\"constant\"\n        )\n";
 }
 
 // The strands' colours as the primvar `declaration` (type and name): one value per strand
@@ -197,8 +258,9 @@ void color_primvar(Out& o, const Hair& hair, const char* declaration) {
     out += "        ] (\n            interpolation = \"uniform\"\n        )\n";
 }
 
-// widths, displayColor, wisp ids and the closing braces.
-void end_layer(Out& o, const Hair& hair) {
+// widths, displayColor, wisp ids, Unreal's primvars and the prim's closing brace.
+void end_curves(Out& o, const Hair& hair, bool with_guides = false, size_t first_id = 0,
+                int64_t guide_base = 0) {
     const size_t S = hair.strand_count();
     o.buf += "        float[] widths = [\n";
     format_strands(o, hair, kMaxFloatChars + 2, [&](size_t s, std::string& t) {
@@ -228,27 +290,127 @@ void end_layer(Out& o, const Hair& hair) {
         out += "] (\n            interpolation = \"uniform\"\n        )\n";
     }
     // Unreal's groom attributes (primvars named groom_*, arrays even when constant: its
-    // importer reads every primvar as an array). One group; the strand color again as
-    // float3, the type Unreal converts (it skips color3f).
-    out +=
-        "        int[] primvars:groom_group_id = [0] (\n            interpolation = "
-        "\"constant\"\n        )\n";
+    // importer reads every primvar as an array); the strand color again as float3, the type
+    // Unreal converts (it skips color3f).
     color_primvar(o, hair, "float3[] primvars:groom_color");
-    out += "    }\n}\n";
+    groom_primvars(o, hair, with_guides, first_id, guide_base);
+    out += "    }\n";
+}
+
+void end_layer(Out& o, const Hair& hair) {
+    end_curves(o, hair);
+    o.buf += "}\n";
     o.flush(true);
 }
 
+// The head as a polygon mesh beside /hair: points, triangles, smooth vertex normals (area
+// weighted) and the scalp faces as a GeomSubset.
+void head_prim(Out& o, const Mesh& mesh, std::span<const uint32_t> scalp, bool z_up) {
+    std::vector<Vec3f> normals(mesh.vertices.size(), Vec3f::Zero());
+    for (const Vec3i& f : mesh.faces) {
+        const Vec3f n = (mesh.vertices[f[1]] - mesh.vertices[f[0]])
+                            .cross(mesh.vertices[f[2]] - mesh.vertices[f[0]]);
+        for (int k = 0; k < 3; ++k)
+            normals[f[k]] += n;
+    }
+    for (Vec3f& n : normals)
+        n = n.norm() > 0.f ? Vec3f(n.normalized()) : Vec3f::UnitY();
+    std::string& out = o.buf;
+    out += "\ndef Mesh \"head\"\n{\n    uniform token subdivisionScheme = \"none\"\n";
+    Box3 b = mesh.bounds();
+    if (z_up && !b.empty()) {
+        const Box3 y = b;
+        b.lo = Vec3f(y.lo.x(), -y.hi.z(), y.lo.y());
+        b.hi = Vec3f(y.hi.x(), -y.lo.z(), y.hi.y());
+    }
+    if (b.empty()) b.lo = b.hi = Vec3f::Zero();
+    out += "    float3[] extent = ";
+    append_extent(out, b);
+    out += "\n    int[] faceVertexCounts = [";
+    for (size_t f = 0; f < mesh.faces.size(); ++f)
+        out += f ? ", 3" : "3";
+    out += "]\n    int[] faceVertexIndices = [";
+    for (size_t f = 0; f < mesh.faces.size(); ++f)
+        for (int k = 0; k < 3; ++k) {
+            if (f || k) out += ", ";
+            append_number(out, mesh.faces[f][k]);
+        }
+    const auto vec_array = [&](const char* decl, const std::vector<Vec3f>& v) {
+        out += decl;
+        for (size_t i = 0; i < v.size(); ++i) {
+            if (i) out += ", ";
+            append_vec(out, to_layer(v[i], z_up));
+            if ((i & 65535) == 65535) o.flush();
+        }
+        out += ']';
+    };
+    vec_array("]\n    point3f[] points = [", mesh.vertices);
+    vec_array("\n    normal3f[] normals = [", normals);
+    out += " (\n        interpolation = \"vertex\"\n    )\n";
+    if (!scalp.empty()) {
+        out +=
+            "\n    def GeomSubset \"scalp\"\n    {\n        uniform token elementType = "
+            "\"face\"\n        uniform token familyName = \"scalp\"\n        int[] indices = [";
+        for (size_t i = 0; i < scalp.size(); ++i) {
+            if (i) out += ", ";
+            append_number(out, scalp[i]);
+        }
+        out += "]\n    }\n";
+    }
+    out += "}\n";
+    o.flush();
+}
+
+void curves_body(Out& out, const Hair& hair, bool z_up) {
+    out.buf += "        float3[] extent = ";
+    append_extent(out.buf, extent_of(hair, z_up));
+    out.buf += "\n        point3f[] points = [\n";
+    points_array(out, hair, "            ", z_up);
+    out.buf += "        ]\n";
+}
+
 void write_single(Out& out, const Hair& hair, const UsdaWriteOptions& options) {
+    const Hair* guides = options.guides;
     begin_layer(out, hair,
                 cat("    doc = \"wisp hair: ", hair.strand_count(), " strands, ",
                     hair.point_count(), " control points\"\n"),
-                options.z_up);
-    out.buf += "        float3[] extent = ";
-    append_extent(out.buf, extent_of(hair, options.z_up));
-    out.buf += "\n        point3f[] points = [\n";
-    points_array(out, hair, "            ", options.z_up);
-    out.buf += "        ]\n";
-    end_layer(out, hair);
+                options.z_up, guides != nullptr);
+    curves_body(out, hair, options.z_up);
+    const size_t S = hair.strand_count();
+    end_curves(out, hair, guides != nullptr, 0, static_cast<int64_t>(S));
+    if (guides) {
+        out.buf += '\n';
+        begin_curves(out, *guides, "guides", false);
+        curves_body(out, *guides, options.z_up);
+        end_curves(out, *guides, true, S, -1);
+    }
+    out.buf += "}\n";
+    if (options.head) head_prim(out, *options.head, options.head_scalp, options.z_up);
+    out.flush(true);
+}
+
+void check_options(const Hair& hair, const UsdaWriteOptions& options, const std::string& name) {
+    if (options.guides) {
+        check_strands(*options.guides, name + " guides");
+        if (hair.wisp.empty() && hair.strand_count())
+            fail(name, ": guides need the strands' wisp ids (which guide drives each strand)");
+        for (size_t s = 0; s < hair.wisp.size(); ++s)
+            if (hair.wisp[s] < 0 || size_t(hair.wisp[s]) >= options.guides->strand_count())
+                fail(name, ": strand ", s, " has wisp id ", hair.wisp[s], ", but there are ",
+                     options.guides->strand_count(), " guides");
+    }
+    if (const Mesh* m = options.head) {
+        for (size_t f = 0; f < m->faces.size(); ++f)
+            for (int k = 0; k < 3; ++k)
+                if (m->faces[f][k] < 0 || size_t(m->faces[f][k]) >= m->vertices.size())
+                    fail(name, ": head face ", f, " has vertex ", m->faces[f][k], " of ",
+                         m->vertices.size());
+        for (const Vec3f& v : m->vertices)
+            if (!v.allFinite()) fail(name, ": the head has a vertex that is not finite");
+        for (uint32_t f : options.head_scalp)
+            if (f >= m->faces.size())
+                fail(name, ": scalp face ", f, " of ", m->faces.size(), " head faces");
+    }
 }
 
 void check_frames(const std::vector<Hair>& frames, double fps, const std::string& name) {
@@ -316,6 +478,7 @@ void write_animation(Out& out, const std::vector<Hair>& frames, double fps) {
 std::string encode_usda(const Hair& hair, const std::string& name,
                         const UsdaWriteOptions& options) {
     check_strands(hair, name);
+    check_options(hair, options, name);
     Out out;
     out.buf.reserve(hair.point_count() * 48 + hair.strand_count() * 96 + 1024);
     write_single(out, hair, options);
@@ -325,6 +488,7 @@ std::string encode_usda(const Hair& hair, const std::string& name,
 void write_usda(const std::filesystem::path& path, const Hair& hair,
                 const UsdaWriteOptions& options) {
     check_strands(hair, path.string());
+    check_options(hair, options, path.string());
     write_file_atomic(path, [&](std::ostream& os) {
         Out out;
         out.stream = &os;

@@ -88,6 +88,9 @@ size_t cut_hair(Hair& hair, const Vec3f& normal, float offset, size_t* removed,
         out.offsets.push_back(static_cast<uint32_t>(out.points.size()));
         if (!hair.colors.empty()) out.colors.push_back(hair.colors[i]);
         if (!hair.wisp.empty()) out.wisp.push_back(hair.wisp[i]);
+        if (!hair.root_uv.empty()) out.root_uv.push_back(hair.root_uv[i]);
+        if (!hair.root_normal.empty()) out.root_normal.push_back(hair.root_normal[i]);
+        if (!hair.group.empty()) out.group.push_back(hair.group[i]);
     }
     hair = std::move(out);
     if (removed) *removed = gone;
@@ -152,8 +155,23 @@ HeadField build_head_field(const Style& style, const Head& head) {
     return HeadField(*head.mesh, cell);
 }
 
+GroupSelection select_groups(const Style& style, const Head& head, const Roots& roots) {
+    const HeadFrame frame = head_frame(*head.scalp);
+    GroupSelection out;
+    out.selected.resize(style.groups.size());
+    out.wisp_group.assign(roots.masters.size(), 0);
+    for (size_t g = style.groups.size(); g-- > 0;) {
+        out.selected[g] =
+            select_wisps(style.groups[g].selection, roots.masters, *head.scalp, frame);
+        for (uint32_t w : out.selected[g])
+            out.wisp_group[w] = static_cast<int32_t>(g + 1);
+    }
+    return out;
+}
+
 SolveStats solve_stage(const Style& style, const Head& head, const HeadField& head_field,
-                       const Roots& roots, Masters& masters, StageTimes* times) {
+                       const Roots& roots, const GroupSelection& groups, Masters& masters,
+                       StageTimes* times) {
     Stopwatch watch;
     const HeadFrame frame = head_frame(*head.scalp);
     // The grid spans everywhere the hair can reach: the head, grown by the longest master.
@@ -182,10 +200,11 @@ SolveStats solve_stage(const Style& style, const Head& head, const HeadField& he
     SolveInput in;
     in.field = &field;
     in.head = &head_field;
-    for (const GroupSpec& g : style.groups) {
+    for (size_t gi = 0; gi < style.groups.size(); ++gi) {
+        const GroupSpec& g = style.groups[gi];
         SolverGroup sg;
         sg.name = g.name;
-        sg.wisps = select_wisps(g.selection, roots.masters, *head.scalp, frame);
+        sg.wisps = groups.selected[gi];
         for (const ConstraintSpec& c : g.queue)
             sg.queue.push_back(resolve_constraint(c, frame));
         in.groups.push_back(std::move(sg));
@@ -207,7 +226,8 @@ SolveStats solve_stage(const Style& style, const Head& head, const HeadField& he
 }
 
 MembersResult members_stage(const Style& style, const Head& head, const HeadField& head_field,
-                            const Roots& roots, const Masters& masters, StageTimes* times) {
+                            const Roots& roots, const Masters& masters,
+                            std::span<const int32_t> wisp_group, StageTimes* times) {
     Stopwatch watch;
     const auto lap = [&](const char* stage) {
         if (times) times->emplace_back(stage, watch.ms());
@@ -215,6 +235,9 @@ MembersResult members_stage(const Style& style, const Head& head, const HeadFiel
     };
     MembersResult r;
     r.hair = grow_members(style, masters, roots);
+    r.hair.group.resize(r.hair.strand_count());
+    for (size_t j = 0; j < r.hair.strand_count(); ++j)
+        r.hair.group[j] = wisp_group[static_cast<size_t>(r.hair.wisp[j])];
     lap("members");
     if (style.cut.enabled && style.cut.normal.norm() > 0.f) {
         const HeadFrame frame = head_frame(*head.scalp);
@@ -289,9 +312,14 @@ HairstyleResult generate_hairstyle(const Style& style, const Head& head,
         head_field = &own;
         lap("head field");
     }
+    // The wisps of each constraint group; a wisp belongs to the first group that selects it
+    // (the solver's rule), which is also the group its strands export with (Hair::group).
+    GroupSelection groups = select_groups(style, head, roots);
     if (style.solve.enabled)
-        r.solve = solve_stage(style, head, *head_field, roots, r.masters, &r.times);
-    MembersResult members = members_stage(style, head, *head_field, roots, r.masters, &r.times);
+        r.solve = solve_stage(style, head, *head_field, roots, groups, r.masters, &r.times);
+    MembersResult members =
+        members_stage(style, head, *head_field, roots, r.masters, groups.wisp_group, &r.times);
+    r.wisp_group = std::move(groups.wisp_group);
     r.hair = std::move(members.hair);
     r.points_pushed = members.points_pushed;
     r.points_inside_head = members.points_inside_head;

@@ -3,6 +3,7 @@
 // roots → masters → head field → styling field → solve → members → cut → collide → color.
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "core/hair.hpp"
@@ -16,7 +17,8 @@ namespace wisp {
 struct HairstyleResult {
     Hair hair;
     Masters masters;
-    StageTimes times;  // one entry per stage, in order
+    std::vector<int32_t> wisp_group;  // #W the group of each wisp (Hair::group's values)
+    StageTimes times;                 // one entry per stage, in order
     SolveStats solve;
     size_t points_pushed = 0;       // member points moved out of the head (collide stage)
     size_t points_inside_head = 0;  // after the collide stage: must be 0
@@ -52,18 +54,29 @@ size_t push_out_of_head(Hair& hair, const HeadField& head, float clearance,
 // head if its grid would be too large.
 HeadField build_head_field(const Style& style, const Head& head);
 
+// The wisps of each constraint group (selected: #groups lists of wisp ids) and the group of
+// each wisp (wisp_group: #W, 1 + the first group that selects it, 0 for none: the solver's
+// rule, and the group its strands export with, Hair::group).
+struct GroupSelection {
+    std::vector<std::vector<uint32_t>> selected;
+    std::vector<int32_t> wisp_group;
+};
+GroupSelection select_groups(const Style& style, const Head& head, const Roots& roots);
+
 // Styling field, density grid and Algorithm 1 (§3, §4): solves `masters` in place.
 SolveStats solve_stage(const Style& style, const Head& head, const HeadField& head_field,
-                       const Roots& roots, Masters& masters, StageTimes* times = nullptr);
+                       const Roots& roots, const GroupSelection& groups, Masters& masters,
+                       StageTimes* times = nullptr);
 
 struct MembersResult {
     Hair hair;  // without colors
     size_t points_pushed = 0, points_inside_head = 0, strands_cut = 0, strands_removed = 0;
 };
-// Members (§2.1), the cut plane (§6.2) and the push out of the head.
+// Members (§2.1) with their group (wisp_group, #W), the cut plane (§6.2) and the push out
+// of the head.
 MembersResult members_stage(const Style& style, const Head& head, const HeadField& head_field,
                             const Roots& roots, const Masters& masters,
-                            StageTimes* times = nullptr);
+                            std::span<const int32_t> wisp_group, StageTimes* times = nullptr);
 
 // A color per strand (§5).
 void color_stage(const Style& style, Hair& hair);

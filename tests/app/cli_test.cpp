@@ -61,7 +61,7 @@ TEST(Cli, SameSeedGivesByteIdenticalFilesAtOneAndTwoThreads) {
     Dir d;
     const fs::path style = d.path / "s.toml";
     write(style, "[roots]\nwisps = 150\nstrands = 3000\npoints_per_strand = 16\n");
-    for (const char* ext : {".usda", ".hair"}) {
+    for (const char* ext : {".usda", ".hair", ".npz", ".data"}) {
         const fs::path a = d.path / (std::string("a") + ext), b = d.path / (std::string("b") + ext);
         ASSERT_EQ(run("generate " + style.string() + " --seed 9 --threads 1 -q -o " + a.string()),
                   0);
@@ -123,11 +123,53 @@ TEST(Cli, UpZWritesAZUpLayer) {
     EXPECT_EQ(run(gen + "--up x -o " + z.string()), 2);
     EXPECT_NE(slurp(y).find("upAxis = \"Y\""), std::string::npos);
     EXPECT_NE(slurp(z).find("upAxis = \"Z\""), std::string::npos);
-    EXPECT_EQ(slurp(z), slurp(zc));
+    // The same strands whether generated Z up or converted to it (generate also writes the
+    // roots' UVs and groups, which a converted .usda no longer knows).
+    const wisp::Hair gz = wisp::read_hair(z), cz = wisp::read_hair(zc);
+    EXPECT_TRUE(gz.points == cz.points);
+    EXPECT_TRUE(gz.widths == cz.widths);
+    EXPECT_TRUE(gz.colors == cz.colors);
+    EXPECT_EQ(gz.wisp, cz.wisp);
+    EXPECT_NE(slurp(z).find("groom_root_uv"), std::string::npos);
     // Both read back as the same strands in head space.
     const wisp::Hair a = wisp::read_hair(y), b = wisp::read_hair(z);
     ASSERT_EQ(a.points.size(), b.points.size());
     EXPECT_TRUE(a.points == b.points);
+}
+
+// The export options: guides and the head in the .usda, an even subset of the strands, the
+// groups of a braid (Unreal hair groups), and the checks made before the work.
+TEST(Cli, ExportOptions) {
+    Dir d;
+    const fs::path usda = d.path / "b.usda", npz = d.path / "b.npz", half = d.path / "h.hair";
+    const std::string gen = "generate --preset braid --strands 600 --wisps 60 -q ";
+    ASSERT_EQ(run(gen + "--guides --with-head --export-strands 200 -o " + usda.string() + " -o " +
+                  npz.string()),
+              0);
+    const std::string text = slurp(usda);
+    EXPECT_NE(text.find("def BasisCurves \"guides\""), std::string::npos);
+    EXPECT_NE(text.find("def Mesh \"head\""), std::string::npos);
+    EXPECT_NE(text.find("def GeomSubset \"scalp\""), std::string::npos);
+    EXPECT_NE(text.find("float2[] primvars:groom_root_uv"), std::string::npos);
+    // The braid's strands fall into its three plaits' groups, 1 to 3.
+    const size_t g = text.find("int[] primvars:groom_group_id = [");
+    ASSERT_NE(g, std::string::npos);
+    const size_t values = g + std::string("int[] primvars:groom_group_id = [").size();
+    const std::string ids = text.substr(values, text.find(']', values) - values);
+    EXPECT_NE(ids.find('1'), std::string::npos);
+    EXPECT_NE(ids.find('3'), std::string::npos);
+    // wisp reads the 200 strands and the 60 guides.
+    EXPECT_EQ(wisp::read_hair(usda).strand_count(), 260u);
+    EXPECT_GT(fs::file_size(npz), 200u * 32 * 12);
+    ASSERT_EQ(run("convert " + usda.string() + " " + half.string() + " --export-fraction 0.5"), 0);
+    EXPECT_EQ(wisp::read_hair(half).strand_count(), 130u);
+    // Mistakes are found before the work.
+    EXPECT_EQ(run(gen + "--guides -o " + (d.path / "x.hair").string()), 2);
+    EXPECT_EQ(
+        run(gen + "--export-strands 5 --export-fraction 0.5 -o " + (d.path / "x.hair").string()),
+        2);
+    EXPECT_EQ(run(gen + "--resample 1 -o " + (d.path / "x.npz").string()), 2);
+    EXPECT_FALSE(fs::exists(d.path / "x.hair"));
 }
 
 TEST(Cli, AnimateWritesFramesDeterministically) {
@@ -371,7 +413,7 @@ TEST(Cli, ArgumentsAreCheckedBeforeTheWork) {
     quick(gen + png + " --views front,sideways", 2);
     write(d.path / "file", "");
     quick(gen + "--stats " + (d.path / "file" / "s.json").string(), 1);
-    quick(gen + "-o " + (d.path / "x.data").string(), 1);
+    quick(gen + "-o " + (d.path / "x.unknown").string(), 1);
     quick("animate --preset short -o " + (d.path / "x.usda").string() + " --size 5x5", 2);
     quick("animate --preset short --mp4 " + (d.path / "x.mp4").string() + " --size 5x5", 2);
     quick("animate --preset short --mp4 " + (d.path / "x.mp4").string() + " --view sideways", 2);

@@ -27,6 +27,11 @@ void expect_same_hair(const Hair& a, const Hair& b) {
     ASSERT_EQ(a.colors.size(), b.colors.size());
     EXPECT_TRUE(std::equal(a.colors.begin(), a.colors.end(), b.colors.begin()));
     EXPECT_EQ(a.wisp, b.wisp);
+    EXPECT_EQ(a.group, b.group);
+    ASSERT_EQ(a.root_uv.size(), b.root_uv.size());
+    EXPECT_TRUE(std::equal(a.root_uv.begin(), a.root_uv.end(), b.root_uv.begin()));
+    ASSERT_EQ(a.root_normal.size(), b.root_normal.size());
+    EXPECT_TRUE(std::equal(a.root_normal.begin(), a.root_normal.end(), b.root_normal.begin()));
 }
 
 // The stages run by a change: runs() after minus before, per stage.
@@ -152,10 +157,15 @@ TEST(StageCache, SetStyleRerunsFromTheFirstDifference) {
     EXPECT_EQ(cache.stale(), Stage::kSolve);
     cache.update();
     EXPECT_EQ(delta(before, cache.runs()), (Runs{0, 0, 0, 1, 1, 1}));
-    // Groups feed the solve.
+    // Groups feed the solve, and the strands carry their group.
     next.groups = load_preset("ponytail").groups;
     cache.set_style(next);
     EXPECT_EQ(cache.stale(), Stage::kSolve);
+    const HairstyleResult& r = cache.update();
+    const HairstyleResult fresh = generate_hairstyle(cache.style(), cache.head());
+    expect_same_hair(r.hair, fresh.hair);
+    EXPECT_EQ(r.wisp_group, fresh.wisp_group);
+    EXPECT_GT(std::count(r.hair.group.begin(), r.hair.group.end(), 1), 0);
 }
 
 }  // namespace

@@ -17,9 +17,10 @@ TEST(HairIo, FormatFromExtension) {
     EXPECT_EQ(hair_format_from_path("x.data"), HairFormat::kData);
     EXPECT_EQ(hair_format_from_path("x.rib"), HairFormat::kRib);
     EXPECT_EQ(hair_format_from_path("x.pbrt"), HairFormat::kPbrt);
+    EXPECT_EQ(hair_format_from_path("x.npz"), HairFormat::kNpz);
     expect_error([] { hair_format_from_path("x.abc"); },
                  "x.abc: unknown hair file extension \".abc\" (supported: .usda, .hair, .obj, "
-                 ".ply, .data; written only: .rib, .pbrt)");
+                 ".ply, .data; written only: .rib, .pbrt, .npz)");
     expect_error([] { read_hair("x.rib"); }, "x.rib: .rib and .pbrt are scenes wisp writes");
 }
 
@@ -42,9 +43,17 @@ TEST(HairIo, EveryWritableFormatRoundTrips) {
     test::TempPath seg(".obj");
     write_hair(seg, h, HairWriteOptions{.obj_segments = true});
     test::expect_same_geometry(h, read_hair(seg));
+    // .data is written as the data set has it: 100 points per strand.
     test::TempPath data(".data");
-    expect_error([&] { write_hair(data, h); }, ".data (USC-HairSalon) is read-only");
-    EXPECT_FALSE(std::filesystem::exists(data.path()));
+    write_hair(data, h);
+    const Hair d = read_hair(data);
+    ASSERT_EQ(d.strand_count(), h.strand_count());
+    for (size_t s = 0; s < d.strand_count(); ++s)
+        EXPECT_EQ(d.strand_size(s), 100u);
+    test::TempPath npz(".npz");
+    write_hair(npz, h, HairWriteOptions{.resample_points = 8});
+    EXPECT_TRUE(std::filesystem::exists(npz.path()));
+    expect_error([&] { read_hair(npz); }, "wisp does not read it");
 }
 
 TEST(HairIo, InfoListsUsdPrims) {

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
+
+#include "core/parallel.hpp"
 #include "io_test_util.hpp"
 
 namespace wisp {
@@ -82,6 +85,38 @@ TEST(HairSalon, EndlessFileFailsAtOnce) {
     std::filesystem::create_symlink("/dev/zero", p.path());
     expect_error([&] { read_hairsalon(p); },
                  p.path().string() + ": byte 0: truncated: the strand count needs 4 bytes");
+}
+
+// Written as the data set has it: 100 points per strand, metres; read back through the
+// reader, every strand keeps its root and tip and lies on wisp's curve.
+TEST(HairSalon, WriteRoundTripsThroughTheReader) {
+    const Hair h = test::random_hair(21, 200);
+    test::TempPath p(".data");
+    write_hairsalon(p, h);
+    EXPECT_EQ(std::filesystem::file_size(p.path()), 4 + 200u * (4 + 100 * 12));
+    HairSalonStats stats;
+    const Hair r = read_hairsalon(p, &stats);
+    EXPECT_EQ(stats.bare_roots, 0u);
+    ASSERT_EQ(r.strand_count(), h.strand_count());
+    for (size_t s = 0; s < r.strand_count(); ++s) {
+        ASSERT_EQ(r.strand_size(s), 100u);
+        EXPECT_LT((r.strand(s).front() - h.strand(s).front()).norm(), 1e-4f) << s;
+        EXPECT_LT((r.strand(s).back() - h.strand(s).back()).norm(), 1e-4f) << s;
+    }
+    // The file holds metres: the first coordinate is the root's x / 100.
+    const std::string bytes = test::read_file_text(p);
+    float x;
+    std::memcpy(&x, bytes.data() + 8, 4);
+    EXPECT_EQ(x, h.points[0].x() / 100.f);
+    // Any thread count, the same bytes; another point count on request.
+    {
+        const ThreadLimit one(1);
+        EXPECT_EQ(encode_hairsalon(h), bytes);
+    }
+    EXPECT_EQ(read_hairsalon(p).strand_size(0), 100u);
+    const Hair r8 = decode_hairsalon(encode_hairsalon(h, "m", 8), "m");
+    EXPECT_EQ(r8.strand_size(3), 8u);
+    expect_error([&] { encode_hairsalon(h, "x.data", 1); }, "x.data: points per strand");
 }
 
 }  // namespace
