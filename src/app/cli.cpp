@@ -1,4 +1,5 @@
 #include "app/cli.hpp"
+#include "app/edit_command.hpp"
 
 #include <spawn.h>
 #include <sys/wait.h>
@@ -859,6 +860,9 @@ int run_cli(int argc, char** argv) {
 
     app.add_subcommand("presets", "List the shipped style presets");
 
+    EditCommands edit_args;  // `wisp edit` and `wisp schema` (app/edit_command.cpp)
+    add_edit_commands(app, edit_args);
+
     std::string render_in, render_out, render_head, render_view = "three-quarter",
                                                     render_size = "1024x1024";
     CLI::App* render_cmd = app.add_subcommand("render", "Render a hair file to PNG");
@@ -1032,6 +1036,7 @@ int run_cli(int argc, char** argv) {
                       << " strands)\n";
             return 0;
         }
+        if (const auto code = run_edit_commands(edit_args)) return *code;
         if (app.got_subcommand("presets")) {
             for (const std::string& name : preset_names())
                 std::cout << name << '\n';

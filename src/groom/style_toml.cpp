@@ -4,9 +4,12 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <initializer_list>
 #include <limits>
 #include <optional>
@@ -17,6 +20,7 @@
 #include "core/error.hpp"
 #include "groom/hairdressing.hpp"
 #include "groom/maps.hpp"
+#include "groom/style_schema.hpp"
 
 namespace wisp {
 namespace detail {
@@ -30,8 +34,6 @@ namespace {
 namespace fs = std::filesystem;
 
 // Bounds that keep a hostile or mistyped file from asking for absurd work or memory.
-constexpr int64_t kMaxStrands = 10'000'000;
-constexpr int64_t kMaxPointsPerStrand = 1024;
 constexpr int64_t kMaxTotalPoints = 320'000'000;  // 10 M strands of 32 points
 constexpr size_t kMaxTableValues = 1024;
 constexpr size_t kMaxDeviationRadii = 256;
@@ -47,46 +49,6 @@ constexpr size_t kMaxQuotedField = 200;
 constexpr size_t kMaxMessage = 1000;
 // "Did you mean" compares with the known names only words up to this long.
 constexpr size_t kMaxSuggestedWord = 64;
-
-// The fields of each section; the unknown-key check and its suggestions use these.
-const std::vector<std::pair<std::string, std::vector<std::string>>>& schema() {
-    static const std::vector<std::pair<std::string, std::vector<std::string>>> sections = {
-        {"",
-         {"name", "seed", "head", "roots", "maps", "growth", "strand", "prototype", "wisp", "color",
-          "solve", "cut", "group", "tie", "braid", "updo", "comb", "dynamics"}},
-        {"head", {"obj", "scale", "scalp"}},
-        {"head.scalp", {"method", "group", "mask", "front", "side", "back"}},
-        {"roots", {"wisps", "strands", "points_per_strand"}},
-        {"maps", {"density", "length", "protrusion"}},
-        {"growth",
-         {"part", "part_offset", "part_length", "front", "whorl", "whorl_turn", "whorl_swirl",
-          "map", "map_strength"}},
-        {"strand", {"root_width", "tip_width"}},
-        {"prototype",
-         {"shape", "amplitude", "period", "length", "points", "window", "temperature", "roll"}},
-        {"wisp", {"length", "deviation_radius", "fuzziness"}},
-        {"color",
-         {"preset", "hue", "saturation", "value", "wisp_hue", "wisp_saturation", "wisp_value"}},
-        {"solve",
-         {"enabled", "stiffness", "threshold", "cell", "full_density", "bend_step", "max_tries",
-          "order", "head_margin", "field"}},
-        {"cut", {"enabled", "region", "normal", "offset", "head_relative"}},
-        {"dynamics", {"levels",           "wisps_per_group", "sub_wisps",       "sections",
-                      "strands_per_wisp", "links",           "stiffness",       "stretch",
-                      "damping",          "air_drag",        "split_threshold", "merge_velocity",
-                      "friction",         "repulsion",       "repulsion_angle", "voxel",
-                      "iterations",       "hair_collisions", "body_collisions", "dt",
-                      "linear_density"}},
-    };
-    return sections;
-}
-
-const std::vector<std::string>& keys_of(const std::string& section) {
-    for (const auto& [name, keys] : schema())
-        if (name == section) return keys;
-    static const std::vector<std::string> none;
-    return none;
-}
 
 const std::vector<std::string> kDistributionKeys = {"distribution", "value",  "min",   "max",
                                                     "mean",         "stddev", "values"};
@@ -225,12 +187,21 @@ struct MapRules {
     float low, high;     // default [low, high] of image and procedural maps
 };
 
+using SectionTables = std::vector<std::pair<std::string, const toml::table*>>;
+const toml::table* find_table(const SectionTables& tables, const std::string& name) {
+    for (const auto& [n, t] : tables)
+        if (n == name) return t;
+    return nullptr;
+}
+
 class Parser {
   public:
-    Parser(std::string source, fs::path base_dir)
-        : source_(std::move(source)), base_dir_(std::move(base_dir)) {}
+    Parser(std::string source, fs::path base_dir, bool lines = true)
+        : source_(std::move(source)), base_dir_(std::move(base_dir)), lines_(lines) {}
 
     Style parse(std::string_view text);
+    // set_style_field: one field from a node, then its section's checks.
+    void set(Style& style, const StyleField& field, const toml::node& node) const;
 
   private:
     [[noreturn]] void error(const toml::source_region& where, const std::string& field,
@@ -238,7 +209,8 @@ class Parser {
         // Field names are keys of the file and `what` may quote values: both are escaped and
         // cut short, so every message is one line of reasonable length.
         const std::string f = excerpt(field, kMaxQuotedField), w = excerpt(what, kMaxMessage);
-        if (where.begin.line > 0) fail(source_, ":", where.begin.line, ": field '", f, "': ", w);
+        if (lines_ && where.begin.line > 0)
+            fail(source_, ":", where.begin.line, ": field '", f, "': ", w);
         fail(source_, ": field '", f, "': ", w);
     }
     [[noreturn]] void error(const toml::node& node, const std::string& field,
@@ -268,6 +240,7 @@ class Parser {
     // table[key] as an array of tables ([[key]] or key = [{…}, …]); null if absent.
     const toml::array* tables(const toml::table& parent, const std::string& path,
                               std::string_view key) const;
+    const toml::array* as_tables(const toml::node& node, const std::string& field) const;
 
     // Sets `out` from table[key] if present.
     void opt_real(const toml::table* table, const std::string& path, std::string_view key,
@@ -284,17 +257,14 @@ class Parser {
     ScalarMap map(const toml::node& node, const std::string& field, const MapRules& rules) const;
     std::string procedural_name(const toml::node& node, const std::string& field) const;
 
-    void read_head(const toml::table* root, Style& style) const;
-    void read_roots(const toml::table* root, Style& style) const;
-    void read_maps(const toml::table* root, Style& style) const;
-    void read_growth(const toml::table* root, Style& style) const;
-    void read_strand(const toml::table* root, Style& style) const;
-    void read_prototype(const toml::table* root, Style& style) const;
-    void read_wisp(const toml::table* root, Style& style) const;
-    void read_color(const toml::table* root, Style& style) const;
-    void read_solve(const toml::table* root, Style& style) const;
-    void read_cut(const toml::table* root, Style& style) const;
-    void read_dynamics(const toml::table* root, Style& style) const;
+    // Sets one field of the schema from its node, checked against the field's type and range.
+    void read_field(const StyleField& field, const toml::node& node, Style& style) const;
+    // The fields of every section in schema order, with the checks between them.
+    void read_sections(const toml::table& root, Style& style) const;
+    using Given = std::function<const toml::node*(std::string_view key)>;
+    void section_pre(const std::string& section, const Given& given, Style& style) const;
+    void section_post(const std::string& section, const Given& given, const toml::node& where,
+                      Style& style) const;
     // [[group]], [[tie]], [[braid]], [[updo]] and [[comb]] in file order into style.groups.
     void read_groups(const toml::table* root, Style& style) const;
 
@@ -313,6 +283,7 @@ class Parser {
 
     std::string source_;
     fs::path base_dir_;
+    bool lines_ = true;  // messages give the file's line
 };
 
 void Parser::check_keys(const toml::table& table, const std::string& path,
@@ -323,10 +294,10 @@ void Parser::check_keys(const toml::table& table, const std::string& path,
         const std::string field = join_path(path, name);
         // A known field written in the wrong section, else a likely typo of a sibling.
         std::vector<std::string> elsewhere;
-        const bool is_section = std::any_of(schema().begin(), schema().end(),
-                                            [&](const auto& s) { return s.first == path; });
-        for (const auto& [section, keys] : schema())
-            for (const auto& k : keys)
+        const auto& sections = style_sections();
+        const bool is_section = std::find(sections.begin(), sections.end(), path) != sections.end();
+        for (const std::string& section : sections)
+            for (const auto& k : section_keys(section))
                 if (is_section && k == name && section != path)
                     elsewhere.push_back(join_path(section, k));
         std::string hint;
@@ -356,7 +327,7 @@ const toml::table* Parser::section(const toml::table* parent, const std::string&
     const std::string field = join_path(path, key);
     const toml::table* table = node->as_table();
     if (!table) error(*node, field, "must be a table, got " + describe(*node));
-    check_keys(*table, field, keys_of(field));
+    check_keys(*table, field, section_keys(field));
     return table;
 }
 
@@ -485,8 +456,11 @@ std::vector<Vec3f> Parser::points(const toml::node& node, const std::string& fie
 const toml::array* Parser::tables(const toml::table& parent, const std::string& path,
                                   std::string_view key) const {
     const toml::node* node = parent.get(key);
-    if (!node) return nullptr;
-    const std::string field = join_path(path, key);
+    return node ? as_tables(*node, join_path(path, key)) : nullptr;
+}
+
+const toml::array* Parser::as_tables(const toml::node& n, const std::string& field) const {
+    const toml::node* node = &n;
     if (node->is_table())
         error(*node, field, "must be an array of tables: write [[" + field + "]] for each");
     const toml::array* array = node->as_array();
@@ -693,295 +667,6 @@ ScalarMap Parser::map(const toml::node& node, const std::string& field,
     return m;
 }
 
-void Parser::read_head(const toml::table* root, Style& style) const {
-    const toml::table* head = section(root, "", "head");
-    if (!head) return;
-    if (const toml::node* obj = head->get("obj")) style.head.obj = path(*obj, "head.obj");
-    opt_real(head, "head", "scale", style.head.scale, Range{0, 1e6, true});
-
-    const toml::table* scalp = section(head, "head", "scalp");
-    if (!scalp) return;
-    ScalpSpec& spec = style.head.scalp;
-    // Which method each key belongs to; the method is inferred from the keys when not named.
-    const std::vector<std::pair<std::string, ScalpSpec::Kind>> owners = {
-        {"group", ScalpSpec::Kind::kGroup},
-        {"mask", ScalpSpec::Kind::kMask},
-        {"front", ScalpSpec::Kind::kHairline},
-        {"side", ScalpSpec::Kind::kHairline},
-        {"back", ScalpSpec::Kind::kHairline}};
-    const std::vector<std::pair<std::string, ScalpSpec::Kind>> methods = {
-        {"group", ScalpSpec::Kind::kGroup},
-        {"mask", ScalpSpec::Kind::kMask},
-        {"hairline", ScalpSpec::Kind::kHairline}};
-    const auto method_name = [&](ScalpSpec::Kind kind) {
-        for (const auto& [name, k] : methods)
-            if (k == kind) return name;
-        return std::string();
-    };
-    std::optional<ScalpSpec::Kind> kind;
-    std::string decided_by;
-    if (const toml::node* method = scalp->get("method")) {
-        kind = choice(*method, "head.scalp.method", methods);
-        decided_by = "method = " + toml_string(method_name(*kind));
-    }
-    for (const auto& [key, owner] : owners) {
-        const toml::node* node = scalp->get(key);
-        if (!node) continue;
-        if (!kind) {
-            kind = owner;
-            decided_by = "'head.scalp." + key + "'";
-        } else if (*kind != owner) {
-            error(*node, "head.scalp." + key,
-                  "belongs to method = " + toml_string(method_name(owner)) + ", but " + decided_by +
-                      " selects method " + toml_string(method_name(*kind)));
-        }
-    }
-    if (kind) spec.kind = *kind;
-    if (const toml::node* group = scalp->get("group"))
-        spec.group = string(*group, "head.scalp.group", true);
-    if (const toml::node* mask = scalp->get("mask")) spec.mask = path(*mask, "head.scalp.mask");
-    if (spec.kind == ScalpSpec::Kind::kMask && spec.mask.empty())
-        error(*scalp, "head.scalp.mask", "required by method = \"mask\"");
-    const Range depth{0, 50, true};
-    opt_real(scalp, "head.scalp", "front", spec.hairline_front, depth);
-    opt_real(scalp, "head.scalp", "side", spec.hairline_side, depth);
-    opt_real(scalp, "head.scalp", "back", spec.hairline_back, depth);
-}
-
-void Parser::read_roots(const toml::table* root, Style& style) const {
-    const toml::table* roots = section(root, "", "roots");
-    if (!roots) return;
-    opt_int(roots, "roots", "wisps", style.wisps, 1, kMaxStrands);
-    opt_int(roots, "roots", "strands", style.strands, 1, kMaxStrands);
-    opt_int(roots, "roots", "points_per_strand", style.points_per_strand, 4, kMaxPointsPerStrand);
-    if (style.wisps > style.strands) {
-        if (const toml::node* wisps = roots->get("wisps"))
-            error(*wisps, "roots.wisps",
-                  cat("must be ≤ roots.strands (", style.strands, "), got ", style.wisps));
-        error(*roots->get("strands"), "roots.strands",
-              cat("must be ≥ roots.wisps (", style.wisps, "), got ", style.strands));
-    }
-    const int64_t total = int64_t(style.strands) * style.points_per_strand;
-    if (total > kMaxTotalPoints) {
-        const toml::node* node = roots->get("points_per_strand");
-        const bool per_strand = node != nullptr;
-        if (!node) node = roots->get("strands");
-        error(*node, per_strand ? "roots.points_per_strand" : "roots.strands",
-              cat("strands × points_per_strand must be ≤ ", kMaxTotalPoints, ", got ",
-                  style.strands, " × ", style.points_per_strand, " = ", total));
-    }
-}
-
-void Parser::read_maps(const toml::table* root, Style& style) const {
-    const toml::table* maps = section(root, "", "maps");
-    if (!maps) return;
-    if (const toml::node* n = maps->get("density"))
-        style.density = map(*n, "maps.density", {Range{0, 1e6}, true, 0.f, 1.f});
-    if (const toml::node* n = maps->get("length"))
-        style.length = map(*n, "maps.length", {Range{0, 500, true}, false, 1.f, 25.f});
-    if (const toml::node* n = maps->get("protrusion"))
-        style.protrusion = map(*n, "maps.protrusion", {Range{0, 1}, false, 0.f, 1.f});
-}
-
-void Parser::read_growth(const toml::table* root, Style& style) const {
-    const toml::table* growth = section(root, "", "growth");
-    if (!growth) return;
-    GrowthSpec& spec = style.growth;
-    float side = 1.f;
-    if (const toml::node* n = growth->get("part")) {
-        using Part = GrowthSpec::Part;
-        const int part =
-            choice<int>(*n, "growth.part", {{"none", 0}, {"centre", 1}, {"left", 2}, {"right", 3}});
-        spec.part = part == 0 ? Part::kNone : part == 1 ? Part::kCentre : Part::kSide;
-        side = part == 3 ? -1.f : 1.f;
-    }
-    opt_real(growth, "growth", "part_offset", spec.part_offset, Range{0, 0.8, true});
-    spec.part_offset = side * std::abs(spec.part_offset);
-    opt_real(growth, "growth", "part_length", spec.part_length, Range{0, 3, true});
-    if (const toml::node* n = growth->get("front"))
-        spec.front = choice<GrowthSpec::Front>(*n, "growth.front",
-                                               {{"sides", GrowthSpec::Front::kSides},
-                                                {"back", GrowthSpec::Front::kBack},
-                                                {"fringe", GrowthSpec::Front::kFringe}});
-    opt_vec3(growth, "growth", "whorl", spec.whorl, true);
-    if (const toml::node* n = growth->get("whorl_turn"))
-        spec.whorl_turn = choice<float>(*n, "growth.whorl_turn",
-                                        {{"clockwise", 1.f}, {"counter-clockwise", -1.f}});
-    opt_real(growth, "growth", "whorl_swirl", spec.whorl_swirl, Range{0, 2});
-    if (const toml::node* n = growth->get("map")) spec.map = path(*n, "growth.map");
-    opt_real(growth, "growth", "map_strength", spec.map_strength, Range{0, 1});
-}
-
-void Parser::read_strand(const toml::table* root, Style& style) const {
-    const toml::table* strand = section(root, "", "strand");
-    opt_real(strand, "strand", "root_width", style.root_width, Range{0, 1, true});
-    opt_real(strand, "strand", "tip_width", style.tip_width, Range{0, 1, true});
-}
-
-void Parser::read_prototype(const toml::table* root, Style& style) const {
-    const toml::table* prototype = section(root, "", "prototype");
-    if (!prototype) return;
-    PrototypeSpec& spec = style.prototype;
-    const toml::node* points = prototype->get("points");
-    if (const toml::node* shape = prototype->get("shape")) {
-        spec.kind = choice<PrototypeSpec::Kind>(*shape, "prototype.shape",
-                                                {{"straight", PrototypeSpec::Kind::kStraight},
-                                                 {"wavy", PrototypeSpec::Kind::kWavy},
-                                                 {"curly", PrototypeSpec::Kind::kCurly},
-                                                 {"kinky", PrototypeSpec::Kind::kKinky},
-                                                 {"polyline", PrototypeSpec::Kind::kPolyline}});
-        if (points && spec.kind != PrototypeSpec::Kind::kPolyline)
-            error(*points, "prototype.points",
-                  "only used with shape = \"polyline\", but shape is " + describe(*shape));
-    } else if (points) {
-        spec.kind = PrototypeSpec::Kind::kPolyline;
-    }
-    opt_real(prototype, "prototype", "amplitude", spec.amplitude, Range{0, 100});
-    opt_real(prototype, "prototype", "period", spec.period, Range{0, 1000, true});
-    opt_real(prototype, "prototype", "length", spec.length, Range{0, 1000, true});
-    opt_int(prototype, "prototype", "window", spec.window, 1, 256);
-    opt_real(prototype, "prototype", "temperature", spec.temperature, Range{0, 100});
-    opt_real(prototype, "prototype", "roll", spec.roll, Range{0, 3.1416});
-    if (spec.kind != PrototypeSpec::Kind::kPolyline) return;
-    if (!points) error(*prototype, "prototype.points", "required by shape = \"polyline\"");
-    const toml::array* array = points->as_array();
-    if (!array)
-        error(*points, "prototype.points",
-              "must be an array of [x, y, z] points, got " + describe(*points));
-    if (array->size() < 4 || array->size() > kMaxPolylinePoints)
-        error(*points, "prototype.points",
-              cat("must hold 4 to ", kMaxPolylinePoints, " points, got ", array->size()));
-    spec.polyline.clear();
-    for (size_t i = 0; i < array->size(); ++i) {
-        const std::string field = cat("prototype.points[", i, "]");
-        const toml::node& p = (*array)[i];
-        const toml::array* xyz = p.as_array();
-        if (!xyz || xyz->size() != 3)
-            error(p, field, "must be a point [x, y, z] in cm, got " + describe(p));
-        Vec3f v;
-        for (int c = 0; c < 3; ++c)
-            v[c] = static_cast<float>(real((*xyz)[c], cat(field, "[", c, "]"), Range{-1e4, 1e4}));
-        spec.polyline.push_back(v);
-    }
-    if (spec.window >= int(spec.polyline.size()))
-        error(prototype->get("window") ? *prototype->get("window") : *points, "prototype.window",
-              cat("must be < the number of prototype points (", spec.polyline.size(), "), got ",
-                  spec.window));
-}
-
-void Parser::read_wisp(const toml::table* root, Style& style) const {
-    const toml::table* wisp = section(root, "", "wisp");
-    if (!wisp) return;
-    WispSpec& spec = style.wisp;
-    if (const toml::node* n = wisp->get("length"))
-        spec.length = distribution(*n, "wisp.length", spec.length, Domain{0, 1, true});
-    if (const toml::node* n = wisp->get("deviation_radius")) {
-        const std::string field = "wisp.deviation_radius";
-        const Range range{0, 100, true};
-        spec.deviation_radius.clear();
-        if (n->is_number()) {
-            spec.deviation_radius.push_back(static_cast<float>(real(*n, field, range)));
-        } else if (const toml::array* array = n->as_array()) {
-            if (array->empty() || array->size() > kMaxDeviationRadii)
-                error(*n, field,
-                      cat("must hold 1 to ", kMaxDeviationRadii, " numbers, got ", array->size()));
-            for (size_t i = 0; i < array->size(); ++i)
-                spec.deviation_radius.push_back(
-                    static_cast<float>(real((*array)[i], cat(field, "[", i, "]"), range)));
-        } else {
-            error(*n, field, "must be a number or an array of numbers, got " + describe(*n));
-        }
-    }
-    opt_real(wisp, "wisp", "fuzziness", spec.fuzziness, Range{0, 10});
-}
-
-// Realistic natural colors (HSV means and spreads, per-strand and per-wisp), the starting
-// point that explicit color fields then adjust.
-struct ColorPreset {
-    const char* name;
-    float hue, hue_sd, saturation, saturation_sd, value, value_sd;
-    float wisp_hue, wisp_saturation, wisp_value;
-};
-
-const std::vector<ColorPreset>& color_presets() {
-    static const std::vector<ColorPreset> presets = {
-        {"black", 25, 3, 0.30f, 0.05f, 0.08f, 0.02f, 2, 0.03f, 0.01f},
-        {"dark-brown", 25, 2, 0.50f, 0.05f, 0.17f, 0.03f, 1.5f, 0.03f, 0.02f},
-        {"brown", 28, 2, 0.55f, 0.04f, 0.30f, 0.04f, 1.5f, 0.03f, 0.03f},
-        {"auburn", 16, 2, 0.65f, 0.05f, 0.33f, 0.04f, 1.5f, 0.03f, 0.03f},
-        {"red", 12, 2, 0.75f, 0.05f, 0.45f, 0.05f, 1.5f, 0.04f, 0.03f},
-        {"blonde", 40, 2, 0.45f, 0.05f, 0.72f, 0.05f, 2, 0.04f, 0.04f},
-        {"platinum", 45, 3, 0.12f, 0.03f, 0.88f, 0.03f, 2, 0.02f, 0.02f},
-        {"gray", 30, 5, 0.06f, 0.03f, 0.60f, 0.12f, 3, 0.02f, 0.05f},
-    };
-    return presets;
-}
-
-void Parser::read_color(const toml::table* root, Style& style) const {
-    const toml::table* color = section(root, "", "color");
-    if (!color) return;
-    ColorSpec& spec = style.color;
-    if (const toml::node* preset = color->get("preset")) {
-        std::vector<std::pair<std::string, const ColorPreset*>> options;
-        for (const auto& p : color_presets())
-            options.emplace_back(p.name, &p);
-        const ColorPreset& p = *choice(*preset, "color.preset", options);
-        const auto normal = [](float mean, float sd, float hi) {
-            Distribution d;
-            d.kind = Distribution::Kind::kNormal;
-            d.mean = mean;
-            d.stddev = sd;
-            d.min = 0;
-            d.max = hi;
-            return d;
-        };
-        spec.hue = normal(p.hue, p.hue_sd, 360);
-        spec.saturation = normal(p.saturation, p.saturation_sd, 1);
-        spec.value = normal(p.value, p.value_sd, 1);
-        spec.wisp_hue = p.wisp_hue;
-        spec.wisp_saturation = p.wisp_saturation;
-        spec.wisp_value = p.wisp_value;
-    }
-    if (const toml::node* n = color->get("hue"))
-        spec.hue = distribution(*n, "color.hue", spec.hue, Domain{0, 360});
-    if (const toml::node* n = color->get("saturation"))
-        spec.saturation = distribution(*n, "color.saturation", spec.saturation, Domain{0, 1});
-    if (const toml::node* n = color->get("value"))
-        spec.value = distribution(*n, "color.value", spec.value, Domain{0, 1});
-    opt_real(color, "color", "wisp_hue", spec.wisp_hue, Range{0, 180});
-    opt_real(color, "color", "wisp_saturation", spec.wisp_saturation, Range{0, 1});
-    opt_real(color, "color", "wisp_value", spec.wisp_value, Range{0, 1});
-}
-
-void Parser::read_solve(const toml::table* root, Style& style) const {
-    const toml::table* solve = section(root, "", "solve");
-    if (!solve) return;
-    SolveSpec& spec = style.solve;
-    opt_bool(solve, "solve", "enabled", spec.enabled);
-    opt_real(solve, "solve", "stiffness", spec.stiffness, Range{0, 1000});
-    opt_real(solve, "solve", "threshold", spec.threshold, Range{0, 1, true});
-    opt_real(solve, "solve", "cell", spec.cell, Range{0.2, 10});
-    opt_real(solve, "solve", "full_density", spec.full_density, Range{0, 1e9, true});
-    opt_real(solve, "solve", "bend_step", spec.bend_step, Range{0, 45, true});
-    opt_int(solve, "solve", "max_tries", spec.max_tries, 0, 1000);
-    opt_real(solve, "solve", "head_margin", spec.head_margin, Range{0, 10});
-    if (const toml::node* order = solve->get("order"))
-        spec.depth_first =
-            choice<bool>(*order, "solve.order", {{"breadth-first", false}, {"depth-first", true}});
-    if (const toml::array* terms = tables(*solve, "solve", "field")) {
-        if (terms->size() > kMaxFieldTerms)
-            error(*solve->get("field"), "solve.field",
-                  cat("must hold at most ", kMaxFieldTerms, " terms, got ", terms->size()));
-        spec.field.clear();
-        for (size_t i = 0; i < terms->size(); ++i) {
-            const std::string path = cat("solve.field[", i, "]");
-            const toml::table& term = *(*terms)[i].as_table();
-            check_keys(term, path, kFieldKeys);
-            spec.field.push_back(field_term(term, path));
-        }
-    }
-}
-
 FieldTerm Parser::field_term(const toml::table& table, const std::string& path) const {
     using Kind = FieldTerm::Kind;
     const std::vector<std::pair<std::string, Kind>> kinds = {
@@ -1018,56 +703,291 @@ FieldTerm Parser::field_term(const toml::table& table, const std::string& path) 
     return term;
 }
 
-void Parser::read_cut(const toml::table* root, Style& style) const {
-    const toml::table* cut = section(root, "", "cut");
-    if (!cut) return;
-    CutSpec& spec = style.cut;
-    spec.enabled = true;
-    opt_bool(cut, "cut", "enabled", spec.enabled);
-    if (const toml::node* n = cut->get("region"))
-        spec.region = choice<CutSpec::Region>(
-            *n, "cut.region",
-            {{"all", CutSpec::Region::kAll}, {"fringe", CutSpec::Region::kFringe}});
-    opt_vec3(cut, "cut", "normal", spec.normal, true);
-    opt_real(cut, "cut", "offset", spec.offset, Range{-kMaxCoordinate, kMaxCoordinate});
-    opt_bool(cut, "cut", "head_relative", spec.head_relative);
+// Realistic natural colors (HSV means and spreads, per-strand and per-wisp), the starting
+// point that explicit color fields then adjust; in the order of color.preset's choices.
+struct ColorPreset {
+    const char* name;
+    float hue, hue_sd, saturation, saturation_sd, value, value_sd;
+    float wisp_hue, wisp_saturation, wisp_value;
+};
+
+const std::vector<ColorPreset>& color_presets() {
+    static const std::vector<ColorPreset> presets = {
+        {"black", 25, 3, 0.30f, 0.05f, 0.08f, 0.02f, 2, 0.03f, 0.01f},
+        {"dark-brown", 25, 2, 0.50f, 0.05f, 0.17f, 0.03f, 1.5f, 0.03f, 0.02f},
+        {"brown", 28, 2, 0.55f, 0.04f, 0.30f, 0.04f, 1.5f, 0.03f, 0.03f},
+        {"auburn", 16, 2, 0.65f, 0.05f, 0.33f, 0.04f, 1.5f, 0.03f, 0.03f},
+        {"red", 12, 2, 0.75f, 0.05f, 0.45f, 0.05f, 1.5f, 0.04f, 0.03f},
+        {"blonde", 40, 2, 0.45f, 0.05f, 0.72f, 0.05f, 2, 0.04f, 0.04f},
+        {"platinum", 45, 3, 0.12f, 0.03f, 0.88f, 0.03f, 2, 0.02f, 0.02f},
+        {"gray", 30, 5, 0.06f, 0.03f, 0.60f, 0.12f, 3, 0.02f, 0.05f},
+    };
+    return presets;
 }
 
-void Parser::read_dynamics(const toml::table* root, Style& style) const {
-    const toml::table* dyn = section(root, "", "dynamics");
-    if (!dyn) return;
-    DynamicsSpec& spec = style.dynamics;
-    const std::string d = "dynamics";
-    opt_int(dyn, d, "levels", spec.levels, 2, 4);
-    opt_int(dyn, d, "wisps_per_group", spec.wisps_per_group, 2, 64);
-    opt_int(dyn, d, "sub_wisps", spec.sub_wisps, 2, 16);
-    opt_int(dyn, d, "sections", spec.sections, 3, 64);
-    opt_int(dyn, d, "strands_per_wisp", spec.strands_per_wisp, 1, kMaxStrands);
-    if (const toml::node* links = dyn->get("links"))
-        spec.links = choice<DynamicsSpec::Links>(*links, "dynamics.links",
-                                                 {{"auto", DynamicsSpec::Links::kAuto},
-                                                  {"rigid", DynamicsSpec::Links::kRigid},
-                                                  {"soft", DynamicsSpec::Links::kSoft}});
-    opt_real(dyn, d, "stiffness", spec.stiffness, Range{0, 1e5});
-    opt_real(dyn, d, "stretch", spec.stretch, Range{0, 1e6});
-    opt_real(dyn, d, "damping", spec.damping, Range{0, 1000});
-    opt_real(dyn, d, "air_drag", spec.air_drag, Range{0, 1000});
-    opt_real(dyn, d, "split_threshold", spec.split_threshold, Range{0, 1e3, true});
-    opt_real(dyn, d, "merge_velocity", spec.merge_velocity, Range{0, 1e5, true});
-    opt_real(dyn, d, "friction", spec.friction, Range{0, 1e4});
-    opt_real(dyn, d, "repulsion", spec.repulsion, Range{0, 1e6});
-    opt_real(dyn, d, "repulsion_angle", spec.repulsion_angle, Range{0, 90});
-    opt_real(dyn, d, "voxel", spec.voxel, Range{0, 100});
-    opt_int(dyn, d, "iterations", spec.iterations, 0, 100);
-    opt_bool(dyn, d, "hair_collisions", spec.hair_collisions);
-    opt_bool(dyn, d, "body_collisions", spec.body_collisions);
-    opt_real(dyn, d, "dt", spec.dt, Range{0, 0.05, true});
-    opt_real(dyn, d, "linear_density", spec.linear_density, Range{0, 1, true});
-    if (spec.friction * spec.dt >= 1)
-        error(*dyn, "dynamics.friction",
-              cat("friction · dt must be under 1 (§4.2: friction must not reverse the relative "
-                  "motion), got ",
-                  spec.friction, " · ", spec.dt, " = ", spec.friction * spec.dt));
+void apply_color_preset(const ColorPreset& p, ColorSpec& spec) {
+    const auto normal = [](float mean, float sd, float hi) {
+        Distribution d;
+        d.kind = Distribution::Kind::kNormal;
+        d.mean = mean;
+        d.stddev = sd;
+        d.min = 0;
+        d.max = hi;
+        return d;
+    };
+    spec.hue = normal(p.hue, p.hue_sd, 360);
+    spec.saturation = normal(p.saturation, p.saturation_sd, 1);
+    spec.value = normal(p.value, p.value_sd, 1);
+    spec.wisp_hue = p.wisp_hue;
+    spec.wisp_saturation = p.wisp_saturation;
+    spec.wisp_value = p.wisp_value;
+}
+
+void Parser::read_field(const StyleField& f, const toml::node& node, Style& style) const {
+    const std::string field(f.path);
+    const FieldRef ref = f.ref ? f.ref(style) : FieldRef{};
+    const Range range{f.lo, f.hi, f.lo_open};
+    switch (f.type) {
+        case FieldType::kNumber: {
+            float& out = *std::get<float*>(ref);
+            const float v = static_cast<float>(real(node, field, range));
+            // A side part's sign says which side it is on, and growth.part sets it.
+            out = f.path == "growth.part_offset" ? std::copysign(v, out) : v;
+            return;
+        }
+        case FieldType::kInteger:
+            *std::get<int*>(ref) =
+                static_cast<int>(integer(node, field, int64_t(f.lo), int64_t(f.hi)));
+            return;
+        case FieldType::kSeed:
+            *std::get<uint64_t*>(ref) =
+                static_cast<uint64_t>(integer(node, field, 0, std::numeric_limits<int64_t>::max()));
+            return;
+        case FieldType::kBoolean:
+            *std::get<bool*>(ref) = boolean(node, field);
+            return;
+        case FieldType::kString:
+            *std::get<std::string*>(ref) = string(node, field, f.positive);
+            return;
+        case FieldType::kPath:
+            *std::get<fs::path*>(ref) = path(node, field);
+            return;
+        case FieldType::kChoice: {
+            std::vector<std::pair<std::string, int>> options;
+            for (size_t i = 0; i < f.choices.size(); ++i)
+                options.emplace_back(std::string(f.choices[i]), int(i));
+            const int i = choice(node, field, options);
+            if (f.path == "color.preset")
+                apply_color_preset(color_presets()[i], style.color);
+            else
+                f.set_choice(style, i);
+            return;
+        }
+        case FieldType::kPoint:
+        case FieldType::kDirection:
+            *std::get<Vec3f*>(ref) = vec3(node, field, f.type == FieldType::kDirection);
+            return;
+        case FieldType::kMap:
+            *std::get<ScalarMap*>(ref) =
+                map(node, field, MapRules{range, f.positive, f.map_low, f.map_high});
+            return;
+        case FieldType::kDistribution: {
+            Distribution& out = *std::get<Distribution*>(ref);
+            out = distribution(node, field, out, Domain{float(f.lo), float(f.hi), f.positive});
+            return;
+        }
+        case FieldType::kRadii: {
+            std::vector<float>& out = *std::get<std::vector<float>*>(ref);
+            const Range each{f.lo, f.hi, true};
+            out.clear();
+            if (node.is_number()) {
+                out.push_back(static_cast<float>(real(node, field, each)));
+            } else if (const toml::array* array = node.as_array()) {
+                if (array->empty() || array->size() > kMaxDeviationRadii)
+                    error(node, field,
+                          cat("must hold 1 to ", kMaxDeviationRadii, " numbers, got ",
+                              array->size()));
+                for (size_t i = 0; i < array->size(); ++i)
+                    out.push_back(
+                        static_cast<float>(real((*array)[i], cat(field, "[", i, "]"), each)));
+            } else {
+                error(node, field,
+                      "must be a number or an array of numbers, got " + describe(node));
+            }
+            return;
+        }
+        case FieldType::kPolyline: {
+            std::vector<Vec3f>& out = *std::get<std::vector<Vec3f>*>(ref);
+            const toml::array* array = node.as_array();
+            if (!array)
+                error(node, field, "must be an array of [x, y, z] points, got " + describe(node));
+            if (array->size() < 4 || array->size() > kMaxPolylinePoints)
+                error(node, field,
+                      cat("must hold 4 to ", kMaxPolylinePoints, " points, got ", array->size()));
+            out.clear();
+            for (size_t i = 0; i < array->size(); ++i) {
+                const std::string point = cat(field, "[", i, "]");
+                const toml::node& p = (*array)[i];
+                const toml::array* xyz = p.as_array();
+                if (!xyz || xyz->size() != 3)
+                    error(p, point, "must be a point [x, y, z] in cm, got " + describe(p));
+                Vec3f v;
+                for (int c = 0; c < 3; ++c)
+                    v[c] = static_cast<float>(real((*xyz)[c], cat(point, "[", c, "]"), range));
+                out.push_back(v);
+            }
+            return;
+        }
+        case FieldType::kFieldTerms: {
+            std::vector<FieldTerm>& out = *std::get<std::vector<FieldTerm>*>(ref);
+            const toml::array* terms = as_tables(node, field);
+            if (terms->size() > kMaxFieldTerms)
+                error(node, field,
+                      cat("must hold at most ", kMaxFieldTerms, " terms, got ", terms->size()));
+            out.clear();
+            for (size_t i = 0; i < terms->size(); ++i) {
+                const std::string term_path = cat(field, "[", i, "]");
+                const toml::table& term = *(*terms)[i].as_table();
+                check_keys(term, term_path, kFieldKeys);
+                out.push_back(field_term(term, term_path));
+            }
+            return;
+        }
+        case FieldType::kGroups:
+            return;  // read_groups, in file order
+    }
+}
+
+// Relations between the fields of a section, checked before (pre) and after (post) its
+// fields are read. `given(key)` is the node of a key the input sets (null if it does not):
+// a message points at the value the user wrote.
+void Parser::section_pre(const std::string& section, const Given& given, Style& style) const {
+    if (section == "head.scalp") {
+        // Which method each key belongs to; the method is inferred from the keys when not
+        // named.
+        using Kind = ScalpSpec::Kind;
+        const std::vector<std::pair<std::string, Kind>> owners = {{"group", Kind::kGroup},
+                                                                  {"mask", Kind::kMask},
+                                                                  {"front", Kind::kHairline},
+                                                                  {"side", Kind::kHairline},
+                                                                  {"back", Kind::kHairline}};
+        const auto& methods = find_style_field("head.scalp.method")->choices;
+        const auto method_name = [&](Kind kind) { return std::string(methods[int(kind)]); };
+        std::optional<Kind> kind;
+        std::string decided_by;
+        if (const toml::node* method = given("method")) {
+            read_field(*find_style_field("head.scalp.method"), *method, style);
+            kind = style.head.scalp.kind;
+            decided_by = "method = " + toml_string(method_name(*kind));
+        }
+        for (const auto& [key, owner] : owners) {
+            const toml::node* node = given(key);
+            if (!node) continue;
+            if (!kind) {
+                kind = owner;
+                decided_by = "'head.scalp." + key + "'";
+            } else if (*kind != owner) {
+                error(*node, "head.scalp." + key,
+                      "belongs to method = " + toml_string(method_name(owner)) + ", but " +
+                          decided_by + " selects method " + toml_string(method_name(*kind)));
+            }
+        }
+        if (kind) style.head.scalp.kind = *kind;
+    } else if (section == "prototype") {
+        const toml::node* points = given("points");
+        if (const toml::node* shape = given("shape")) {
+            read_field(*find_style_field("prototype.shape"), *shape, style);
+            if (points && style.prototype.kind != PrototypeSpec::Kind::kPolyline)
+                error(*points, "prototype.points",
+                      "only used with shape = \"polyline\", but shape is " + describe(*shape));
+        } else if (points) {
+            style.prototype.kind = PrototypeSpec::Kind::kPolyline;
+        }
+    } else if (section == "cut") {
+        style.cut.enabled = true;  // the section being present turns the cut on
+    }
+}
+
+void Parser::section_post(const std::string& section, const Given& given, const toml::node& where,
+                          Style& style) const {
+    // The node to blame for a relation between keys: the first of them the input gives.
+    const auto blame = [&](std::initializer_list<const char*> keys) -> std::string {
+        for (const char* key : keys)
+            if (given(key)) return key;
+        return *keys.begin();
+    };
+    const auto at = [&](const std::string& key) -> const toml::node& {
+        const toml::node* node = given(key);
+        return node ? *node : where;
+    };
+    if (section == "head.scalp") {
+        if (style.head.scalp.kind == ScalpSpec::Kind::kMask && style.head.scalp.mask.empty())
+            error(where, "head.scalp.mask", "required by method = \"mask\"");
+    } else if (section == "roots") {
+        if (style.wisps > style.strands) {
+            if (given("wisps"))
+                error(at("wisps"), "roots.wisps",
+                      cat("must be ≤ roots.strands (", style.strands, "), got ", style.wisps));
+            error(at("strands"), "roots.strands",
+                  cat("must be ≥ roots.wisps (", style.wisps, "), got ", style.strands));
+        }
+        const int64_t total = int64_t(style.strands) * style.points_per_strand;
+        if (total > kMaxTotalPoints) {
+            const std::string key = blame({"points_per_strand", "strands"});
+            error(at(key), "roots." + key,
+                  cat("strands × points_per_strand must be ≤ ", kMaxTotalPoints, ", got ",
+                      style.strands, " × ", style.points_per_strand, " = ", total));
+        }
+    } else if (section == "prototype") {
+        const PrototypeSpec& spec = style.prototype;
+        if (spec.kind != PrototypeSpec::Kind::kPolyline) return;
+        if (spec.polyline.empty())
+            error(where, "prototype.points", "required by shape = \"polyline\"");
+        if (spec.window >= int(spec.polyline.size()))
+            error(at(blame({"window", "points"})), "prototype.window",
+                  cat("must be < the number of prototype points (", spec.polyline.size(), "), got ",
+                      spec.window));
+    } else if (section == "dynamics") {
+        const DynamicsSpec& spec = style.dynamics;
+        if (spec.friction * spec.dt >= 1)
+            error(where, "dynamics.friction",
+                  cat("friction · dt must be under 1 (§4.2: friction must not reverse the "
+                      "relative motion), got ",
+                      spec.friction, " · ", spec.dt, " = ", spec.friction * spec.dt));
+    }
+}
+
+void Parser::read_sections(const toml::table& root, Style& style) const {
+    // The table of each section the file has (null: absent), found as the schema's order
+    // reaches it: a section's parent comes before it.
+    std::vector<std::pair<std::string, const toml::table*>> tables = {{"", &root}};
+    const auto table_of = [&](const std::string& name) -> const toml::table* {
+        for (const auto& [n, t] : tables)
+            if (n == name) return t;
+        const std::string parent(field_section(name));
+        const toml::table* t = section(find_table(tables, parent), parent, field_key(name));
+        tables.emplace_back(name, t);
+        return t;
+    };
+    const auto& schema = style_schema();
+    for (size_t i = 0; i < schema.size();) {
+        const std::string name(field_section(schema[i].path));
+        size_t end = i;
+        while (end < schema.size() && field_section(schema[end].path) == name)
+            ++end;
+        const toml::table* table = table_of(name);
+        if (table) {
+            const Given given = [table](std::string_view key) { return table->get(key); };
+            section_pre(name, given, style);
+            for (; i < end; ++i)
+                if (const toml::node* node = table->get(field_key(schema[i].path)))
+                    if (!(name == "head.scalp" && field_key(schema[i].path) == "method") &&
+                        !(name == "prototype" && field_key(schema[i].path) == "shape"))
+                        read_field(schema[i], *node, style);  // (pre read those two)
+            section_post(name, given, *table, style);
+        }
+        i = end;
+    }
 }
 
 Selection Parser::selection(const toml::table& table, const std::string& path, int wisps,
@@ -1351,29 +1271,31 @@ Style Parser::parse(std::string_view text) {
         fail(source_, ":", e.source().begin.line, ":", e.source().begin.column,
              ": TOML syntax error: ", excerpt(description, kMaxMessage));
     }
-    check_keys(root, "", keys_of(""));
+    check_keys(root, "", section_keys(""));
 
     Style style;
-    if (const toml::node* name = root.get("name")) style.name = string(*name, "name", false);
-    if (const toml::node* seed = root.get("seed"))
-        style.seed =
-            static_cast<uint64_t>(integer(*seed, "seed", 0, std::numeric_limits<int64_t>::max()));
-    read_head(&root, style);
-    read_roots(&root, style);
-    read_maps(&root, style);
-    read_growth(&root, style);
-    read_strand(&root, style);
-    read_prototype(&root, style);
-    read_wisp(&root, style);
-    read_color(&root, style);
-    read_solve(&root, style);
-    read_cut(&root, style);
-    read_dynamics(&root, style);
+    read_sections(root, style);
     read_groups(&root, style);  // after [roots]: wisp ids are checked against roots.wisps
     return style;
 }
 
 }  // namespace
+
+void Parser::set(Style& style, const StyleField& field, const toml::node& node) const {
+    if (field.type == FieldType::kGroups)
+        fail(source_, ": field '", field.path, "': constraint groups are not set one by one");
+    const std::string section(field_section(field.path));
+    const std::string_view key = field_key(field.path);
+    const Given given = [&](std::string_view k) { return k == key ? &node : nullptr; };
+    Style out = style;
+    // A [cut] section in a file turns the cut on; setting one of its fields does not.
+    if (section != "cut") section_pre(section, given, out);
+    // The scalp method and the prototype shape are read by the section's pre-checks.
+    if (field.path != "head.scalp.method" && field.path != "prototype.shape")
+        read_field(field, node, out);
+    section_post(section, given, node, out);
+    style = std::move(out);
+}
 
 Style parse_style(std::string_view toml_text, const std::string& source,
                   const std::filesystem::path& base_dir) {
@@ -1412,6 +1334,270 @@ Style load_preset(const std::string& name) {
     Style style = parse_style(preset_text(name), "preset '" + name + "'");
     if (style.name.empty()) style.name = name;
     return style;
+}
+
+namespace {
+
+// The shortest decimal that reads back to the same float.
+std::string toml_number(float v) {
+    char buffer[32];
+    const auto result = std::to_chars(buffer, buffer + sizeof buffer, v);
+    return std::string(buffer, result.ptr);
+}
+
+// A TOML basic string: quotes, backslashes and control characters escaped.
+std::string toml_quote(std::string_view s) {
+    std::string out = "\"";
+    for (const char c : s) {
+        const auto u = static_cast<unsigned char>(c);
+        if (c == '"' || c == '\\') {
+            out += '\\';
+            out += c;
+        } else if (u < 0x20 || u == 0x7f) {
+            char buffer[8];
+            std::snprintf(buffer, sizeof buffer, "\\u%04x", u);
+            out += buffer;
+        } else {
+            out += c;
+        }
+    }
+    return out + "\"";
+}
+
+std::string toml_path(const fs::path& p, const fs::path& base_dir) {
+    if (!base_dir.empty()) {
+        const fs::path relative = p.lexically_relative(base_dir);
+        if (!relative.empty() && *relative.begin() != "..") return toml_quote(relative.string());
+    }
+    return toml_quote(p.string());
+}
+
+std::string toml_vec3(const Vec3f& v) {
+    return "[" + toml_number(v.x()) + ", " + toml_number(v.y()) + ", " + toml_number(v.z()) + "]";
+}
+
+std::string toml_points(const std::vector<Vec3f>& points) {
+    std::string out = "[";
+    for (size_t i = 0; i < points.size(); ++i)
+        out += (i ? ", " : "") + toml_vec3(points[i]);
+    return out + "]";
+}
+
+std::string toml_distribution(const Distribution& d) {
+    const std::string range = ", min = " + toml_number(d.min) + ", max = " + toml_number(d.max);
+    switch (d.kind) {
+        case Distribution::Kind::kConstant:
+            return "{ distribution = \"constant\", value = " + toml_number(d.value) + " }";
+        case Distribution::Kind::kUniform:
+            return "{ distribution = \"uniform\"" + range + " }";
+        case Distribution::Kind::kNormal:
+            return "{ distribution = \"normal\", mean = " + toml_number(d.mean) +
+                   ", stddev = " + toml_number(d.stddev) + range + " }";
+        case Distribution::Kind::kTable: {
+            std::string values;
+            for (size_t i = 0; i < d.table.size(); ++i)
+                values += (i ? ", " : "") + toml_number(d.table[i]);
+            return "{ distribution = \"table\", values = [" + values + "]" + range + " }";
+        }
+    }
+    return {};
+}
+
+std::string toml_map(const ScalarMap& m, const fs::path& base_dir) {
+    const std::string scale = ", low = " + toml_number(m.low) + ", high = " + toml_number(m.high);
+    switch (m.kind) {
+        case ScalarMap::Kind::kConstant:
+            return toml_number(m.value);
+        case ScalarMap::Kind::kImage:
+            return "{ image = " + toml_path(m.image, base_dir) + scale + " }";
+        case ScalarMap::Kind::kProcedural:
+            return "{ procedural = " + toml_quote(m.procedural) + scale + " }";
+    }
+    return {};
+}
+
+std::string toml_field_terms(const std::vector<FieldTerm>& terms, const fs::path& base_dir) {
+    static const char* const kKinds[] = {"gravity", "pulled-back", "side-part",
+                                         "wind",    "file",        "growth"};
+    std::string out = "[";
+    for (size_t i = 0; i < terms.size(); ++i) {
+        const FieldTerm& t = terms[i];
+        out += std::string(i ? ", " : "") + "{ kind = \"" + kKinds[int(t.kind)] +
+               "\", weight = " + toml_number(t.weight);
+        if (t.kind == FieldTerm::Kind::kWind) out += ", direction = " + toml_vec3(t.direction);
+        if (t.kind == FieldTerm::Kind::kSidePart)
+            out += std::string(", side = ") + (t.side < 0 ? "\"right\"" : "\"left\"");
+        if (t.kind == FieldTerm::Kind::kFile) out += ", file = " + toml_path(t.file, base_dir);
+        out += " }";
+    }
+    return out + "]";
+}
+
+}  // namespace
+
+std::string groups_to_toml(const std::vector<GroupSpec>& groups, const fs::path& base_dir) {
+    std::string out;
+    for (const GroupSpec& g : groups) {
+        const Selection& s = g.selection;
+        out += "\n[[group]]\nname = " + toml_quote(g.name) + "\n";
+        switch (s.kind) {
+            case Selection::Kind::kAll:
+                break;
+            case Selection::Kind::kRegion:
+                out += "region = " + toml_quote(s.region) + "\n";
+                break;
+            case Selection::Kind::kMask:
+                out += "mask = " + toml_path(s.mask, base_dir) + "\n";
+                break;
+            case Selection::Kind::kBox:
+                out += "box = { min = " + toml_vec3(s.lo) + ", max = " + toml_vec3(s.hi) + " }\n";
+                break;
+            case Selection::Kind::kHalfSpace:
+                out += "half_space = { normal = " + toml_vec3(s.normal) +
+                       ", offset = " + toml_number(s.offset) + " }\n";
+                break;
+            case Selection::Kind::kWisps: {
+                out += "wisps = [";
+                for (size_t i = 0; i < s.wisps.size(); ++i)
+                    out += (i ? ", " : "") + std::to_string(s.wisps[i]);
+                out += "]\n";
+                break;
+            }
+        }
+        out += std::string("head_relative = ") + (s.head_relative ? "true" : "false") + "\n";
+        if (s.parts != 1) out += cat("part = ", s.part, "\nparts = ", s.parts, "\n");
+        for (const ConstraintSpec& c : g.queue) {
+            out += "[[group.constraint]]\n";
+            if (c.kind == ConstraintSpec::Kind::kPoint) {
+                out += "kind = \"point\"\npoint = " + toml_vec3(c.point) + "\n";
+            } else {
+                out += std::string("kind = ") +
+                       (c.kind == ConstraintSpec::Kind::kTrajectory ? "\"trajectory\""
+                                                                    : "\"direction\"") +
+                       "\ntrajectory = " + toml_points(c.trajectory) +
+                       "\nsmooth = " + (c.smooth ? "true" : "false") + "\n";
+            }
+            out += "radius = " + toml_number(c.radius) + "\nweight = " + toml_number(c.weight) +
+                   "\nhold = " + (c.hold ? "true" : "false") +
+                   "\nhead_relative = " + (c.head_relative ? "true" : "false") + "\n";
+        }
+    }
+    return out;
+}
+
+std::string style_field_toml(const Style& style, const StyleField& field,
+                             const fs::path& base_dir) {
+    // The accessors hand out mutable storage; nothing is written through it here.
+    Style& s = const_cast<Style&>(style);
+    const FieldRef ref = field.ref ? field.ref(s) : FieldRef{};
+    switch (field.type) {
+        case FieldType::kNumber: {
+            const float v = *std::get<float*>(ref);
+            return toml_number(field.path == "growth.part_offset" ? std::abs(v) : v);
+        }
+        case FieldType::kInteger:
+            return std::to_string(*std::get<int*>(ref));
+        case FieldType::kSeed:
+            return std::to_string(*std::get<uint64_t*>(ref));
+        case FieldType::kBoolean:
+            return *std::get<bool*>(ref) ? "true" : "false";
+        case FieldType::kString:
+            return toml_quote(*std::get<std::string*>(ref));
+        case FieldType::kPath: {
+            const fs::path& p = *std::get<fs::path*>(ref);
+            return p.empty() ? std::string() : toml_path(p, base_dir);
+        }
+        case FieldType::kChoice: {
+            const int i = field.get_choice(style);
+            return i < 0 ? std::string() : toml_quote(field.choices[i]);
+        }
+        case FieldType::kPoint:
+        case FieldType::kDirection:
+            return toml_vec3(*std::get<Vec3f*>(ref));
+        case FieldType::kMap:
+            return toml_map(*std::get<ScalarMap*>(ref), base_dir);
+        case FieldType::kDistribution:
+            return toml_distribution(*std::get<Distribution*>(ref));
+        case FieldType::kRadii: {
+            const auto& radii = *std::get<std::vector<float>*>(ref);
+            std::string out = "[";
+            for (size_t i = 0; i < radii.size(); ++i)
+                out += (i ? ", " : "") + toml_number(radii[i]);
+            return out + "]";
+        }
+        case FieldType::kPolyline:
+            return style.prototype.kind == PrototypeSpec::Kind::kPolyline
+                       ? toml_points(*std::get<std::vector<Vec3f>*>(ref))
+                       : std::string();
+        case FieldType::kFieldTerms:
+            return toml_field_terms(*std::get<std::vector<FieldTerm>*>(ref), base_dir);
+        case FieldType::kGroups:
+            return {};
+    }
+    return {};
+}
+
+std::string style_to_toml(const Style& style, const fs::path& base_dir) {
+    static const Style defaults;
+    const auto changed = [&](const StyleField& field) {
+        return style_field_toml(style, field, base_dir) != style_field_toml(defaults, field);
+    };
+    // A [cut] section turns the cut on when read, so a written one says whether it cuts.
+    bool cut_changed = false;
+    for (const StyleField& field : style_schema())
+        cut_changed |= field_section(field.path) == "cut" && changed(field);
+    std::string out = "# written by wisp (docs/style.md)\n";
+    std::string section = "";
+    for (const StyleField& field : style_schema()) {
+        const std::string text = style_field_toml(style, field, base_dir);
+        if (text.empty()) continue;
+        const bool always = field.path == "cut.enabled" && cut_changed;
+        // The scalp's keys select its method when read: only the method's own are written.
+        using Scalp = ScalpSpec::Kind;
+        const Scalp scalp = style.head.scalp.kind;
+        if ((field.path == "head.scalp.group" && scalp != Scalp::kGroup) ||
+            (field.path == "head.scalp.mask" && scalp != Scalp::kMask) ||
+            (field_section(field.path) == "head.scalp" && field.path != "head.scalp.method" &&
+             field.path != "head.scalp.group" && field.path != "head.scalp.mask" &&
+             scalp != Scalp::kHairline))
+            continue;
+        if (!always && !changed(field)) continue;
+        const std::string_view s = field_section(field.path);
+        if (s != section) {
+            section = std::string(s);
+            out += "\n[" + section + "]\n";
+        }
+        out += std::string(field_key(field.path)) + " = " + text + "\n";
+    }
+    return out + groups_to_toml(style.groups, base_dir);
+}
+
+void set_style_field(Style& style, std::string_view path, std::string_view toml_value,
+                     const std::string& source, const fs::path& base_dir) {
+    const StyleField* field = find_style_field(path);
+    if (!field) {
+        std::vector<std::string> paths;
+        for (const StyleField& f : style_schema())
+            paths.emplace_back(f.path);
+        std::string hint;
+        if (const auto near = closest(path, paths)) hint = " (did you mean '" + *near + "'?)";
+        fail(source, ": unknown field '", excerpt(path, kMaxQuotedField), "'", hint);
+    }
+    if (toml_value.size() > kMaxFileBytes)
+        fail(source, ": field '", path, "': the value is ", toml_value.size(), " bytes, more than ",
+             kMaxFileBytes);
+    toml::table table;
+    try {
+        table = toml::parse("value = " + std::string(toml_value), source);
+    } catch (const toml::parse_error& e) {
+        std::string description(e.description());
+        std::replace(description.begin(), description.end(), '\n', ' ');
+        fail(source, ": field '", path, "': not a TOML value: ", excerpt(description, kMaxMessage));
+    }
+    // One value: "1\nroots.wisps = 5" is not a value of one field.
+    if (table.size() != 1 || !table.get("value"))
+        fail(source, ": field '", path, "': not a single TOML value");
+    Parser(source, base_dir, false).set(style, *field, *table.get("value"));
 }
 
 }  // namespace wisp

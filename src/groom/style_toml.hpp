@@ -27,4 +27,30 @@ std::string_view preset_text(const std::string& name);
 // Parses a shipped preset.
 Style load_preset(const std::string& name);
 
+struct StyleField;
+
+// The value of one schema field of `style` as an inline TOML value ("0.5", "[0, 1, 0]",
+// "{ procedural = \"crown\", low = 0, high = 1 }"), which parse_style reads back to the same
+// value; file paths are written relative to `base_dir` when they lie under it. Empty for a
+// field with nothing to write (an empty path, color.preset, the constraint groups).
+std::string style_field_toml(const Style& style, const StyleField& field,
+                             const std::filesystem::path& base_dir = {});
+
+// The whole style as a TOML file that parse_style (with the same base_dir) reads back to the
+// same Style: every field whose value differs from the default, section by section, then
+// the constraint groups as [[group]] entries (the hairdressing sections written out as the
+// groups they expand into).
+std::string style_to_toml(const Style& style, const std::filesystem::path& base_dir = {});
+
+// Constraint groups as [[group]] entries that parse_style reads back to the same groups.
+std::string groups_to_toml(const std::vector<GroupSpec>& groups,
+                           const std::filesystem::path& base_dir = {});
+
+// Sets the field at `path` ("solve.stiffness") from an inline TOML value with the reader's
+// checks and messages, then the checks between the fields of its section: on error, throws
+// wisp::Error "SOURCE: field 'PATH': REASON" and leaves `style` unchanged. The editor and
+// the Python API set fields through this.
+void set_style_field(Style& style, std::string_view path, std::string_view toml_value,
+                     const std::string& source, const std::filesystem::path& base_dir = {});
+
 }  // namespace wisp

@@ -143,100 +143,104 @@ size_t push_out_of_head(Hair& hair, const HeadField& head, float clearance,
     return moved;
 }
 
-HairstyleResult generate_hairstyle(const Style& style, const Head& head,
-                                   const HeadField* head_field) {
-    HairstyleResult r;
+HeadField build_head_field(const Style& style, const Head& head) {
+    const float cell = head_field_cell(style.solve);
+    const Vec3f span = head.mesh->bounds().size();
+    if (const double nodes = HeadField::node_count(head.mesh->bounds(), cell);
+        nodes > kMaxGridNodes)
+        fail(head.source, ": the head's distance field would have ", nodes,
+             " nodes (the head spans ", span.maxCoeff(), " cm, its cell is ", cell,
+             " cm from solve.cell = ", style.solve.cell, "), more than ", kMaxGridNodes,
+             "; raise solve.cell or check head.scale");
+    return HeadField(*head.mesh, cell);
+}
+
+GroupSelection select_groups(const Style& style, const Head& head, const Roots& roots) {
+    const HeadFrame frame = head_frame(*head.scalp);
+    GroupSelection out;
+    out.selected.resize(style.groups.size());
+    out.wisp_group.assign(roots.masters.size(), 0);
+    for (size_t g = style.groups.size(); g-- > 0;) {
+        out.selected[g] =
+            select_wisps(style.groups[g].selection, roots.masters, *head.scalp, frame);
+        for (uint32_t w : out.selected[g])
+            out.wisp_group[w] = static_cast<int32_t>(g + 1);
+    }
+    return out;
+}
+
+SolveStats solve_stage(const Style& style, const Head& head, const HeadField& head_field,
+                       const Roots& roots, const GroupSelection& groups, Masters& masters,
+                       StageTimes* times) {
     Stopwatch watch;
-    auto lap = [&](const char* stage) {
-        r.times.emplace_back(stage, watch.ms());
+    const HeadFrame frame = head_frame(*head.scalp);
+    // The grid spans everywhere the hair can reach: the head, grown by the longest master.
+    float longest = 0.f;
+    for (size_t w = 0; w < masters.count(); ++w)
+        longest = std::max(longest, masters.segment[w] * (masters.points - 1));
+    Box3 bounds = head.mesh->bounds();
+    Box3 reach;
+    for (const SurfacePoint& p : roots.masters)
+        reach.extend(p.position);
+    reach.lo -= Vec3f::Constant(longest);
+    reach.hi += Vec3f::Constant(longest);
+    bounds.extend(reach);
+    if (const double nodes = grid_nodes(bounds.size(), style.solve.cell); nodes > kMaxGridNodes)
+        fail("the solver's grid would span ", bounds.size().x(), " × ", bounds.size().y(), " × ",
+             bounds.size().z(), " cm (the head and ", longest,
+             " cm of hair around it) at solve.cell = ", style.solve.cell, " cm: ", nodes,
+             " nodes, more than ", kMaxGridNodes,
+             "; shorten the hair (maps.length, wisp.length) or raise solve.cell");
+    const StylingField field(style.solve.field, frame, GrowthField(style.growth, *head.scalp),
+                             bounds, style.solve.cell);
+    Grid3<float> density(field.grid().origin(), field.grid().cell(), field.grid().dims());
+    if (times) times->emplace_back("field", watch.ms());
+    watch = Stopwatch();
+
+    SolveInput in;
+    in.field = &field;
+    in.head = &head_field;
+    for (size_t gi = 0; gi < style.groups.size(); ++gi) {
+        const GroupSpec& g = style.groups[gi];
+        SolverGroup sg;
+        sg.name = g.name;
+        sg.wisps = groups.selected[gi];
+        for (const ConstraintSpec& c : g.queue)
+            sg.queue.push_back(resolve_constraint(c, frame));
+        in.groups.push_back(std::move(sg));
+    }
+    const size_t w_count = masters.count();
+    in.wisp_strands.resize(w_count);
+    for (size_t w = 0; w < w_count; ++w)
+        in.wisp_strands[w] = static_cast<int>(roots.wisp_offsets[w + 1] - roots.wisp_offsets[w]);
+    in.wisp_radius = roots.wisp_radius;
+    const int n = masters.points;
+    in.radius_profile.resize(n);
+    const float r0 = deviation_radius(style.wisp.deviation_radius, 0.f);
+    for (int k = 0; k < n; ++k)
+        in.radius_profile[k] =
+            deviation_radius(style.wisp.deviation_radius, static_cast<float>(k) / (n - 1)) / r0;
+    SolveStats stats = solve_masters(masters, in, style.solve, density);
+    if (times) times->emplace_back("solve", watch.ms());
+    return stats;
+}
+
+MembersResult members_stage(const Style& style, const Head& head, const HeadField& head_field,
+                            const Roots& roots, const Masters& masters,
+                            std::span<const int32_t> wisp_group, StageTimes* times) {
+    Stopwatch watch;
+    const auto lap = [&](const char* stage) {
+        if (times) times->emplace_back(stage, watch.ms());
         watch = Stopwatch();
     };
-    const Roots roots = grow_roots(style, head);
-    lap("roots");
-    r.masters = synthesize_masters(style, head, roots);
-    lap("masters");
-
-    HeadField own;
-    if (!head_field) {
-        const float cell = head_field_cell(style.solve);
-        const Vec3f span = head.mesh->bounds().size();
-        if (const double nodes = HeadField::node_count(head.mesh->bounds(), cell);
-            nodes > kMaxGridNodes)
-            fail(head.source, ": the head's distance field would have ", nodes,
-                 " nodes (the head spans ", span.maxCoeff(), " cm, its cell is ", cell,
-                 " cm from solve.cell = ", style.solve.cell, "), more than ", kMaxGridNodes,
-                 "; raise solve.cell or check head.scale");
-        own = HeadField(*head.mesh, cell);
-        head_field = &own;
-        lap("head field");
-    }
-    const HeadFrame frame = head_frame(*head.scalp);
-    // The wisps of each constraint group; a wisp belongs to the first group that selects it
-    // (the solver's rule), which is also the group its strands export with (Hair::group).
-    std::vector<std::vector<uint32_t>> selected(style.groups.size());
-    std::vector<int32_t> wisp_group(r.masters.count(), 0);
-    for (size_t g = style.groups.size(); g-- > 0;) {
-        selected[g] = select_wisps(style.groups[g].selection, roots.masters, *head.scalp, frame);
-        for (uint32_t w : selected[g])
-            wisp_group[w] = static_cast<int32_t>(g + 1);
-    }
-    if (style.solve.enabled) {
-        // The grid spans everywhere the hair can reach: the head, grown by the longest master.
-        float longest = 0.f;
-        for (size_t w = 0; w < r.masters.count(); ++w)
-            longest = std::max(longest, r.masters.segment[w] * (r.masters.points - 1));
-        Box3 bounds = head.mesh->bounds();
-        Box3 reach;
-        for (const SurfacePoint& p : roots.masters)
-            reach.extend(p.position);
-        reach.lo -= Vec3f::Constant(longest);
-        reach.hi += Vec3f::Constant(longest);
-        bounds.extend(reach);
-        if (const double nodes = grid_nodes(bounds.size(), style.solve.cell); nodes > kMaxGridNodes)
-            fail("the solver's grid would span ", bounds.size().x(), " × ", bounds.size().y(),
-                 " × ", bounds.size().z(), " cm (the head and ", longest,
-                 " cm of hair around it) at solve.cell = ", style.solve.cell, " cm: ", nodes,
-                 " nodes, more than ", kMaxGridNodes,
-                 "; shorten the hair (maps.length, wisp.length) or raise solve.cell");
-        const StylingField field(style.solve.field, frame, GrowthField(style.growth, *head.scalp),
-                                 bounds, style.solve.cell);
-        Grid3<float> density(field.grid().origin(), field.grid().cell(), field.grid().dims());
-        lap("field");
-
-        SolveInput in;
-        in.field = &field;
-        in.head = head_field;
-        for (size_t gi = 0; gi < style.groups.size(); ++gi) {
-            const GroupSpec& g = style.groups[gi];
-            SolverGroup sg;
-            sg.name = g.name;
-            sg.wisps = std::move(selected[gi]);
-            for (const ConstraintSpec& c : g.queue)
-                sg.queue.push_back(resolve_constraint(c, frame));
-            in.groups.push_back(std::move(sg));
-        }
-        const size_t w_count = r.masters.count();
-        in.wisp_strands.resize(w_count);
-        for (size_t w = 0; w < w_count; ++w)
-            in.wisp_strands[w] =
-                static_cast<int>(roots.wisp_offsets[w + 1] - roots.wisp_offsets[w]);
-        in.wisp_radius = roots.wisp_radius;
-        const int n = r.masters.points;
-        in.radius_profile.resize(n);
-        const float r0 = deviation_radius(style.wisp.deviation_radius, 0.f);
-        for (int k = 0; k < n; ++k)
-            in.radius_profile[k] =
-                deviation_radius(style.wisp.deviation_radius, static_cast<float>(k) / (n - 1)) / r0;
-        r.solve = solve_masters(r.masters, in, style.solve, density);
-        lap("solve");
-    }
-    r.hair = grow_members(style, r.masters, roots);
+    MembersResult r;
+    r.hair = grow_members(style, masters, roots);
     r.hair.group.resize(r.hair.strand_count());
     for (size_t j = 0; j < r.hair.strand_count(); ++j)
         r.hair.group[j] = wisp_group[static_cast<size_t>(r.hair.wisp[j])];
-    r.wisp_group = std::move(wisp_group);
     lap("members");
     if (style.cut.enabled && style.cut.normal.norm() > 0.f) {
+        const HeadFrame frame = head_frame(*head.scalp);
         const Vec3f n = style.cut.normal.normalized();
         const float offset = style.cut.head_relative
                                  ? n.dot(frame.center) + style.cut.offset * frame.radius
@@ -261,28 +265,68 @@ HairstyleResult generate_hairstyle(const Style& style, const Head& head,
         // A member point lies within its wisp's radius of the master point of the same index,
         // so only joints closer to the head than that radius (plus slack for the grid) can
         // bring members inside.
-        const int n = r.masters.points;
+        const int n = masters.points;
         const float r0 = deviation_radius(style.wisp.deviation_radius, 0.f);
-        std::vector<uint8_t> near(r.masters.count() * n);
+        std::vector<uint8_t> near(masters.count() * n);
         parallel_for(
-            r.masters.count(),
+            masters.count(),
             [&](size_t w) {
                 for (int k = 0; k < n; ++k) {
                     const float reach = roots.wisp_radius[w] *
                                             deviation_radius(style.wisp.deviation_radius,
                                                              static_cast<float>(k) / (n - 1)) /
                                             r0 +
-                                        kClearance + head_field->grid().cell();
-                    near[w * n + k] = head_field->sdf(r.masters.control[w * n + k]) < reach;
+                                        kClearance + head_field.grid().cell();
+                    near[w * n + k] = head_field.sdf(masters.control[w * n + k]) < reach;
                 }
             },
             16);
         r.points_pushed =
-            push_out_of_head(r.hair, *head_field, kClearance, &near, n, &r.points_inside_head);
+            push_out_of_head(r.hair, head_field, kClearance, &near, n, &r.points_inside_head);
     }
     lap("collide");
-    r.hair.colors.resize(r.hair.strand_count());
-    color_strands(style.color, style.seed, r.hair.wisp, r.hair.colors);
+    return r;
+}
+
+void color_stage(const Style& style, Hair& hair) {
+    hair.colors.resize(hair.strand_count());
+    color_strands(style.color, style.seed, hair.wisp, hair.colors);
+}
+
+HairstyleResult generate_hairstyle(const Style& style, const Head& head,
+                                   const HeadField* head_field) {
+    HairstyleResult r;
+    Stopwatch watch;
+    auto lap = [&](const char* stage) {
+        r.times.emplace_back(stage, watch.ms());
+        watch = Stopwatch();
+    };
+    const Roots roots = grow_roots(style, head);
+    lap("roots");
+    r.masters = synthesize_masters(style, head, roots);
+    lap("masters");
+
+    HeadField own;
+    if (!head_field) {
+        own = build_head_field(style, head);
+        head_field = &own;
+        lap("head field");
+    }
+    // The wisps of each constraint group; a wisp belongs to the first group that selects it
+    // (the solver's rule), which is also the group its strands export with (Hair::group).
+    GroupSelection groups = select_groups(style, head, roots);
+    if (style.solve.enabled)
+        r.solve = solve_stage(style, head, *head_field, roots, groups, r.masters, &r.times);
+    MembersResult members =
+        members_stage(style, head, *head_field, roots, r.masters, groups.wisp_group, &r.times);
+    r.wisp_group = std::move(groups.wisp_group);
+    r.hair = std::move(members.hair);
+    r.points_pushed = members.points_pushed;
+    r.points_inside_head = members.points_inside_head;
+    r.strands_cut = members.strands_cut;
+    r.strands_removed = members.strands_removed;
+    watch = Stopwatch();
+    color_stage(style, r.hair);
     lap("color");
     return r;
 }

@@ -3,6 +3,7 @@
 // roots → masters → head field → styling field → solve → members → cut → collide → color.
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "core/hair.hpp"
@@ -44,6 +45,41 @@ size_t cut_hair(Hair& hair, const Vec3f& normal, float offset, size_t* removed,
 size_t push_out_of_head(Hair& hair, const HeadField& head, float clearance,
                         const std::vector<uint8_t>* near = nullptr, int n = 0,
                         size_t* inside = nullptr);
+
+// The stages generate_hairstyle runs, each a function of the outputs before it (the
+// editor's stage cache, edit/stage_cache.hpp, keeps those and re-runs from a change on).
+// Each appends its sub-stages' times to `times` when given.
+
+// The head's distance field at head_field_cell(style.solve); throws wisp::Error naming the
+// head if its grid would be too large.
+HeadField build_head_field(const Style& style, const Head& head);
+
+// The wisps of each constraint group (selected: #groups lists of wisp ids) and the group of
+// each wisp (wisp_group: #W, 1 + the first group that selects it, 0 for none: the solver's
+// rule, and the group its strands export with, Hair::group).
+struct GroupSelection {
+    std::vector<std::vector<uint32_t>> selected;
+    std::vector<int32_t> wisp_group;
+};
+GroupSelection select_groups(const Style& style, const Head& head, const Roots& roots);
+
+// Styling field, density grid and Algorithm 1 (§3, §4): solves `masters` in place.
+SolveStats solve_stage(const Style& style, const Head& head, const HeadField& head_field,
+                       const Roots& roots, const GroupSelection& groups, Masters& masters,
+                       StageTimes* times = nullptr);
+
+struct MembersResult {
+    Hair hair;  // without colors
+    size_t points_pushed = 0, points_inside_head = 0, strands_cut = 0, strands_removed = 0;
+};
+// Members (§2.1) with their group (wisp_group, #W), the cut plane (§6.2) and the push out
+// of the head.
+MembersResult members_stage(const Style& style, const Head& head, const HeadField& head_field,
+                            const Roots& roots, const Masters& masters,
+                            std::span<const int32_t> wisp_group, StageTimes* times = nullptr);
+
+// A color per strand (§5).
+void color_stage(const Style& style, Hair& hair);
 
 // Runs every stage. The head field is built here unless `head_field` is given (callers
 // that solve repeatedly on one head, like the editor and benchmarks, keep it).

@@ -1,0 +1,63 @@
+#pragma once
+// The editor's HTTP server (cpp-httplib): the front end (web/, embedded at build time) and
+// a JSON and binary API over a StageCache. Security (issue 16): bound to 127.0.0.1 unless
+// told otherwise; requests whose Host or Origin is not the server's own are refused (DNS
+// rebinding); every /api/ request carries the per-launch token; bodies are size-limited;
+// a bad value is a 400 naming the field and the reason.
+//
+// API (every path under /api/ needs `X-Wisp-Token: TOKEN` or `?token=TOKEN`):
+//   GET  /api/schema          the style schema (edit/wire.hpp schema_json)
+//   GET  /api/style           {"values": {path: value}, "toml": text, "stale": stage}
+//   POST /api/set             {"path": "solve.stiffness", "value": 0.5} → {"stale": stage}
+//                             or 400 {"field": path, "error": message}
+//   POST /api/preset          {"name": "curly"}: the whole style from a shipped preset
+//   GET  /api/presets         ["bangs", …]
+//   GET  /api/hair?strands=N  the first N strands in shuffled order (encode_strands); a
+//                             request overtaken by a newer one before it starts gets 409
+//   GET  /api/masters         the solved masters (encode_masters): the first preview
+//   GET  /api/head            the head mesh (encode_head)
+//   GET  /api/stats           strands, points, stage runs and times
+#include <cstddef>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "groom/style.hpp"
+
+namespace wisp {
+
+struct EditOptions {
+    std::string host = "127.0.0.1";  // the address to bind; another one is the caller's risk
+    int port = 0;                    // 0: a free port
+    std::string token;               // empty: 128 random bits from /dev/urandom, in hex
+    size_t max_body = 1 << 20;       // bytes of a request body
+};
+
+class EditServer {
+  public:
+    // Loads the style's head (throws wisp::Error as load_head does).
+    EditServer(Style style, std::filesystem::path base_dir, EditOptions options = {});
+    ~EditServer();  // stops the server
+    EditServer(const EditServer&) = delete;
+    EditServer& operator=(const EditServer&) = delete;
+
+    // Binds (throws wisp::Error if the address or port cannot be bound) and serves on a
+    // thread of its own until stop().
+    void start();
+    // Stops serving and joins the thread; safe to call twice.
+    void stop();
+
+    int port() const;
+    const std::string& token() const;
+    // http://HOST:PORT/?token=TOKEN
+    std::string url() const;
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+// Whether the front end was built into this binary (Node and npm were found at build time).
+bool editor_front_end_built();
+
+}  // namespace wisp

@@ -1,0 +1,50 @@
+#pragma once
+// What the editor's server sends the browser: strands and the head as little-endian binary
+// arrays, and the style schema as JSON (also `wisp schema`).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/hair.hpp"
+#include "geometry/mesh.hpp"
+#include "groom/master.hpp"
+#include "groom/style.hpp"
+
+namespace wisp {
+
+// A permutation of [0, n): strand order[i] is sent i-th, so that any prefix of what is sent
+// is a uniform random subset (Fisher–Yates on a fixed stream: the same n, the same order).
+std::vector<uint32_t> strand_order(size_t n);
+
+// The first min(limit, #S) strands of `hair` in strand_order(#S), as:
+//   "WISPHAIR"                 8 bytes
+//   uint32 version (1), strands sent S', points sent P', strands in all S
+//   uint32 offsets[S'+1]       strand i owns points [offsets[i], offsets[i+1])
+//   float32 positions[3·P']    cm, head space
+//   float32 colors[3·S']       linear RGB in [0, 1]
+// every number little-endian.
+std::string encode_strands(const Hair& hair, size_t limit);
+
+// The masters' control polylines in the same layout (colors: a neutral grey).
+std::string encode_masters(const Masters& masters);
+
+// The head mesh: "WISPHEAD", uint32 version (1), #V, #F, float32 positions[3·#V] (cm),
+// uint32 triangles[3·#F], uint8 scalp[#F] (1 for scalp faces).
+std::string encode_head(const Mesh& mesh, const std::vector<uint8_t>& scalp_faces);
+
+// The schema: {"fields": [{path, type, stage, panel, paper, unit, min, max, min_open,
+// choices, doc, default}], "stages": [...], "panels": [...]}. Defaults are the values of
+// Style{} (toml_to_json of style_field_toml).
+nlohmann::json schema_json();
+
+// The style's value of every field, as JSON keyed by path.
+nlohmann::json style_values_json(const Style& style);
+
+// An inline TOML value as JSON, and JSON as an inline TOML value (for set_style_field).
+// Throws wisp::Error naming `field` for JSON TOML cannot hold (null, nesting deeper than 8).
+nlohmann::json toml_value_to_json(const std::string& toml_value);
+std::string json_to_toml_value(const nlohmann::json& value, const std::string& field);
+
+}  // namespace wisp

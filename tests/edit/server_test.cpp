@@ -1,0 +1,243 @@
+#include "edit/server.hpp"
+
+#include <arpa/inet.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <sys/time.h>
+#include <unistd.h>
+
+#include <cstring>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "groom/style_toml.hpp"
+
+namespace wisp {
+namespace {
+
+// One HTTP exchange on loopback with exactly these request bytes; returns the whole
+// response ("" if the server closed without one).
+std::string http_exchange(int port, const std::string& request) {
+    const int fd = socket(AF_INET, SOCK_STREAM, 0);
+    EXPECT_GE(fd, 0);
+    timeval timeout{10, 0};
+    setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_port = htons(static_cast<uint16_t>(port));
+    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    if (connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
+        close(fd);
+        return "";
+    }
+    for (size_t sent = 0; sent < request.size();) {
+        const ssize_t n = send(fd, request.data() + sent, request.size() - sent, MSG_NOSIGNAL);
+        if (n <= 0) break;
+        sent += static_cast<size_t>(n);
+    }
+    std::string response;
+    char buffer[65536];
+    for (ssize_t n; (n = recv(fd, buffer, sizeof buffer, 0)) > 0;)
+        response.append(buffer, static_cast<size_t>(n));
+    close(fd);
+    return response;
+}
+
+int status_of(const std::string& response) {
+    return response.size() > 12 ? std::atoi(response.c_str() + 9) : 0;
+}
+
+std::string body_of(const std::string& response) {
+    const size_t p = response.find("\r\n\r\n");
+    return p == std::string::npos ? "" : response.substr(p + 4);
+}
+
+class EditServerTest : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        Style style = load_preset("default");
+        style.wisps = 60;
+        style.strands = 600;
+        style.points_per_strand = 8;
+        server_ = std::make_unique<EditServer>(style, "");
+        server_->start();
+        port_ = server_->port();
+        host_ = "127.0.0.1:" + std::to_string(port_);
+    }
+
+    std::string get(const std::string& path, const std::string& extra = "") {
+        return http_exchange(port_, "GET " + path + " HTTP/1.1\r\nHost: " + host_ +
+                                        "\r\nX-Wisp-Token: " + server_->token() + "\r\n" + extra +
+                                        "Connection: close\r\n\r\n");
+    }
+    std::string post(const std::string& path, const std::string& body,
+                     const std::string& extra = "") {
+        return http_exchange(port_, "POST " + path + " HTTP/1.1\r\nHost: " + host_ +
+                                        "\r\nX-Wisp-Token: " + server_->token() + "\r\n" + extra +
+                                        "Content-Type: application/json\r\nContent-Length: " +
+                                        std::to_string(body.size()) +
+                                        "\r\nConnection: close\r\n\r\n" + body);
+    }
+    nlohmann::json values() { return nlohmann::json::parse(body_of(get("/api/style")))["values"]; }
+
+    std::unique_ptr<EditServer> server_;
+    int port_ = 0;
+    std::string host_;
+};
+
+TEST_F(EditServerTest, ListensOnLoopbackWithATokenInItsUrl) {
+    EXPECT_GT(port_, 0);
+    EXPECT_EQ(server_->token().size(), 32u);
+    EXPECT_EQ(server_->url(),
+              "http://127.0.0.1:" + std::to_string(port_) + "/?token=" + server_->token());
+    const std::string r = get("/api/schema");
+    ASSERT_EQ(status_of(r), 200) << r;
+    const auto schema = nlohmann::json::parse(body_of(r));
+    EXPECT_GT(schema["fields"].size(), 80u);
+    EXPECT_EQ(schema["fields"][0]["path"], "name");
+    // The page itself needs no token (it holds no data); the API does.
+    EXPECT_EQ(status_of(http_exchange(
+                  port_, "GET / HTTP/1.1\r\nHost: " + host_ + "\r\nConnection: close\r\n\r\n")),
+              200);
+}
+
+TEST_F(EditServerTest, RefusesForeignHostsOriginsAndMissingTokens) {
+    const std::string token = server_->token();
+    const auto raw = [&](const std::string& headers) {
+        return status_of(http_exchange(
+            port_, "GET /api/style HTTP/1.1\r\n" + headers + "Connection: close\r\n\r\n"));
+    };
+    EXPECT_EQ(raw("Host: " + host_ + "\r\nX-Wisp-Token: " + token + "\r\n"), 200);
+    EXPECT_EQ(
+        raw("Host: localhost:" + std::to_string(port_) + "\r\nX-Wisp-Token: " + token + "\r\n"),
+        200);
+    // DNS rebinding: another site's name resolved to 127.0.0.1.
+    EXPECT_EQ(
+        raw("Host: evil.example:" + std::to_string(port_) + "\r\nX-Wisp-Token: " + token + "\r\n"),
+        403);
+    EXPECT_EQ(raw("X-Wisp-Token: " + token + "\r\n"), 403);  // no Host at all
+    EXPECT_EQ(raw("Host: " + host_ + "\r\nOrigin: http://evil.example\r\nX-Wisp-Token: " + token +
+                  "\r\n"),
+              403);
+    EXPECT_EQ(raw("Host: " + host_ + "\r\nOrigin: http://" + host_ + "\r\nX-Wisp-Token: " + token +
+                  "\r\n"),
+              200);
+    EXPECT_EQ(raw("Host: " + host_ + "\r\n"), 403);  // no token
+    EXPECT_EQ(raw("Host: " + host_ + "\r\nX-Wisp-Token: " + std::string(32, '0') + "\r\n"), 403);
+    EXPECT_EQ(status_of(http_exchange(port_, "GET /api/style?token=" + token +
+                                                 " HTTP/1.1\r\nHost: " + host_ +
+                                                 "\r\nConnection: close\r\n\r\n")),
+              200);
+}
+
+TEST_F(EditServerTest, BadValuesAre400sNamingTheFieldAndReason) {
+    std::string r = post("/api/set", R"({"path": "wisp.fuzziness", "value": -1})");
+    ASSERT_EQ(status_of(r), 400) << r;
+    auto j = nlohmann::json::parse(body_of(r));
+    EXPECT_EQ(j["field"], "wisp.fuzziness");
+    EXPECT_EQ(j["error"], "value: field 'wisp.fuzziness': must be ≥ 0, got -1");
+    ASSERT_EQ(status_of(get("/api/hair?strands=0")), 200);  // every stage up to date
+    r = post("/api/set", R"({"path": "solve.stiffness", "value": 0.5})");
+    ASSERT_EQ(status_of(r), 200) << r;
+    j = nlohmann::json::parse(body_of(r));
+    EXPECT_EQ(j["stale"], "solve");
+    EXPECT_EQ(j["value"], 0.5);
+    EXPECT_EQ(values()["solve.stiffness"], 0.5);
+    // Maps and choices as JSON.
+    EXPECT_EQ(status_of(post("/api/set", R"({"path": "maps.length",
+        "value": {"procedural": "crown", "low": 5, "high": 30}})")),
+              200);
+    EXPECT_EQ(values()["maps.length"]["procedural"], "crown");
+}
+
+TEST_F(EditServerTest, SendsShuffledStrandsAsLittleEndianArrays) {
+    const std::string r = get("/api/hair?strands=100");
+    ASSERT_EQ(status_of(r), 200);
+    const std::string b = body_of(r);
+    ASSERT_GE(b.size(), 24u);
+    EXPECT_EQ(b.substr(0, 8), "WISPHAIR");
+    uint32_t header[4];
+    std::memcpy(header, b.data() + 8, sizeof header);
+    EXPECT_EQ(header[0], 1u);
+    EXPECT_EQ(header[1], 100u);
+    EXPECT_EQ(header[3], 600u);
+    const uint32_t strands = header[1], points = header[2];
+    EXPECT_EQ(b.size(), 24 + 4 * (strands + 1) + 12 * points + 12 * strands);
+    uint32_t last;
+    std::memcpy(&last, b.data() + 24 + 4 * strands, 4);
+    EXPECT_EQ(last, points);
+    const std::string head = body_of(get("/api/head"));
+    EXPECT_EQ(head.substr(0, 8), "WISPHEAD");
+    const std::string masters = body_of(get("/api/masters"));
+    EXPECT_EQ(masters.substr(0, 8), "WISPHAIR");
+    std::memcpy(header, masters.data() + 8, sizeof header);
+    EXPECT_EQ(header[1], 60u);
+}
+
+// A bounded sweep of hostile requests: each gets a 4xx, the server keeps answering and the
+// style is what it was.
+TEST_F(EditServerTest, SurvivesAHostileSweepWithItsStateIntact) {
+    const nlohmann::json before = values();
+    const std::string big(2 << 20, 'x');
+    const std::vector<std::pair<std::string, std::string>> bodies = {
+        {"/api/set", ""},
+        {"/api/set", "not json"},
+        {"/api/set", "[1, 2]"},
+        {"/api/set", R"({"value": 1})"},
+        {"/api/set", R"({"path": 7, "value": 1})"},
+        {"/api/set", R"({"path": "roots.wisps"})"},
+        {"/api/set", R"({"path": "roots.wisps", "value": null})"},
+        {"/api/set", R"({"path": "roots.wisps", "value": 1e300})"},
+        {"/api/set", R"({"path": "roots.wisps", "value": 2.5})"},
+        {"/api/set", R"({"path": "roots.strands", "value": 99999999999})"},
+        {"/api/set", R"({"path": "roots.wisps\u0000\u001b[2J", "value": 1})"},
+        {"/api/set", R"({"path": "group", "value": {}})"},
+        {"/api/set", R"({"path": "maps.length", "value": [[[[[[[[[[[1]]]]]]]]]]]})"},
+        {"/api/set", R"({"path": "maps.length", "value": {"image": ""}})"},
+        {"/api/set", R"({"path": "prototype.points", "value": "\n[x]\ny = 1"})"},
+        {"/api/set", R"({"path": "solve.cell", "value": "1\nroots.wisps = 5"})"},
+        {"/api/preset", R"({"name": "../../etc/passwd"})"},
+        {"/api/preset", R"({"name": 3})"},
+        {"/api/set", big},
+    };
+    for (const auto& [path, body] : bodies) {
+        const int status = status_of(post(path, body));
+        EXPECT_GE(status, 400) << path << " " << body.substr(0, 80);
+        EXPECT_LT(status, 500) << path << " " << body.substr(0, 80);
+    }
+    for (const char* path :
+         {"/api/hair?strands=-1", "/api/hair?strands=x", "/api/hair?strands=99999999999999999999",
+          "/api/nothing", "/../../etc/passwd", "/%2e%2e/etc/passwd"}) {
+        const int status = status_of(get(path));
+        EXPECT_GE(status, 400) << path;
+        EXPECT_LT(status, 500) << path;
+    }
+    EXPECT_EQ(http_exchange(port_, "garbage\r\n\r\n").substr(0, 12).find("200"), std::string::npos);
+    EXPECT_EQ(values(), before);
+    EXPECT_EQ(status_of(get("/api/hair?strands=10")), 200);
+}
+
+TEST(EditServer, StopsAndFreesItsPort) {
+    Style style = load_preset("short");
+    style.wisps = 10;
+    style.strands = 100;
+    int port = 0;
+    {
+        EditServer server(style, "");
+        server.start();
+        port = server.port();
+        server.stop();
+        server.stop();  // twice is fine
+    }
+    EXPECT_EQ(http_exchange(port, "GET / HTTP/1.1\r\nHost: x\r\n\r\n"), "");
+    EditOptions options;
+    options.port = port;  // free again
+    EditServer again(style, "", options);
+    EXPECT_NO_THROW(again.start());
+    EXPECT_EQ(again.port(), port);
+}
+
+}  // namespace
+}  // namespace wisp

@@ -1,0 +1,145 @@
+// The 3D view: the head mesh and the hair as one LineSegments draw call with a tangent-based
+// (Kajiya–Kay) hair shader, under an orbit camera.
+import * as THREE from "three";
+import { OrbitControls } from "three/addons/controls/OrbitControls.js";
+
+const hairVertex = /* glsl */ `
+  attribute vec3 tangent3;
+  attribute vec3 color;
+  varying vec3 vTangent;
+  varying vec3 vColor;
+  varying vec3 vView;
+  void main() {
+    vec4 world = modelMatrix * vec4(position, 1.0);
+    vTangent = normalize(mat3(modelMatrix) * tangent3);
+    vColor = color;
+    vView = normalize(cameraPosition - world.xyz);
+    gl_Position = projectionMatrix * viewMatrix * world;
+  }
+`;
+
+// Kajiya–Kay: diffuse sin(T, L), specular sin(T, H)^p, with a tinted secondary highlight.
+const hairFragment = /* glsl */ `
+  uniform vec3 lightDir;
+  varying vec3 vTangent;
+  varying vec3 vColor;
+  varying vec3 vView;
+  void main() {
+    vec3 t = normalize(vTangent);
+    vec3 l = normalize(lightDir);
+    vec3 h = normalize(l + normalize(vView));
+    float tl = dot(t, l);
+    float th = dot(t, h);
+    float diffuse = sqrt(max(0.0, 1.0 - tl * tl));
+    float sinth = sqrt(max(0.0, 1.0 - th * th));
+    float spec = pow(sinth, 80.0) * 0.12;
+    float spec2 = pow(sinth, 20.0) * 0.3;
+    vec3 c = vColor * (0.25 + 0.85 * diffuse) + vec3(spec) + vColor * spec2;
+    gl_FragColor = vec4(c, 1.0);
+    #include <colorspace_fragment>
+  }
+`;
+
+export class Viewport {
+  constructor(element) {
+    this.element = element;
+    this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    this.renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2));
+    this.renderer.setClearColor(0x24262b);
+    element.appendChild(this.renderer.domElement);
+    this.scene = new THREE.Scene();
+    this.camera = new THREE.PerspectiveCamera(30, 1, 1, 2000);
+    this.camera.position.set(45, 20, 80);
+    this.controls = new OrbitControls(this.camera, this.renderer.domElement);
+    this.controls.target.set(0, 0, 0);
+    this.controls.addEventListener("change", () => this.render());
+    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x404048, 2.2));
+    const key = new THREE.DirectionalLight(0xffffff, 1.6);
+    key.position.set(30, 60, 50);
+    this.scene.add(key);
+    this.lightDir = key.position.clone().normalize();
+    this.hairMaterial = new THREE.ShaderMaterial({
+      vertexShader: hairVertex,
+      fragmentShader: hairFragment,
+      uniforms: { lightDir: { value: this.lightDir } },
+    });
+    this.hair = null;
+    this.head = null;
+    new ResizeObserver(() => this.resize()).observe(element);
+    this.resize();
+  }
+
+  resize() {
+    const { clientWidth: w, clientHeight: h } = this.element;
+    if (!w || !h) return;
+    this.renderer.setSize(w, h);
+    this.camera.aspect = w / h;
+    this.camera.updateProjectionMatrix();
+    this.render();
+  }
+
+  render() {
+    this.renderer.render(this.scene, this.camera);
+  }
+
+  setHead(head) {
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute("position", new THREE.BufferAttribute(head.positions, 3));
+    geometry.setIndex(new THREE.BufferAttribute(head.triangles, 1));
+    geometry.computeVertexNormals();
+    geometry.computeBoundingBox();
+    const material = new THREE.MeshStandardMaterial({ color: 0xc9a58c, roughness: 0.7 });
+    if (this.head) this.scene.remove(this.head);
+    this.head = new THREE.Mesh(geometry, material);
+    this.scene.add(this.head);
+    const box = geometry.boundingBox;
+    // Frame the head and its hair: the top of the mesh holds the head.
+    this.controls.target.set(0, box.max.y - 14, 0);
+    this.controls.update();
+    this.render();
+  }
+
+  showHead(visible) {
+    if (this.head) this.head.visible = visible;
+    this.render();
+  }
+
+  // strands: decodeStrands()'s arrays. One vertex per control point, one index pair per
+  // segment: a single LineSegments, a single draw call.
+  setHair(strands) {
+    const { offsets, positions, colors, strands: count } = strands;
+    const points = positions.length / 3;
+    const tangents = new Float32Array(3 * points);
+    const vertexColors = new Float32Array(3 * points);
+    const segments = points - count;
+    const index = new Uint32Array(2 * Math.max(0, segments));
+    let k = 0;
+    for (let s = 0; s < count; ++s) {
+      const a = offsets[s], b = offsets[s + 1];
+      for (let i = a; i < b; ++i) {
+        const p = Math.max(a, i - 1), n = Math.min(b - 1, i + 1);
+        for (let c = 0; c < 3; ++c) {
+          tangents[3 * i + c] = positions[3 * n + c] - positions[3 * p + c];
+          vertexColors[3 * i + c] = colors[3 * s + c];
+        }
+        if (i + 1 < b) {
+          index[k++] = i;
+          index[k++] = i + 1;
+        }
+      }
+    }
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute("position", new THREE.BufferAttribute(positions, 3));
+    geometry.setAttribute("tangent3", new THREE.BufferAttribute(tangents, 3));
+    geometry.setAttribute("color", new THREE.BufferAttribute(vertexColors, 3));
+    geometry.setIndex(new THREE.BufferAttribute(index.subarray(0, k), 1));
+    if (this.hair) {
+      this.scene.remove(this.hair);
+      this.hair.geometry.dispose();
+    }
+    this.hair = new THREE.LineSegments(geometry, this.hairMaterial);
+    this.hair.frustumCulled = false;
+    this.scene.add(this.hair);
+    this.render();
+  }
+}
