@@ -101,7 +101,9 @@ OpacityShadowMap::OpacityShadowMap(const Hair& hair, const LightFrame& light, co
         [&] { return std::vector<uint32_t>(cells, 0u); });
     const float inv_du = 1.f / du_, inv_dv = 1.f / dv_, inv_dw = 1.f / dw_;
     const float step = 2.f * std::min(du_, dv_);
-    const float area_scale = options.strand_opacity * kFixedPoint / (du_ * dv_);
+    const size_t stride = static_cast<size_t>(std::max(1, options.strand_stride));
+    const float area_scale =
+        options.strand_opacity * static_cast<float>(stride) * kFixedPoint / (du_ * dv_);
     const size_t strands = hair.strand_count();
     parallel_for(
         (strands + 63) / 64,
@@ -115,6 +117,7 @@ OpacityShadowMap::OpacityShadowMap(const Hair& hair, const LightFrame& light, co
                     static_cast<uint32_t>(amount + 0.5f);
             };
             for (size_t k = chunk * 64; k < std::min(strands, chunk * 64 + 64); ++k) {
+                if (k % stride != 0) continue;
                 const size_t s = order[k];
                 bool first = true;
                 Vec3f prev_q;

@@ -43,6 +43,10 @@ struct OpacityShadowMapOptions {
                                   // would block
     float width_scale = 1.f;      // as RenderOptions::width_scale
     float tip_width = 0.3f;       // as RenderOptions::tip_width
+    // Deposit every n-th strand of the (light-space ordered, so spatially even) order with n
+    // times its opacity: the same expected optical depth for 1/n of the walk, for maps too
+    // coarse to resolve single strands (the rim light's).
+    int strand_stride = 1;
 };
 
 class OpacityShadowMap {

@@ -214,7 +214,8 @@ Vec3f shade_hair(const Scene& scene, const Vec3f& p, const Vec3f& t, const Vec3f
     };
     Vec3f c = l.ambient.cwiseProduct(color) + shadow * l.key_color.cwiseProduct(light(l.key_dir)) +
               l.fill_color.cwiseProduct(light(l.fill_dir));
-    if (l.rim && rim_shadow > kRimInvisible) c += rim_shadow * l.rim_color.cwiseProduct(light(l.rim_dir));
+    if (l.rim && rim_shadow > kRimInvisible)
+        c += rim_shadow * l.rim_color.cwiseProduct(light(l.rim_dir));
     return c;
 }
 
@@ -674,7 +675,7 @@ RgbImage render(const Hair& hair, const Mesh* head, const RenderOptions& o, Rend
     if (o.shadows) {
         Box3 all = scene.hair_box;
         if (scene.head) all.extend(scene.head->bounds());
-        auto cast = [&](const Vec3f& dir, int resolution, int slices, float opacity,
+        auto cast = [&](const Vec3f& dir, int resolution, int slices, float opacity, int stride,
                         int head_resolution, LightShadow& out) {
             const LightFrame frame = LightFrame::towards(dir);
             if (hair.point_count() > 0) {
@@ -682,6 +683,7 @@ RgbImage render(const Hair& hair, const Mesh* head, const RenderOptions& o, Rend
                 so.resolution = resolution;
                 so.slices = slices;
                 so.strand_opacity = opacity;
+                so.strand_stride = stride;
                 so.width_scale = o.width_scale;
                 so.tip_width = hair.widths.empty() ? o.tip_width : 1.f;
                 out.hair = std::make_unique<OpacityShadowMap>(hair, frame, scene.hair_box, so);
@@ -690,11 +692,11 @@ RgbImage render(const Hair& hair, const Mesh* head, const RenderOptions& o, Rend
                 out.head =
                     std::make_unique<ShadowDepthMap>(*scene.head, frame, all, head_resolution);
         };
-        cast(scene.lights.key_dir, o.shadow_resolution, o.shadow_slices, o.shadow_opacity, 512,
+        cast(scene.lights.key_dir, o.shadow_resolution, o.shadow_slices, o.shadow_opacity, 1, 512,
              scene.key_shadow);
         if (scene.lights.rim)
             cast(scene.lights.rim_dir, o.rim_shadow_resolution, o.rim_shadow_slices,
-                 o.rim_shadow_opacity, 256, scene.rim_shadow);
+                 o.rim_shadow_opacity, o.rim_shadow_stride, 256, scene.rim_shadow);
     }
     lap("shadows");
 

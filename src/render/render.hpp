@@ -96,6 +96,9 @@ struct RenderOptions {
     // The same for the rim light: a fibre's full opacity, so that the rim lights the outermost
     // strands of the silhouette and not, through a sparse layer, the whole hair's far side.
     float rim_shadow_opacity = 1.f;
+    // The rim's map deposits every n-th strand with n times the opacity (a 128² map does not
+    // resolve single strands; the walk over the strands was the rim's largest cost).
+    int rim_shadow_stride = 4;
 };
 
 struct RenderStats {
