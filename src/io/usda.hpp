@@ -46,6 +46,7 @@ struct UsdCurves {
     std::vector<int32_t> wisp_id;             // primvars:wisp_id
     std::string wisp_id_interpolation;
     bool has_normals = false;  // ribbons: normals are read past, not kept
+    bool guide = false;        // primvars:groom_guide is 1 on every curve (Unreal's guides)
 };
 
 // One explicit set of USD value clips, authored on prim `prim` as

@@ -219,7 +219,12 @@ Hair hair_from_usda(const UsdaLayer& layer, const std::string& name, int samples
     const int K = std::max(1, samples_per_segment);
     bool any_widths = false, any_wisp = false, uniform_color = true, has_uncolored = false;
     std::optional<Vec3f> constant_color;
+    // Guide curves (Unreal's groom_guide) are the simulation's, not strands to draw: they are
+    // left out when the layer has render strands too.
+    const bool skip_guides = std::any_of(layer.curves.begin(), layer.curves.end(),
+                                         [](const UsdCurves& c) { return !c.guide; });
     for (const UsdCurves& c : layer.curves) {
+        if (skip_guides && c.guide) continue;
         if (const std::string p = usd_curves_problem(c); !p.empty())
             fail(name, ":", c.line, ": prim ", excerpt(c.path, 256), ": ", p);
         any_widths |= !c.widths.empty();
@@ -260,6 +265,7 @@ Hair hair_from_usda(const UsdaLayer& layer, const std::string& name, int samples
         1 + std::accumulate(layer.curves.begin(), layer.curves.end(), size_t(0),
                             [](size_t n, const UsdCurves& c) { return n + c.counts.size(); }));
     for (const UsdCurves& c : layer.curves) {
+        if (skip_guides && c.guide) continue;
         const Basis b = basis_of(c);
         const Wrap w = wrap_of(c);
         const bool periodic = w == Wrap::kPeriodic;

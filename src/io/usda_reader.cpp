@@ -762,7 +762,7 @@ class Parser {
     static NumKind kind_of(std::string_view attr) {
         if (attr == "type" || attr == "basis" || attr == "wrap") return NumKind::kString;
         if (attr == "curveVertexCounts" || attr == "primvars:wisp_id" ||
-            attr == "primvars:displayColor:indices")
+            attr == "primvars:displayColor:indices" || attr == "primvars:groom_guide")
             return NumKind::kInt;
         return NumKind::kFloat;
     }
@@ -770,7 +770,7 @@ class Parser {
         return attr == "type" || attr == "basis" || attr == "wrap" || attr == "curveVertexCounts" ||
                attr == "points" || attr == "widths" || attr == "primvars:widths" ||
                attr == "primvars:displayColor" || attr == "primvars:displayColor:indices" ||
-               attr == "primvars:wisp_id";
+               attr == "primvars:wisp_id" || attr == "primvars:groom_guide";
     }
 
     // One attribute, relationship or other property statement of a prim body. attrs is
@@ -948,6 +948,12 @@ class Parser {
             scalars(v, "primvars:wisp_id");
             c.wisp_id.assign(v.i.begin(), v.i.end());
             c.wisp_id_interpolation = a->interpolation;
+        }
+        if (const Attr* a = get("primvars:groom_guide"); a && a->resolved()) {
+            const Value& v = *a->resolved();
+            scalars(v, "primvars:groom_guide");
+            c.guide =
+                !v.i.empty() && std::all_of(v.i.begin(), v.i.end(), [](auto g) { return g == 1; });
         }
     }
 

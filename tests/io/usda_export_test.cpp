@@ -143,6 +143,14 @@ TEST(UsdaExport, GuidesForUnreal) {
     EXPECT_EQ(layer.curves[1].path, "/hair/guides");
     EXPECT_EQ(layer.curves[1].counts, (std::vector<int>{6, 6, 6}));
     EXPECT_EQ(usd_curves_problem(layer.curves[1]), "");
+    // The guides are flagged, and reading the layer as hair draws the render strands only.
+    EXPECT_FALSE(layer.curves[0].guide);
+    EXPECT_TRUE(layer.curves[1].guide);
+    test::expect_same_geometry(g.hair, hair_from_usda(layer, "g.usda"));
+    // A layer of guides alone still reads as the guides' strands.
+    UsdaLayer only_guides = layer;
+    only_guides.curves.erase(only_guides.curves.begin());
+    EXPECT_EQ(hair_from_usda(only_guides, "g.usda").strand_count(), 3u);
     // A strand whose wisp has no guide is an error.
     Groom bad = sample_groom();
     bad.hair.wisp[4] = 3;
