@@ -912,7 +912,8 @@ int run_cli(int argc, char** argv) {
         ->check(CLI::Range(1.0, 1000.0))
         ->capture_default_str();
     animate_cmd->add_option("-o,--output", anim.outputs,
-                            "Output: .usda (one file, time samples) or .hair/.obj/.ply (one file "
+                            "Output: .usda (value clips: a layer per frame and a top-level layer, "
+                            "or one time-sampled layer, see --usda) or .hair/.obj/.ply (one file "
                             "per frame; #### in the name is the frame number)");
     animate_cmd->add_option("--png", anim.png, "Render every frame: PNG name with ####");
     animate_cmd->add_option("--mp4", anim.mp4, "Also encode the frames to an MP4 (ffmpeg)");
