@@ -80,22 +80,6 @@ nlohmann::json node_to_json(const toml::node& node) {
     return nullptr;
 }
 
-std::string quote(const std::string& s) {
-    std::string out = "\"";
-    for (const char c : s) {
-        const auto u = static_cast<unsigned char>(c);
-        if (c == '"' || c == '\\') {
-            out += '\\';
-            out += c;
-        } else if (u < 0x20 || u == 0x7f) {
-            out += cat("\\u00", "0123456789abcdef"[u >> 4], "0123456789abcdef"[u & 15]);
-        } else {
-            out += c;
-        }
-    }
-    return out + "\"";
-}
-
 void to_toml(const nlohmann::json& v, const std::string& field, int depth, std::string& out) {
     if (depth > 8) fail("field '", excerpt(field), "': the value nests deeper than 8 levels");
     switch (v.type()) {
@@ -119,7 +103,7 @@ void to_toml(const nlohmann::json& v, const std::string& field, int depth, std::
             return;
         }
         case nlohmann::json::value_t::string:
-            out += quote(v.get<std::string>());
+            out += toml_quote(v.get<std::string>());
             return;
         case nlohmann::json::value_t::array: {
             out += "[";
@@ -138,7 +122,7 @@ void to_toml(const nlohmann::json& v, const std::string& field, int depth, std::
             for (const auto& [k, e] : v.items()) {
                 if (!first) out += ", ";
                 first = false;
-                out += quote(k) + " = ";
+                out += toml_quote(k) + " = ";
                 to_toml(e, field, depth + 1, out);
             }
             out += " }";

@@ -1336,16 +1336,6 @@ Style load_preset(const std::string& name) {
     return style;
 }
 
-namespace {
-
-// The shortest decimal that reads back to the same float.
-std::string toml_number(float v) {
-    char buffer[32];
-    const auto result = std::to_chars(buffer, buffer + sizeof buffer, v);
-    return std::string(buffer, result.ptr);
-}
-
-// A TOML basic string: quotes, backslashes and control characters escaped.
 std::string toml_quote(std::string_view s) {
     std::string out = "\"";
     for (const char c : s) {
@@ -1362,6 +1352,15 @@ std::string toml_quote(std::string_view s) {
         }
     }
     return out + "\"";
+}
+
+namespace {
+
+// The shortest decimal that reads back to the same float.
+std::string toml_number(float v) {
+    char buffer[32];
+    const auto result = std::to_chars(buffer, buffer + sizeof buffer, v);
+    return std::string(buffer, result.ptr);
 }
 
 std::string toml_path(const fs::path& p, const fs::path& base_dir) {

@@ -17,6 +17,9 @@ namespace wisp {
 Style parse_style(std::string_view toml_text, const std::string& source,
                   const std::filesystem::path& base_dir = {});
 
+// A TOML basic string of s: quotes, backslashes and control characters escaped.
+std::string toml_quote(std::string_view s);
+
 // Reads and parses a style file.
 Style load_style(const std::filesystem::path& path);
 
