@@ -477,6 +477,17 @@ void check_options(const Hair& hair, const UsdaWriteOptions& options, const std:
     }
 }
 
+// The checks of both animation writers before frame `index` of `frames` is written: not one
+// too many, valid, and frame 0's strands.
+void check_next_frame(const std::filesystem::path& path, const Hair& first, const Hair& frame,
+                      size_t index, size_t frames) {
+    if (index == frames) fail(path.string(), ": more frames than announced (", frames, ")");
+    frame.validate(cat(path.string(), " frame ", index));
+    if (frame.offsets != first.offsets)
+        fail(path.string(), ": frame ", index,
+             " has a different topology (strand point counts) than frame 0");
+}
+
 void check_frames(const std::vector<Hair>& frames, double fps, const std::string& name) {
     if (frames.empty()) fail(name, ": an animation needs at least one frame");
     if (!(fps > 0) || !std::isfinite(fps))
@@ -606,12 +617,7 @@ UsdaAnimationWriter::~UsdaAnimationWriter() = default;
 
 void UsdaAnimationWriter::add(const Hair& frame) {
     Impl& m = *impl_;
-    if (m.written == m.frames)
-        fail(path_.string(), ": more frames than announced (", m.frames, ")");
-    frame.validate(cat(path_.string(), " frame ", m.written));
-    if (frame.offsets != m.first.offsets)
-        fail(path_.string(), ": frame ", m.written,
-             " has a different topology (strand point counts) than frame 0");
+    check_next_frame(path_, m.first, frame, m.written, m.frames);
     add_animation_frame(m.out, frame, m.written);
     m.extents.push_back(extent_of(frame));
     ++m.written;
@@ -704,12 +710,7 @@ UsdaClipWriter::~UsdaClipWriter() = default;
 
 void UsdaClipWriter::add(const Hair& frame) {
     Impl& m = *impl_;
-    if (m.written == m.frames)
-        fail(path_.string(), ": more frames than announced (", m.frames, ")");
-    frame.validate(cat(path_.string(), " frame ", m.written));
-    if (frame.offsets != m.first.offsets)
-        fail(path_.string(), ": frame ", m.written,
-             " has a different topology (strand point counts) than frame 0");
+    check_next_frame(path_, m.first, frame, m.written, m.frames);
     const std::filesystem::path file = m.series.path(m.written);
     write_clip_frame(file, frame, m.written, path_.filename().string());
     m.series.added(m.written);
