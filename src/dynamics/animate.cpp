@@ -5,7 +5,6 @@
 
 #include "core/error.hpp"
 #include "core/timer.hpp"
-#include "dynamics/skin.hpp"
 
 namespace wisp {
 
@@ -38,89 +37,124 @@ std::vector<Sphere> body_spheres_for(const Mesh& body, const HeadFrame& head, co
     return spheres;
 }
 
-AnimationStats animate(const Hair& rest, const Mesh& body, const HeadFrame& head,
-                       const Motion& motion, const DynamicsSpec& spec,
-                       PrototypeSpec::Kind prototype, const AnimateSettings& settings,
-                       const std::function<void(int, const Hair&, const FramePose&)>& frame) {
-    if (settings.frames < 1) fail("animate: frames must be ≥ 1, got ", settings.frames);
+Animator::Animator(const Hair& rest, const Mesh& body, const HeadFrame& head,
+                   const Motion& motion, const DynamicsSpec& spec,
+                   PrototypeSpec::Kind prototype, const AnimateSettings& settings)
+    : rest_(rest), frame_stats_(settings.frame_stats) {
     if (!(settings.fps > 0) || !std::isfinite(settings.fps) || settings.fps > 1000)
         fail("animate: fps must be in (0, 1000], got ", settings.fps);
     AwtParams params = awt_params(spec, prototype, settings.single_level);
-    AnimationStats stats;
-    stats.rigid = params.rigid;
-    stats.steps_per_frame =
+    stats_.rigid = params.rigid;
+    stats_.steps_per_frame =
         std::max(1, static_cast<int>(std::lround(1.0 / (settings.fps * params.dt))));
-    stats.dt = 1.0 / (settings.fps * stats.steps_per_frame);
-    params.dt = static_cast<float>(stats.dt);
+    stats_.dt = 1.0 / (settings.fps * stats_.steps_per_frame);
+    params.dt = static_cast<float>(stats_.dt);
 
     Stopwatch watch;
     HierarchyOptions options = hierarchy_options(spec);
     options.wisp_held = settings.wisp_held;
     options.strand_held = settings.strand_held;
-    const Hierarchy h = build_hierarchy(rest, options);
-    stats.hierarchy_ms = watch.ms();
-    stats.levels = h.levels;
-    stats.sections = h.sections;
-    stats.gcs = h.gc_count();
-    stats.nodes = h.node_count();
-    stats.finest_nodes = static_cast<size_t>(h.gc_count() - h.finest_begin()) * h.sections;
+    hierarchy_ = build_hierarchy(rest, options);
+    const Hierarchy& h = hierarchy_;
+    stats_.hierarchy_ms = watch.ms();
+    stats_.levels = h.levels;
+    stats_.sections = h.sections;
+    stats_.gcs = h.gc_count();
+    stats_.nodes = h.node_count();
+    stats_.finest_nodes = static_cast<size_t>(h.gc_count() - h.finest_begin()) * h.sections;
     for (uint32_t g = h.finest_begin(); g < h.gc_count(); ++g)
         for (int k = 1; k < h.sections; ++k)
-            stats.held_finest_nodes += h.held[h.node(g, k)] >= 1;
+            stats_.held_finest_nodes += h.held[h.node(g, k)] >= 1;
     for (int l = 0; l < h.levels; ++l)
-        stats.gcs_per_level.push_back(h.level_size(l));
+        stats_.gcs_per_level.push_back(h.level_size(l));
 
     watch = Stopwatch();
     std::vector<Sphere> spheres;
     if (params.body_collisions) spheres = body_spheres_for(body, head, h);
-    stats.spheres = spheres.size();
-    stats.bodies_ms = watch.ms();
+    stats_.spheres = spheres.size();
+    stats_.bodies_ms = watch.ms();
 
     watch = Stopwatch();
-    const StrandBinding binding = bind_strands(rest, h);
-    stats.bind_ms = watch.ms();
+    binding_ = bind_strands(rest, h);
+    stats_.bind_ms = watch.ms();
 
-    AwtSimulation sim(h, std::move(spheres), motion, params, 0.0);
-    Hair moved = rest;
-    std::vector<Mat3f> rotations;
-    double skin_total = 0, step_total = 0;
-    uint64_t splits_before = 0, merges_before = 0;
-    for (int f = 0; f < settings.frames; ++f) {
-        if (f > 0)
-            for (int s = 0; s < stats.steps_per_frame; ++s) {
-                Stopwatch step;
-                sim.step();
-                const double ms = step.ms();
-                step_total += ms;
-                stats.step_ms_max = std::max(stats.step_ms_max, ms);
-                ++stats.steps;
-                const AwtStepStats& last = sim.last_step();
-                stats.pair_tests += last.pair_tests;
-                stats.hair_contacts += last.hair_contacts;
-                stats.body_contacts += last.body_contacts;
-                const double e = sim.kinetic_energy();
-                if (!std::isfinite(e))
-                    fail("animate: the simulation diverged at t = ", sim.time(),
-                         " s (lower dt or stiffness)");
-                stats.max_kinetic_energy = std::max(stats.max_kinetic_energy, e);
-            }
-        Stopwatch skin;
-        sim.sync();
-        sim.finest_rotations(rotations);
-        skin_strands(h, binding, sim.positions(), rotations, moved);
-        skin_total += skin.ms();
-        stats.active_per_level.push_back(sim.active_per_level());
-        stats.frame_splits.push_back(static_cast<uint32_t>(sim.total_splits() - splits_before));
-        stats.frame_merges.push_back(static_cast<uint32_t>(sim.total_merges() - merges_before));
-        splits_before = sim.total_splits();
-        merges_before = sim.total_merges();
-        frame(f, moved, FramePose{sim.time(), sim.head_transform(), sim.body_transform()});
+    sim_ = std::make_unique<AwtSimulation>(hierarchy_, std::move(spheres), &motion, params, 0.0);
+}
+
+void Animator::advance() {
+    AwtSimulation& sim = *sim_;
+    if (++frame_ > 0)
+        for (int s = 0; s < stats_.steps_per_frame; ++s) {
+            Stopwatch step;
+            sim.step();
+            const double ms = step.ms();
+            step_total_ += ms;
+            stats_.step_ms_max = std::max(stats_.step_ms_max, ms);
+            ++stats_.steps;
+            const AwtStepStats& last = sim.last_step();
+            stats_.pair_tests += last.pair_tests;
+            stats_.hair_contacts += last.hair_contacts;
+            stats_.body_contacts += last.body_contacts;
+            const double e = sim.kinetic_energy();
+            if (!std::isfinite(e))
+                fail("animate: the simulation diverged at t = ", sim.time(),
+                     " s (lower dt or stiffness)");
+            stats_.max_kinetic_energy = std::max(stats_.max_kinetic_energy, e);
+        }
+    Stopwatch sync;
+    sim.sync();
+    sim.finest_rotations(rotations_);
+    skin_total_ += sync.ms();
+    if (frame_stats_) {
+        stats_.active_per_level.push_back(sim.active_per_level());
+        stats_.frame_splits.push_back(static_cast<uint32_t>(sim.total_splits() - splits_before_));
+        stats_.frame_merges.push_back(static_cast<uint32_t>(sim.total_merges() - merges_before_));
     }
-    stats.splits = sim.total_splits();
-    stats.merges = sim.total_merges();
-    stats.step_ms_mean = stats.steps ? step_total / static_cast<double>(stats.steps) : 0;
-    stats.skin_ms_mean = skin_total / settings.frames;
-    return stats;
+    splits_before_ = sim.total_splits();
+    merges_before_ = sim.total_merges();
+}
+
+FramePose Animator::pose() const {
+    return FramePose{sim_->time(), sim_->head_transform(), sim_->body_transform()};
+}
+
+void Animator::skin(Hair& out) {
+    Stopwatch watch;
+    skin_strands(hierarchy_, binding_, sim_->positions(), rotations_, out);
+    skin_total_ += watch.ms();
+    ++skins_;
+}
+
+void Animator::skin(std::span<const uint32_t> strands, std::span<Vec3f> points) {
+    Stopwatch watch;
+    skin_strands(hierarchy_, binding_, sim_->positions(), rotations_, rest_.offsets, strands,
+                 points);
+    skin_total_ += watch.ms();
+    ++skins_;
+}
+
+AnimationStats Animator::stats() const {
+    AnimationStats s = stats_;
+    s.splits = sim_->total_splits();
+    s.merges = sim_->total_merges();
+    s.step_ms_mean = s.steps ? step_total_ / static_cast<double>(s.steps) : 0;
+    s.skin_ms_mean = frame_ >= 0 ? skin_total_ / (frame_ + 1) : 0;
+    return s;
+}
+
+AnimationStats animate(const Hair& rest, const Mesh& body, const HeadFrame& head,
+                       const Motion& motion, const DynamicsSpec& spec,
+                       PrototypeSpec::Kind prototype, const AnimateSettings& settings,
+                       const std::function<void(int, const Hair&, const FramePose&)>& frame) {
+    if (settings.frames < 1) fail("animate: frames must be ≥ 1, got ", settings.frames);
+    Animator animator(rest, body, head, motion, spec, prototype, settings);
+    Hair moved = rest;
+    for (int f = 0; f < settings.frames; ++f) {
+        animator.advance();
+        animator.skin(moved);
+        frame(f, moved, animator.pose());
+    }
+    return animator.stats();
 }
 
 }  // namespace wisp

@@ -2,6 +2,8 @@
 // Animating a hairstyle (Bertails et al. 2003): hierarchy → AWT simulation → render strands
 // moved with the nodes, frame after frame.
 #include <functional>
+#include <memory>
+#include <span>
 #include <vector>
 
 #include "core/hair.hpp"
@@ -9,6 +11,7 @@
 #include "dynamics/body.hpp"
 #include "dynamics/hierarchy.hpp"
 #include "dynamics/motion.hpp"
+#include "dynamics/skin.hpp"
 #include "geometry/mesh.hpp"
 #include "groom/style.hpp"
 
@@ -24,6 +27,9 @@ struct AnimateSettings {
     // Per strand of the rest hair: the length held by ties (held_lengths(), `--tie`); empty:
     // none (HierarchyOptions::strand_held).
     std::vector<float> strand_held;
+    // Record the per-frame lists of AnimationStats (active nodes per level, splits, merges):
+    // off for a live session that runs without end.
+    bool frame_stats = true;
 };
 
 struct AnimationStats {
@@ -57,6 +63,53 @@ std::vector<Sphere> body_spheres_for(const Mesh& body, const HeadFrame& head,
 struct FramePose {
     double time = 0;            // s
     RigidTransform head, body;  // head space → world
+};
+
+// One animation, frame by frame: the loop animate() runs, and what the editor's live motion
+// steps while the user drives the head (its motion gains keys as it plays: the simulation
+// reads the motion at each step's time, live_motion.hpp). Deterministic: the same rest hair,
+// motion keys and settings give the same node positions at every frame.
+class Animator {
+  public:
+    // Builds the hierarchy, fits the body spheres and binds the strands (timed in stats()).
+    // `rest`, `motion` and what they refer to must outlive the animator. Throws wisp::Error
+    // on bad settings.
+    Animator(const Hair& rest, const Mesh& body, const HeadFrame& head, const Motion& motion,
+             const DynamicsSpec& spec, PrototypeSpec::Kind prototype,
+             const AnimateSettings& settings);
+    Animator(const Animator&) = delete;  // the simulation refers to the hierarchy
+    Animator& operator=(const Animator&) = delete;
+
+    // Moves to the next frame: frame 0 is the rest pose (no step), every later frame runs
+    // stats().steps_per_frame steps. Then the nodes are synced for skinning. Throws
+    // wisp::Error if the simulation diverges.
+    void advance();
+    int frame() const { return frame_; }  // −1 before the first advance()
+    FramePose pose() const;
+
+    // The render strands at the current frame: all of them into `out` (rest's topology), or
+    // the strands listed, point after point, into `points` (sized by the caller: the sum of
+    // the listed strands' point counts). Parallel over strands; no allocation.
+    void skin(Hair& out);
+    void skin(std::span<const uint32_t> strands, std::span<Vec3f> points);
+
+    const Hierarchy& hierarchy() const { return hierarchy_; }
+    const AwtSimulation& simulation() const { return *sim_; }
+    // Totals and means so far.
+    AnimationStats stats() const;
+
+  private:
+    const Hair& rest_;
+    AnimationStats stats_;
+    Hierarchy hierarchy_;
+    StrandBinding binding_;
+    std::unique_ptr<AwtSimulation> sim_;
+    std::vector<Mat3f> rotations_;
+    int frame_ = -1;
+    bool frame_stats_ = true;
+    double step_total_ = 0, skin_total_ = 0;
+    int skins_ = 0;
+    uint64_t splits_before_ = 0, merges_before_ = 0;
 };
 
 // Runs the animation and calls frame(index, hair, pose) for every frame with the moved

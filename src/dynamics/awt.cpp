@@ -138,10 +138,26 @@ AwtSimulation::AwtSimulation(const Hierarchy& hierarchy, std::vector<Sphere> sph
                              const Motion& motion, const AwtParams& params, double start)
     : h_(&hierarchy),
       spheres_(std::move(spheres)),
+      owned_motion_(motion),
+      motion_(&owned_motion_),
+      params_(params),
+      n_(hierarchy.sections),
+      time_(start) {
+    init();
+}
+
+AwtSimulation::AwtSimulation(const Hierarchy& hierarchy, std::vector<Sphere> spheres,
+                             const Motion* motion, const AwtParams& params, double start)
+    : h_(&hierarchy),
+      spheres_(std::move(spheres)),
       motion_(motion),
       params_(params),
       n_(hierarchy.sections),
       time_(start) {
+    init();
+}
+
+void AwtSimulation::init() {
     if (!(params_.dt > 0) || params_.friction * params_.dt >= 1)
         fail("dynamics: friction · dt must be under 1 (§4.2)");
     const Hierarchy& h = *h_;
@@ -177,12 +193,12 @@ AwtSimulation::AwtSimulation(const Hierarchy& hierarchy, std::vector<Sphere> sph
         voxel_ = std::max(0.25f, static_cast<float>(2 * sum / std::max<size_t>(1, count)));
     }
 
-    head_ = motion_.head.at(time_);
-    body_ = motion_.body.at(time_);
-    head_velocity_ = motion_.head.velocity(time_);
-    body_velocity_ = motion_.body.velocity(time_);
+    head_ = motion_->head.at(time_);
+    body_ = motion_->body.at(time_);
+    head_velocity_ = motion_->head.velocity(time_);
+    body_velocity_ = motion_->body.velocity(time_);
     head_rotation_ = Quat(head_.rotation).normalized();
-    rest_gravity_ = head_.rotation.transpose() * motion_.gravity;
+    rest_gravity_ = head_.rotation.transpose() * motion_->gravity;
 
     const int top = params_.single_level ? h.levels - 1 : 0;
     for (uint32_t g = 0; g < h.gc_count(); ++g)
@@ -265,11 +281,11 @@ void AwtSimulation::step() {
     last_ = AwtStepStats{};
     events_.clear();
     time_ += dt;
-    head_ = motion_.head.at(time_);
-    body_ = motion_.body.at(time_);
+    head_ = motion_->head.at(time_);
+    body_ = motion_->body.at(time_);
     const RigidVelocity head_velocity_old = head_velocity_;
-    head_velocity_ = motion_.head.velocity(time_);
-    body_velocity_ = motion_.body.velocity(time_);
+    head_velocity_ = motion_->head.velocity(time_);
+    body_velocity_ = motion_->body.velocity(time_);
     head_rotation_ = Quat(head_.rotation).normalized();
     const double inv_dt = 1.0 / dt;
     head_acceleration_.turn = (head_velocity_.turn - head_velocity_old.turn) * inv_dt;
@@ -480,8 +496,8 @@ void AwtSimulation::interact() {
 void AwtSimulation::integrate() {
     const Hierarchy& h = *h_;
     const float dt = params_.dt;
-    const Vec3f gravity = motion_.gravity - head_rotation_ * rest_gravity_;
-    const Vec3f air = params_.air_drag * motion_.wind_at(time_);
+    const Vec3f gravity = motion_->gravity - head_rotation_ * rest_gravity_;
+    const Vec3f air = params_.air_drag * motion_->wind_at(time_);
     const float ks = params_.rigid ? 0.f : params_.stretch;
     const float kb = params_.stiffness;
     const float kt = kb + ks;

@@ -99,8 +99,15 @@ class AwtSimulation {
   public:
     // `hierarchy` must outlive the simulation. `spheres` are in head space (body.hpp); the
     // simulation starts at time `start` with the hair at rest in the pose of that time.
+    // The motion is copied.
     AwtSimulation(const Hierarchy& hierarchy, std::vector<Sphere> spheres, const Motion& motion,
                   const AwtParams& params, double start = 0);
+    // The motion is not copied: it must outlive the simulation, and may gain keys between
+    // steps (the editor's live motion, live_motion.hpp).
+    AwtSimulation(const Hierarchy& hierarchy, std::vector<Sphere> spheres, const Motion* motion,
+                  const AwtParams& params, double start = 0);
+    AwtSimulation(const AwtSimulation&) = delete;  // motion_ may point into the object
+    AwtSimulation& operator=(const AwtSimulation&) = delete;
 
     void step();
     double time() const { return time_; }
@@ -162,10 +169,12 @@ class AwtSimulation {
     Eigen::Quaternionf rest_to_now(const Vec3f& rest, const Vec3f& now) const;
     void rebase_subtree(uint32_t node, const Eigen::Quaternionf& change);
     void settle_merged();
+    void init();  // the constructors' work once the members are set
 
     const Hierarchy* h_;
     std::vector<Sphere> spheres_;
-    Motion motion_;
+    Motion owned_motion_;
+    const Motion* motion_;
     AwtParams params_;
     int n_;
     double time_;

@@ -160,12 +160,6 @@ void hold_until(std::vector<MotionKey>& keys, double t) {
 
 constexpr double kGravity = 981;  // cm/s², the presets' jumps are ballistic under it
 
-Vec3f neck_pivot(const HeadFrame& head) {
-    return head.center + Vec3f(0, -1.2f * head.radius, 0);
-}
-Vec3f hips_pivot(const HeadFrame& head) {
-    return head.center + Vec3f(0, -6.f * head.radius, 0);
-}
 
 Motion preset_still(const HeadFrame& head) {
     Motion m;
@@ -689,6 +683,13 @@ class MotionWriter {
 
 }  // namespace
 
+Vec3f neck_pivot(const HeadFrame& head) {
+    return head.center + Vec3f(0, -1.2f * head.radius, 0);
+}
+Vec3f hips_pivot(const HeadFrame& head) {
+    return head.center + Vec3f(0, -6.f * head.radius, 0);
+}
+
 RigidTransform MotionTrack::at(double t) const {
     if (keys.empty()) return {};
     const TrackSample s = sample_track(keys, t);
@@ -699,6 +700,16 @@ RigidTransform MotionTrack::at(double t) const {
     x.rotation = r.cast<float>();
     x.translation = (Vec3d(s.value[3], s.value[4], s.value[5]) + p - r * p).cast<float>();
     return x;
+}
+
+MotionKey MotionTrack::key_at(double t) const {
+    MotionKey k;
+    k.time = t;
+    if (keys.empty()) return k;
+    const TrackSample s = sample_track(keys, t);
+    k.rotate = Vec3d(s.value[0], s.value[1], s.value[2]).cast<float>();
+    k.translate = Vec3d(s.value[3], s.value[4], s.value[5]).cast<float>();
+    return k;
 }
 
 RigidVelocity MotionTrack::velocity(double t) const {

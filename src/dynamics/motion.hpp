@@ -72,6 +72,9 @@ struct MotionTrack {
     std::vector<MotionKey> keys;  // sorted by time, strictly increasing; may be empty (still)
 
     RigidTransform at(double t) const;
+    // The interpolated channels at time t (rotation angles and translation about `pivot`),
+    // as a key at that time.
+    MotionKey key_at(double t) const;
     // Velocity of the point that sits at head-space p, at time t (cm/s): the analytic time
     // derivative of at(t).apply(p).
     Vec3f velocity(const Vec3f& p, double t) const { return velocity(t).at(p); }
@@ -103,6 +106,11 @@ inline constexpr double kMaxMotionRotate = 3600;
 inline constexpr double kMaxMotionTranslate = 1e5;
 // The most a motion file may hold (4 tracks of kMaxMotionKeys keys fit in it).
 inline constexpr uint64_t kMaxMotionFileBytes = uint64_t(64) << 20;
+
+// The pivots the presets turn about: the neck (the head's nods and shakes) and the hips
+// (leaning, running).
+Vec3f neck_pivot(const HeadFrame& head);
+Vec3f hips_pivot(const HeadFrame& head);
 
 // The preset names: lean, shake, nod, jump, run, still.
 std::vector<std::string> motion_preset_names();

@@ -40,26 +40,70 @@ StrandBinding bind_strands(const Hair& rest, const Hierarchy& h) {
     return b;
 }
 
+namespace {
+
+// Point i of strand s, which follows finest GC g (r: its first rotation).
+inline Vec3f skinned(const Hierarchy& h, const StrandBinding& b, const Vec3f* x,
+                     const Mat3f* rotations, uint32_t i) {
+    const int n = h.sections;
+    const float u = b.u[i];
+    const int k = std::min(static_cast<int>(u), n - 2);
+    const float f = u - static_cast<float>(k);
+    const Vec3f& o = b.offset[i];
+    return (1 - f) * (x[k] + rotations[k] * o) + f * (x[k + 1] + rotations[k + 1] * o);
+}
+
+}  // namespace
+
 void skin_strands(const Hierarchy& h, const StrandBinding& b, std::span<const Vec3f> positions,
                   std::span<const Mat3f> rotations, Hair& out) {
-    const int n = h.sections;
     const uint32_t finest = h.finest_begin();
     parallel_for(
         out.strand_count(),
         [&](size_t s) {
             const uint32_t g = h.strand_gc[s];
-            const size_t r = static_cast<size_t>(g - finest) * n;
             const Vec3f* x = positions.data() + h.node(g, 0);
-            for (uint32_t i = out.offsets[s]; i < out.offsets[s + 1]; ++i) {
-                const float u = b.u[i];
-                const int k = std::min(static_cast<int>(u), n - 2);
-                const float f = u - static_cast<float>(k);
-                const Vec3f& o = b.offset[i];
-                out.points[i] = (1 - f) * (x[k] + rotations[r + k] * o) +
-                                f * (x[k + 1] + rotations[r + k + 1] * o);
-            }
+            const Mat3f* m = rotations.data() + static_cast<size_t>(g - finest) * h.sections;
+            for (uint32_t i = out.offsets[s]; i < out.offsets[s + 1]; ++i)
+                out.points[i] = skinned(h, b, x, m, i);
         },
         256);
+}
+
+void skin_strands(const Hierarchy& h, const StrandBinding& b, std::span<const Vec3f> positions,
+                  std::span<const Mat3f> rotations, std::span<const uint32_t> offsets,
+                  std::span<const uint32_t> strands, std::span<Vec3f> points) {
+    // Where each listed strand's points start in `points`: a running sum, computed in blocks
+    // so the parallel loop below needs no allocation per strand.
+    const uint32_t finest = h.finest_begin();
+    constexpr size_t kBlock = 256;
+    const size_t blocks = (strands.size() + kBlock - 1) / kBlock;
+    std::vector<size_t> block_start(blocks + 1, 0);
+    for (size_t j = 0; j < strands.size(); ++j) {
+        const uint32_t s = strands[j];
+        if (s + 1 >= offsets.size()) fail("dynamics: strand ", s, " is not in the hair");
+        block_start[j / kBlock + 1] += offsets[s + 1] - offsets[s];
+    }
+    for (size_t k = 0; k < blocks; ++k) block_start[k + 1] += block_start[k];
+    if (block_start[blocks] != points.size())
+        fail("dynamics: ", points.size(), " points given for strands holding ",
+             block_start[blocks]);
+    parallel_for(
+        blocks,
+        [&](size_t k) {
+            size_t at = block_start[k];
+            const size_t end = std::min(strands.size(), (k + 1) * kBlock);
+            for (size_t j = k * kBlock; j < end; ++j) {
+                const uint32_t s = strands[j];
+                const uint32_t g = h.strand_gc[s];
+                const Vec3f* x = positions.data() + h.node(g, 0);
+                const Mat3f* m =
+                    rotations.data() + static_cast<size_t>(g - finest) * h.sections;
+                for (uint32_t i = offsets[s]; i < offsets[s + 1]; ++i)
+                    points[at++] = skinned(h, b, x, m, i);
+            }
+        },
+        1);
 }
 
 }  // namespace wisp

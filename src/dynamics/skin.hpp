@@ -31,5 +31,11 @@ StrandBinding bind_strands(const Hair& rest, const Hierarchy& hierarchy);
 // nodes' rotations. Parallel over strands; no allocation.
 void skin_strands(const Hierarchy& hierarchy, const StrandBinding& binding,
                   std::span<const Vec3f> positions, std::span<const Mat3f> rotations, Hair& out);
+// The same for the listed strands only (indices into the rest hair whose `offsets` are
+// given), written one after another into `points`, which holds exactly their points.
+void skin_strands(const Hierarchy& hierarchy, const StrandBinding& binding,
+                  std::span<const Vec3f> positions, std::span<const Mat3f> rotations,
+                  std::span<const uint32_t> offsets, std::span<const uint32_t> strands,
+                  std::span<Vec3f> points);
 
 }  // namespace wisp
