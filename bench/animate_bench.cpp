@@ -23,6 +23,8 @@
 #include "core/parallel.hpp"
 #include "core/timer.hpp"
 #include "dynamics/animate.hpp"
+#include "dynamics/live_motion.hpp"
+#include "edit/wire.hpp"
 #include "dynamics/skin.hpp"
 #include "groom/style_toml.hpp"
 #include "solve/pipeline.hpp"
@@ -228,6 +230,65 @@ void BM_SkinStrands100k(benchmark::State& state) {
     state.counters["skin_ms"] = skin_ms / frames;
 }
 BENCHMARK(BM_SkinStrands100k)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Issue 17's real-time budget: one frame of the editor's live motion for the default style
+// (all its strands in the hierarchy), 20,000 preview strands shown: the input given (a drag
+// turning the head), the frame's 4 steps (25 fps, dt = 10 ms), syncing and skinning the
+// shown strands, and the binary frame encoded. Goal: < 20 ms of every 40 ms frame on
+// 2 threads. Arg: 1 for the AWT, 0 for the single level (every finest node simulated).
+void BM_LiveFrame20k(benchmark::State& state) {
+    const bool awt = state.range(0) == 1;
+    struct Setup {
+        Style style;
+        Hair hair;
+        HeadFrame frame;
+    };
+    static const std::unique_ptr<Setup> setup = [] {
+        const Head& head = bench_head();
+        auto s = std::make_unique<Setup>();
+        s->style = load_preset("default");
+        s->hair = generate_hairstyle(s->style, head).hair;
+        s->frame = head_frame(*head.scalp);
+        return s;
+    }();
+    const double fps = 25;
+    LiveMotion live(setup->frame, fps);
+    AnimateSettings settings;
+    settings.fps = fps;
+    settings.single_level = !awt;
+    settings.frame_stats = false;
+    Animator animator(setup->hair, *bench_head().mesh, setup->frame, live.motion(),
+                      setup->style.dynamics, setup->style.prototype.kind, settings);
+    const std::vector<uint32_t> order = strand_order(setup->hair.strand_count());
+    const std::span<const uint32_t> shown(order.data(),
+                                          std::min<size_t>(20000, order.size()));
+    size_t points = 0;
+    for (uint32_t s : shown) points += setup->hair.strand_size(s);
+    std::vector<Vec3f> moved(points);
+    std::string bytes;
+    double step_ms = 0, skin_ms = 0;
+    for (auto _ : state) {
+        const int f = live.frames();
+        MotionKey head;  // a drag back and forth, 30° each way, every 2 s
+        head.rotate = Vec3f(0, 30.f * std::sin(static_cast<float>(f) * 0.13f), 0);
+        live.drive(f, head, MotionKey{});
+        Stopwatch watch;
+        animator.advance();
+        step_ms += watch.ms();
+        watch = Stopwatch();
+        animator.skin(shown, moved);
+        encode_frame(static_cast<uint32_t>(f), moved, bytes);
+        benchmark::DoNotOptimize(bytes.data());
+        skin_ms += watch.ms();
+    }
+    const double frames = static_cast<double>(state.iterations());
+    state.counters["strands_shown"] = static_cast<double>(shown.size());
+    state.counters["step_ms"] = step_ms / frames;
+    state.counters["skin_encode_ms"] = skin_ms / frames;
+    state.counters["finest_nodes"] = static_cast<double>(animator.stats().finest_nodes);
+}
+BENCHMARK(BM_LiveFrame20k)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime()
+    ->Iterations(100);
 
 }  // namespace
 }  // namespace wisp

@@ -179,6 +179,15 @@ std::string encode_strands(const Hair& hair, size_t limit) {
     return out;
 }
 
+void encode_frame(uint32_t frame, std::span<const Vec3f> points, std::string& out) {
+    static_assert(sizeof(Vec3f) == 12, "positions are copied as float32 triples");
+    out.resize(20 + 12 * points.size());
+    std::memcpy(out.data(), "WISPFRAM", 8);
+    const uint32_t header[3] = {1, frame, static_cast<uint32_t>(points.size())};
+    std::memcpy(out.data() + 8, header, sizeof header);
+    if (!points.empty()) std::memcpy(out.data() + 20, points.data(), 12 * points.size());
+}
+
 std::string encode_masters(const Masters& masters) {
     Hair hair;
     hair.points = masters.control;

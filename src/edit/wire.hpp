@@ -2,6 +2,7 @@
 // What the editor's server sends the browser: strands and the head as little-endian binary
 // arrays, and the style schema as JSON (also `wisp schema`).
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,12 @@ std::vector<uint32_t> strand_order(size_t n);
 //   float32 colors[3·S']       linear RGB in [0, 1]
 // every number little-endian.
 std::string encode_strands(const Hair& hair, size_t limit);
+
+// One frame of the live motion (issue 17) for strands the browser already has from
+// encode_strands (the same strands, in the same order): "WISPFRAM", uint32 version (1),
+// frame index, points P', then float32 positions[3·P'] (cm, world space), little-endian.
+// Reuses `out`'s memory.
+void encode_frame(uint32_t frame, std::span<const Vec3f> points, std::string& out);
 
 // The masters' control polylines in the same layout (colors: a neutral grey).
 std::string encode_masters(const Masters& masters);
