@@ -12,7 +12,9 @@ bool same_pose(const MotionKey& a, const MotionKey& b) {
     return a.rotate == b.rotate && a.translate == b.translate;
 }
 
-void check_key(const MotionKey& k, const char* what) {
+}  // namespace
+
+void check_live_key(const MotionKey& k, const char* what) {
     for (int c = 0; c < 3; ++c) {
         if (!std::isfinite(k.rotate[c]) || std::abs(k.rotate[c]) > kMaxMotionRotate)
             fail("live motion: the ", what, "'s rotation must be finite and within ±",
@@ -23,7 +25,13 @@ void check_key(const MotionKey& k, const char* what) {
     }
 }
 
-}  // namespace
+void check_wind(const Vec3f& wind, float gust_amplitude, float gust_frequency) {
+    if (!wind.allFinite() || wind.norm() > 1e5f || !std::isfinite(gust_amplitude) ||
+        std::abs(gust_amplitude) > 1e5f || !std::isfinite(gust_frequency) ||
+        gust_frequency < 0 || gust_frequency > 100)
+        fail("live motion: wind must be finite and within 1000 m/s, gust frequency in "
+             "[0, 100] Hz");
+}
 
 LiveMotion::LiveMotion(const HeadFrame& head, double fps) {
     if (!(fps > 0) || !std::isfinite(fps) || fps > 1000)
@@ -47,8 +55,8 @@ void LiveMotion::append(double time, const MotionKey& head, const MotionKey& bod
 void LiveMotion::drive(int frame, const MotionKey& head, const MotionKey& body) {
     if (frame != frames_)
         fail("live motion: frame ", frame, " driven, expected frame ", frames_);
-    check_key(head, "head");
-    check_key(body, "body");
+    check_live_key(head, "head");
+    check_live_key(body, "body");
     ++frames_;
     const auto& hk = motion_.head.keys;
     const auto& bk = motion_.body.keys;
@@ -87,11 +95,7 @@ void LiveMotion::hold(int frame) {
 }
 
 void LiveMotion::set_wind(const Vec3f& wind, float gust_amplitude, float gust_frequency) {
-    if (!wind.allFinite() || wind.norm() > 1e5f || !std::isfinite(gust_amplitude) ||
-        std::abs(gust_amplitude) > 1e5f || !std::isfinite(gust_frequency) ||
-        gust_frequency < 0 || gust_frequency > 100)
-        fail("live motion: wind must be finite and within 1000 m/s, gust frequency in "
-             "[0, 100] Hz");
+    check_wind(wind, gust_amplitude, gust_frequency);
     motion_.wind = wind;
     motion_.gust_amplitude = gust_amplitude;
     motion_.gust_frequency = gust_frequency;

@@ -72,6 +72,11 @@ class LiveMotion {
     bool full_ = false;
 };
 
+// The checks drive() and set_wind() make (wisp::Error naming the value), for callers that
+// take input on another thread than the one that drives.
+void check_live_key(const MotionKey& key, const char* what);
+void check_wind(const Vec3f& wind, float gust_amplitude, float gust_frequency);
+
 // The pose of `track` at time t as a key about `pivot` instead of the track's own: the same
 // rotation, the translation that puts every point where the track puts it.
 MotionKey key_about(const MotionTrack& track, double t, const Vec3f& pivot);

@@ -1,0 +1,220 @@
+#include "edit/motion_session.hpp"
+
+#include <chrono>
+#include <cmath>
+
+#include "core/error.hpp"
+#include "edit/wire.hpp"
+
+namespace wisp {
+
+MotionSession::MotionSession(const Hair& rest, const Mesh& body, const HeadFrame& head,
+                             const DynamicsSpec& dynamics, PrototypeSpec::Kind prototype,
+                             MotionSessionSettings settings)
+    : head_(head), rest_(rest), body_(body), live_(head, settings.fps),
+      interval_(1.0 / settings.fps) {
+    AnimateSettings animate;
+    animate.fps = settings.fps;
+    animate.single_level = settings.single_level;
+    animate.wisp_held = std::move(settings.wisp_held);
+    animate.frame_stats = false;
+    animator_ = std::make_unique<Animator>(rest_, body_, head_, live_.motion(), dynamics,
+                                           prototype, animate);
+    const std::vector<uint32_t> order = strand_order(rest_.strand_count());
+    shown_.assign(order.begin(),
+                  order.begin() + static_cast<ptrdiff_t>(
+                                      std::min(settings.shown_strands, order.size())));
+    size_t points = 0;
+    for (uint32_t s : shown_) points += rest_.strand_size(s);
+    moved_.resize(points);
+    // Frame 0: the rest pose.
+    animator_->advance();
+    animator_->skin(shown_, moved_);
+    encode_frame(0, moved_, frame_.bytes);
+    active_per_level_ = animator_->simulation().active_per_level();
+    thread_ = std::thread([this] { run(); });
+}
+
+MotionSession::~MotionSession() {
+    {
+        std::lock_guard lock(mutex_);
+        stop_ = true;
+    }
+    changed_.notify_all();
+    thread_.join();
+}
+
+void MotionSession::play() {
+    std::lock_guard lock(mutex_);
+    playing_ = true;
+    changed_.notify_all();
+}
+
+void MotionSession::pause() {
+    std::lock_guard lock(mutex_);
+    playing_ = false;
+    changed_.notify_all();
+}
+
+bool MotionSession::playing() const {
+    std::lock_guard lock(mutex_);
+    return playing_;
+}
+
+void MotionSession::step() {
+    std::unique_lock lock(mutex_);
+    if (playing_ || !error_.empty()) return;
+    const uint32_t target = frame_.index + 1;
+    ++steps_requested_;
+    changed_.notify_all();
+    changed_.wait(lock, [&] { return stop_ || frame_.index >= target || !error_.empty(); });
+}
+
+void MotionSession::drag(const Vec3f& rotate, const Vec3f& translate) {
+    MotionKey head, body;
+    head.rotate = rotate;
+    head.translate = translate;
+    body.translate = translate;
+    // Checked here, so a bad value is the caller's error and not the simulation thread's.
+    check_live_key(head, "head");
+    std::lock_guard lock(mutex_);
+    drag_head_ = head;
+    drag_body_ = body;
+    preset_.reset();
+}
+
+void MotionSession::play_preset(const std::string& name) {
+    Motion preset = motion_preset(name, head_);
+    std::lock_guard lock(mutex_);
+    preset_ = std::move(preset);
+    preset_start_ = -1;  // set at the next frame boundary
+    drag_head_.reset();
+    drag_body_.reset();
+}
+
+void MotionSession::set_wind(const Vec3f& wind, float gust_amplitude, float gust_frequency) {
+    check_wind(wind, gust_amplitude, gust_frequency);
+    std::lock_guard lock(mutex_);
+    // The thread applies it at the next frame boundary (the motion is its own).
+    pending_wind_ = Wind{wind, gust_amplitude, gust_frequency};
+}
+
+std::optional<MotionFrame> MotionSession::frame_after(std::optional<uint32_t> after,
+                                                      int wait_ms) const {
+    std::unique_lock lock(mutex_);
+    const auto ready = [&] { return !after || frame_.index > *after || stop_; };
+    if (!changed_.wait_for(lock, std::chrono::milliseconds(std::max(0, wait_ms)), ready) ||
+        (after && frame_.index <= *after))
+        return std::nullopt;
+    return frame_;
+}
+
+uint32_t MotionSession::frames_published() const {
+    std::lock_guard lock(mutex_);
+    return frame_.index + 1;
+}
+
+std::string MotionSession::error() const {
+    std::lock_guard lock(mutex_);
+    return error_;
+}
+
+std::vector<uint32_t> MotionSession::active_per_level() const {
+    std::lock_guard lock(mutex_);
+    return active_per_level_;
+}
+
+AnimationStats MotionSession::stats() const {
+    std::lock_guard lock(mutex_);
+    return stats_;
+}
+
+void MotionSession::write_recording(const std::filesystem::path& path) const {
+    std::lock_guard lock(mutex_);  // the thread appends keys only under the lock
+    live_.write(path);
+}
+
+std::string MotionSession::replay_arguments() const {
+    std::lock_guard lock(mutex_);
+    std::string args = "--fps ";
+    args += std::to_string(static_cast<int>(std::lround(1 / interval_)));
+    args += " --frames ";
+    args += std::to_string(frame_.index + 1);
+    return args;
+}
+
+void MotionSession::advance_locked(std::unique_lock<std::mutex>& lock) {
+    // At the boundary before frame f + 1 (time f·F): this frame's input.
+    const int f = live_.frames();
+    if (pending_wind_) {
+        live_.set_wind(pending_wind_->wind, pending_wind_->amplitude, pending_wind_->frequency);
+        pending_wind_.reset();
+    }
+    if (preset_) {
+        if (preset_start_ < 0) preset_start_ = f;
+        const double t = (f - preset_start_) * interval_;
+        live_.drive(f, key_about(preset_->head, t, live_.head_pivot()),
+                    key_about(preset_->body, t, live_.body_pivot()));
+        if (t > preset_->duration) preset_.reset();
+    } else if (drag_head_) {
+        live_.drive(f, *drag_head_, *drag_body_);
+    } else {
+        live_.hold(f);
+    }
+    lock.unlock();
+    std::string error;
+    std::string bytes;
+    std::vector<uint32_t> active;
+    AnimationStats stats;
+    try {
+        animator_->advance();
+        animator_->skin(shown_, moved_);
+        bytes.swap(spare_);
+        encode_frame(static_cast<uint32_t>(animator_->frame()), moved_, bytes);
+        active = animator_->simulation().active_per_level();
+        stats = animator_->stats();
+    } catch (const Error& e) {
+        error = e.what();
+    }
+    lock.lock();
+    if (!error.empty()) {
+        error_ = error;
+        playing_ = false;
+    } else {
+        spare_.swap(frame_.bytes);
+        frame_.bytes.swap(bytes);
+        frame_.index = static_cast<uint32_t>(animator_->frame());
+        active_per_level_ = std::move(active);
+        stats_ = std::move(stats);
+    }
+    changed_.notify_all();
+}
+
+void MotionSession::run() {
+    using Clock = std::chrono::steady_clock;
+    const auto interval = std::chrono::duration_cast<Clock::duration>(
+        std::chrono::duration<double>(interval_));
+    std::unique_lock lock(mutex_);
+    auto next = Clock::now();
+    while (!stop_) {
+        changed_.wait(lock, [&] { return stop_ || playing_ || steps_requested_ > 0; });
+        if (stop_) break;
+        if (!error_.empty()) {
+            playing_ = false;
+            steps_requested_ = 0;
+            changed_.notify_all();
+            continue;
+        }
+        const bool stepping = !playing_;
+        if (stepping) --steps_requested_;
+        advance_locked(lock);
+        if (stepping) continue;
+        // Real time at most: the next frame one interval after this one started, or now
+        // when this one took longer.
+        next = std::max(next + interval, Clock::now() - interval);
+        changed_.wait_until(lock, next, [&] { return stop_ || !playing_; });
+        if (!playing_) next = Clock::now();
+    }
+}
+
+}  // namespace wisp

@@ -1,0 +1,119 @@
+#pragma once
+// The editor's Motion mode (issue 17): the current style's hair as the rest shape, the
+// Adaptive Wisp Tree stepping in its own thread at a fixed time step, and the newest frame of
+// the shown strands ready for the browser.
+//
+// The simulation thread runs frame after frame at the animation's frame rate (never faster
+// than real time; slower when a frame costs more than its interval). At every frame boundary
+// it takes the newest input: a drag target, a preset playing, or nothing (the head holds).
+// Input therefore lands on a frame the thread chooses, but it is recorded there
+// (LiveMotion), so the recording replayed by `wisp animate --motion` gives the frames the
+// browser saw, byte for byte. A slow client is given the newest frame and skips the others;
+// the simulation never waits for it.
+#include <condition_variable>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "dynamics/animate.hpp"
+#include "dynamics/live_motion.hpp"
+
+namespace wisp {
+
+struct MotionSessionSettings {
+    double fps = 25;
+    size_t shown_strands = 20000;  // the first ones in strand_order (wire.hpp)
+    // Passed to the Animator (held lengths of ties).
+    std::vector<float> wisp_held;
+    bool single_level = false;
+};
+
+struct MotionFrame {
+    uint32_t index = 0;
+    std::string bytes;  // encode_frame
+};
+
+class MotionSession {
+  public:
+    // Copies what it needs; builds the hierarchy (may take a moment; throws wisp::Error on
+    // bad dynamics parameters). Starts paused at frame 0, the rest pose, already published.
+    MotionSession(const Hair& rest, const Mesh& body, const HeadFrame& head,
+                  const DynamicsSpec& dynamics, PrototypeSpec::Kind prototype,
+                  MotionSessionSettings settings);
+    ~MotionSession();  // stops the thread
+    MotionSession(const MotionSession&) = delete;
+    MotionSession& operator=(const MotionSession&) = delete;
+
+    void play();
+    void pause();
+    bool playing() const;
+    // One frame while paused; returns once it is published.
+    void step();
+
+    // The head dragged to a pose about the neck (head_pivot(); rotation in degrees,
+    // translation in cm); the body moves with the head's translation only. Cancels a preset.
+    void drag(const Vec3f& rotate, const Vec3f& translate);
+    // Plays a motion preset from the next frame (its poses, taken about this session's
+    // pivots; a head dragged away goes to the preset's first pose within two frames), then
+    // holds its last pose. Throws wisp::Error for an unknown name.
+    void play_preset(const std::string& name);
+    void set_wind(const Vec3f& wind, float gust_amplitude = 0, float gust_frequency = 0.5f);
+
+    // The newest published frame if its index is past `after` (or any frame when `after` is
+    // empty), waiting up to `wait_ms` for one.
+    std::optional<MotionFrame> frame_after(std::optional<uint32_t> after, int wait_ms) const;
+    uint32_t frames_published() const;
+    // An error that stopped the simulation (it diverged), or empty.
+    std::string error() const;
+    // Active nodes per level and split/merge counts of the newest frame.
+    std::vector<uint32_t> active_per_level() const;
+    AnimationStats stats() const;
+
+    // The recording so far as a motion file; and the `wisp animate` command line that replays
+    // it (frames and fps).
+    void write_recording(const std::filesystem::path& path) const;
+    std::string replay_arguments() const;
+
+    Vec3f head_pivot() const { return live_.head_pivot(); }
+    const std::vector<uint32_t>& shown() const { return shown_; }
+
+  private:
+    void run();
+    void advance_locked(std::unique_lock<std::mutex>& lock);
+
+    HeadFrame head_;
+    Hair rest_;
+    Mesh body_;
+    LiveMotion live_;
+    std::unique_ptr<Animator> animator_;
+    std::vector<uint32_t> shown_;
+    std::vector<Vec3f> moved_;
+    double interval_;
+
+    mutable std::mutex mutex_;
+    mutable std::condition_variable changed_;
+    bool playing_ = false, stop_ = false;
+    int steps_requested_ = 0;
+    // Input for the next frame boundary.
+    std::optional<MotionKey> drag_head_, drag_body_;
+    std::optional<Motion> preset_;
+    int preset_start_ = 0;
+    struct Wind {
+        Vec3f wind;
+        float amplitude, frequency;
+    };
+    std::optional<Wind> pending_wind_;
+    MotionFrame frame_;
+    std::string spare_;  // the frame before, its memory reused for the next
+    std::vector<uint32_t> active_per_level_;
+    AnimationStats stats_;
+    std::string error_;
+    std::thread thread_;
+};
+
+}  // namespace wisp
