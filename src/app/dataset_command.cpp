@@ -32,24 +32,24 @@ bool parse_u64(std::string_view text, uint64_t& out) {
 Slice run_slice(const DatasetCommands& a, std::string* from) {
     Slice s;
     if (!a.shard.empty()) {
-        if (a.task_id >= 0) throw CLI::ValidationError("--shard", "give --shard or --task-id, not both");
+        if (a.task_id >= 0)
+            throw CLI::ValidationError("--shard", "give --shard or --task-id, not both");
         const size_t slash = a.shard.find('/');
         if (slash == std::string::npos || !parse_u64(a.shard.substr(0, slash), s.index) ||
             !parse_u64(a.shard.substr(slash + 1), s.count) || s.count == 0 || s.index >= s.count)
-            throw CLI::ValidationError("--shard", "expects i/N with 0 ≤ i < N, got '" +
-                                                      excerpt(a.shard) + "'");
+            throw CLI::ValidationError(
+                "--shard", "expects i/N with 0 ≤ i < N, got '" + excerpt(a.shard) + "'");
         *from = "--shard";
         return s;
     }
     int64_t index = a.task_id;
     *from = "--task-id";
     if (index < 0)
-        for (const char* var : {"SLURM_ARRAY_TASK_ID", "JOB_COMPLETION_INDEX",
-                                "AWS_BATCH_JOB_ARRAY_INDEX"})
+        for (const char* var :
+             {"SLURM_ARRAY_TASK_ID", "JOB_COMPLETION_INDEX", "AWS_BATCH_JOB_ARRAY_INDEX"})
             if (const char* v = std::getenv(var); v && *v) {
                 uint64_t parsed = 0;
-                if (!parse_u64(v, parsed))
-                    fail(var, " is '", excerpt(v), "', not a task index");
+                if (!parse_u64(v, parsed)) fail(var, " is '", excerpt(v), "', not a task index");
                 index = static_cast<int64_t>(parsed);
                 *from = var;
                 break;
@@ -65,11 +65,11 @@ Slice run_slice(const DatasetCommands& a, std::string* from) {
             if (!parse_u64(v, count)) fail("SLURM_ARRAY_TASK_COUNT is '", excerpt(v), "'");
         }
     if (count == 0)
-        throw CLI::ValidationError("--tasks", "a task index (" + *from +
-                                                  ") needs the task count: give --tasks N");
+        throw CLI::ValidationError(
+            "--tasks", "a task index (" + *from + ") needs the task count: give --tasks N");
     if (static_cast<uint64_t>(index) >= count)
-        throw CLI::ValidationError(*from, cat("task ", index, " of ", count,
-                                              ": the index must be below the count"));
+        throw CLI::ValidationError(
+            *from, cat("task ", index, " of ", count, ": the index must be below the count"));
     s.index = static_cast<uint64_t>(index);
     s.count = count;
     return s;
@@ -90,14 +90,15 @@ int run_command(const DatasetCommands& a) {
     options.jobs = a.jobs;
     const ThreadLimit limit(a.threads);
     if (!a.quiet && !from.empty())
-        std::cerr << "wisp: task " << options.slice.index << " of " << options.slice.count
-                  << " (" << from << ")\n";
+        std::cerr << "wisp: task " << options.slice.index << " of " << options.slice.count << " ("
+                  << from << ")\n";
     std::unique_ptr<Progress> progress;
     uint64_t total = 0;
     const auto start = std::chrono::steady_clock::now();
     uint64_t made = 0;
     options.on_sample = [&](uint64_t done, uint64_t all, uint64_t k, bool skipped) {
-        if (!progress) progress = std::make_unique<Progress>("sample", static_cast<int>(all), a.quiet);
+        if (!progress)
+            progress = std::make_unique<Progress>("sample", static_cast<int>(all), a.quiet);
         total = all;
         made += skipped ? 0 : 1;
         const double elapsed =
@@ -128,12 +129,12 @@ int run_command(const DatasetCommands& a) {
     const RunSummary s = run_dataset(a.dir, options);
     progress.reset();
     if (!a.quiet)
-        std::cerr << "wisp: " << s.made << " made, " << s.skipped << " done before, " << s.failed
-                  << " failed of " << total << " in this slice ("
-                  << seconds_text(std::chrono::duration<double>(
-                                      std::chrono::steady_clock::now() - start)
-                                      .count())
-                  << ")\n";
+        std::cerr
+            << "wisp: " << s.made << " made, " << s.skipped << " done before, " << s.failed
+            << " failed of " << total << " in this slice ("
+            << seconds_text(
+                   std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count())
+            << ")\n";
     return s.failed > 0 ? 1 : 0;
 }
 
@@ -188,8 +189,9 @@ int slurm_command(const DatasetCommands& a) {
 
 void add_dataset_commands(CLI::App& app, DatasetCommands& a) {
     a.dataset = app.add_subcommand(
-        "dataset", "Make synthetic hair datasets: plan, run (locally or as a Slurm job array), "
-                   "status, verify (docs/dataset.md)");
+        "dataset",
+        "Make synthetic hair datasets: plan, run (locally or as a Slurm job array), "
+        "status, verify (docs/dataset.md)");
     a.dataset->require_subcommand(1);
     a.plan = a.dataset->add_subcommand(
         "plan", "Check a dataset spec and write the dataset folder's manifest");
@@ -200,9 +202,10 @@ void add_dataset_commands(CLI::App& app, DatasetCommands& a) {
         "run", "Make the samples of a slice that are not done yet (a rerun resumes)");
     a.run->add_option("dir", a.dir, "Dataset folder (from `wisp dataset plan`)")->required();
     a.run->add_option("--shard", a.shard, "Make samples k with k % N == i");
-    a.run->add_option("--task-id", a.task_id,
-                      "Task K of --tasks N (default: $SLURM_ARRAY_TASK_ID, "
-                      "$JOB_COMPLETION_INDEX or $AWS_BATCH_JOB_ARRAY_INDEX)")
+    a.run
+        ->add_option("--task-id", a.task_id,
+                     "Task K of --tasks N (default: $SLURM_ARRAY_TASK_ID, "
+                     "$JOB_COMPLETION_INDEX or $AWS_BATCH_JOB_ARRAY_INDEX)")
         ->check(CLI::Range(int64_t(0), int64_t(1) << 40));
     a.run->add_option("--tasks", a.tasks, "Number of tasks (default: $SLURM_ARRAY_TASK_COUNT)")
         ->check(CLI::Range(int64_t(1), int64_t(1) << 40));
@@ -215,15 +218,19 @@ void add_dataset_commands(CLI::App& app, DatasetCommands& a) {
     a.status = a.dataset->add_subcommand("status", "Count done, pending and failed samples");
     a.status->add_option("dir", a.dir, "Dataset folder")->required();
     a.verify = a.dataset->add_subcommand(
-        "verify", "Check every done sample's files against its checksums; exit 1 unless all "
-                  "samples are complete");
+        "verify",
+        "Check every done sample's files against its checksums; exit 1 unless all "
+        "samples are complete");
     a.verify->add_option("dir", a.dir, "Dataset folder")->required();
 
     a.slurm = a.dataset->add_subcommand(
-        "slurm", "Write DIR/slurm/array.sbatch: a job array whose tasks run `wisp dataset run "
-                 "DIR --task-id $SLURM_ARRAY_TASK_ID`");
+        "slurm",
+        "Write DIR/slurm/array.sbatch: a job array whose tasks run `wisp dataset run "
+        "DIR --task-id $SLURM_ARRAY_TASK_ID`");
     a.slurm->add_option("dir", a.dir, "Dataset folder")->required();
-    a.slurm->add_option("--tasks", a.tasks, "Array tasks")->required()->check(CLI::Range(1, 1000000));
+    a.slurm->add_option("--tasks", a.tasks, "Array tasks")
+        ->required()
+        ->check(CLI::Range(1, 1000000));
     a.slurm->add_option("--throttle", a.throttle, "At most K tasks at once")
         ->check(CLI::Range(0, 1000000));
     a.slurm->add_option("--partition", a.partition, "Slurm partition");

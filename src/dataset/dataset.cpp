@@ -84,7 +84,8 @@ nlohmann::json toml_to_json(const toml::node& node) {
 
 std::string draw_value(const VaryRule& rule, Rng& rng) {
     using Kind = VaryRule::Kind;
-    if (rule.kind == Kind::kChoice) return rule.choices[rng.below(static_cast<uint32_t>(rule.choices.size()))];
+    if (rule.kind == Kind::kChoice)
+        return rule.choices[rng.below(static_cast<uint32_t>(rule.choices.size()))];
     const double u = rng.uniform_double();
     switch (rule.kind) {
         case Kind::kUniform:
@@ -95,15 +96,17 @@ std::string draw_value(const VaryRule& rule, Rng& rng) {
             }
             return format_draw(rule.a + (rule.b - rule.a) * u, false);
         case Kind::kLogUniform:
-            return format_draw(std::exp(std::log(rule.a) + (std::log(rule.b) - std::log(rule.a)) * u),
-                               rule.integer);
+            return format_draw(
+                std::exp(std::log(rule.a) + (std::log(rule.b) - std::log(rule.a)) * u),
+                rule.integer);
         case Kind::kNormal: {
             double u1 = u;
             const double u2 = rng.uniform_double();
             if (u1 < 1e-300) u1 = 1e-300;
             const double z = std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
             double v = std::clamp(rule.a + rule.b * z, rule.lo, rule.hi);
-            if (rule.integer) v = std::clamp(std::round(v), std::ceil(rule.lo), std::floor(rule.hi));
+            if (rule.integer)
+                v = std::clamp(std::round(v), std::ceil(rule.lo), std::floor(rule.hi));
             return format_draw(v, rule.integer);
         }
         default:
@@ -141,7 +144,9 @@ void write_json_file(const fs::path& path, const nlohmann::json& j) {
     write_file_atomic(path, j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
 }
 
-nlohmann::json vec(const Vec3f& v) { return {v.x(), v.y(), v.z()}; }
+nlohmann::json vec(const Vec3f& v) {
+    return {v.x(), v.y(), v.z()};
+}
 
 // Temporary folders of sample `name` left by runs on this host that are no longer alive
 // (killed mid-sample) are removed; those of live runs are left alone.
@@ -164,7 +169,8 @@ std::shared_ptr<const Head> cached_head(const Style& style) {
     static std::vector<std::pair<std::string, std::shared_ptr<const Head>>> cache;
     std::string key;
     for (const StyleField& f : style_schema())
-        if (f.path.rfind("head.", 0) == 0) key += std::string(f.path) + "=" + style_field_toml(style, f) + "\n";
+        if (f.path.rfind("head.", 0) == 0)
+            key += std::string(f.path) + "=" + style_field_toml(style, f) + "\n";
     {
         const std::lock_guard lock(mutex);
         for (const auto& [k, head] : cache)
@@ -288,9 +294,10 @@ void write_sample(const DatasetSpec& spec, uint64_t k, const fs::path& folder,
         }
     } cleanup{tmp};
 
-    write_file_atomic(tmp / "style.toml",
-                      "# wisp dataset sample " + std::to_string(k) + ": `wisp generate style.toml`"
-                      " makes this sample's hair\n" + style_to_toml(draw.style, folder));
+    write_file_atomic(tmp / "style.toml", "# wisp dataset sample " + std::to_string(k) +
+                                              ": `wisp generate style.toml`"
+                                              " makes this sample's hair\n" +
+                                              style_to_toml(draw.style, folder));
     HairWriteOptions hair_options;
     hair_options.resample_points = spec.output.resample;
     for (const std::string& ext : spec.output.hair)
@@ -347,9 +354,10 @@ void write_sample(const DatasetSpec& spec, uint64_t k, const fs::path& folder,
     }
     write_json_file(tmp / "cameras.json",
                     {{"units", "cm, head space (Y up, +Z forward)"},
-                     {"convention", "world_to_camera maps head space to OpenCV camera space (x "
-                                    "right, y down, z forward); pixel = K (R p + t), pixel (i, j) "
-                                    "covers [i, i+1) x [j, j+1)"},
+                     {"convention",
+                      "world_to_camera maps head space to OpenCV camera space (x "
+                      "right, y down, z forward); pixel = K (R p + t), pixel (i, j) "
+                      "covers [i, i+1) x [j, j+1)"},
                      {"cameras", cameras}});
 
     nlohmann::json meta = manifest_entry(spec, draw);
@@ -390,7 +398,9 @@ void write_sample(const DatasetSpec& spec, uint64_t k, const fs::path& folder,
 
 namespace {
 
-fs::path spec_copy(const fs::path& dir) { return dir / "spec.toml"; }
+fs::path spec_copy(const fs::path& dir) {
+    return dir / "spec.toml";
+}
 
 }  // namespace
 
@@ -408,11 +418,12 @@ uint64_t plan_dataset(const fs::path& spec_path, const fs::path& dir) {
                  spec_path.string(), "); plan into a new folder");
     }
     fs::create_directories(dir / "samples");
-    std::string manifest;
+    // Streamed: a large dataset's manifest need not fit in memory.
+    AtomicFile manifest(dir / "manifest.jsonl");
     for (uint64_t k = 0; k < spec.samples; ++k)
-        manifest += manifest_entry(spec, draw_sample(spec, k)).dump() + "\n";
+        manifest.stream() << manifest_entry(spec, draw_sample(spec, k)).dump() << '\n';
+    manifest.commit();
     write_file_atomic(spec_copy(dir), text);
-    write_file_atomic(dir / "manifest.jsonl", manifest);
     write_json_file(dir / "dataset.json", {{"samples", spec.samples},
                                            {"seed", spec.seed},
                                            {"spec", fs::absolute(spec_path).string()},
@@ -425,8 +436,10 @@ DatasetSpec load_planned_spec(const fs::path& dir) {
     const fs::path info = dir / "dataset.json";
     std::error_code ec;
     if (!fs::exists(info, ec))
-        fail(dir.string(), ": no dataset.json: not a planned dataset (run `wisp dataset plan "
-                           "SPEC.toml -o ", dir.string(), "` first)");
+        fail(dir.string(),
+             ": no dataset.json: not a planned dataset (run `wisp dataset plan "
+             "SPEC.toml -o ",
+             dir.string(), "` first)");
     ReadLimits limits;
     limits.max_bytes = 1 << 20;
     limits.what = "dataset.json";

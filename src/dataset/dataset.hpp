@@ -32,10 +32,10 @@ struct SampleDraw {
     uint64_t index = 0;
     uint64_t seed = 0;  // the sample's own seed: every draw below derives from it
     size_t base = 0, head = 0;
-    Style style;                // the base, the head's fields and the drawn values applied
-    nlohmann::json values;      // style path -> drawn value, in the spec's order
-    std::string values_toml;    // "path = value" lines: what the hash covers
-    uint64_t hash = 0;          // FNV-1a of values_toml, base and head names
+    Style style;                       // the base, the head's fields and the drawn values applied
+    nlohmann::json values;             // style path -> drawn value, in the spec's order
+    std::string values_toml;           // "path = value" lines: what the hash covers
+    uint64_t hash = 0;                 // FNV-1a of values_toml, base and head names
     std::vector<double> camera_draws;  // 3 uniform [-1, 1) draws per camera (az, el, dist)
 };
 
@@ -98,7 +98,7 @@ RunSummary run_dataset(const std::filesystem::path& dir, const RunOptions& optio
 
 struct DatasetStatus {
     uint64_t samples = 0, done = 0, failed = 0, pending = 0, corrupt = 0;
-    std::vector<uint64_t> missing;  // not done (failed, pending or corrupt), ascending
+    std::vector<uint64_t> missing;      // not done (failed, pending or corrupt), ascending
     std::vector<std::string> problems;  // one line per corrupt or failed sample
 };
 
@@ -111,11 +111,11 @@ std::string index_ranges(const std::vector<uint64_t>& indices);
 
 struct SlurmOptions {
     int tasks = 1;
-    int throttle = 0;            // %K: at most K tasks at once (0: no limit)
-    std::string partition;       // -p (empty: the cluster's default)
-    std::string time = "";       // --time (empty: the partition's default)
-    std::string wisp;            // the wisp executable (absolute)
-    int cpus_per_task = 0;       // -c (0: the cluster's default)
+    int throttle = 0;       // %K: at most K tasks at once (0: no limit)
+    std::string partition;  // -p (empty: the cluster's default)
+    std::string time = "";  // --time (empty: the partition's default)
+    std::string wisp;       // the wisp executable (absolute)
+    int cpus_per_task = 0;  // -c (0: the cluster's default)
 };
 
 // The sbatch script of a job array of options.tasks tasks, task i running

@@ -1,9 +1,9 @@
 #include "dataset/spec.hpp"
 
+#include <toml++/toml.h>
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <toml++/toml.h>
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
@@ -46,8 +46,7 @@ class SpecParser {
     void check_keys(const toml::table& table, const std::string& path,
                     const std::vector<std::string_view>& allowed) const;
     double number(const toml::node& node, const std::string& field) const;
-    int64_t integer(const toml::node& node, const std::string& field, int64_t lo,
-                    int64_t hi) const;
+    int64_t integer(const toml::node& node, const std::string& field, int64_t lo, int64_t hi) const;
     std::string string(const toml::node& node, const std::string& field) const;
     bool boolean(const toml::node& node, const std::string& field) const;
     const toml::array& array(const toml::node& node, const std::string& field, size_t lo,
@@ -84,7 +83,8 @@ double SpecParser::number(const toml::node& node, const std::string& field) cons
         v = f->get();
     else
         error(&node, field, "expects a number, got " + toml_value_text(node));
-    if (!std::isfinite(v)) error(&node, field, "expects a finite number, got " + toml_value_text(node));
+    if (!std::isfinite(v))
+        error(&node, field, "expects a finite number, got " + toml_value_text(node));
     return v;
 }
 
@@ -125,7 +125,8 @@ double SpecParser::weight(const toml::table& table, const std::string& path) con
     const toml::node* node = table.get("weight");
     if (!node) return 1;
     const double w = number(*node, path + ".weight");
-    if (!(w > 0) || w > 1e12) error(node, path + ".weight", cat("expects a weight in (0, 1e12], got ", w));
+    if (!(w > 0) || w > 1e12)
+        error(node, path + ".weight", cat("expects a weight in (0, 1e12], got ", w));
     return w;
 }
 
@@ -190,7 +191,8 @@ void SpecParser::read_heads(const toml::table& root, DatasetSpec& spec) const {
                         continue;
                     }
                     const std::string field = "head." + prefix + k;
-                    if (const toml::table* sub = value.as_table(); sub && !find_style_field(field)) {
+                    if (const toml::table* sub = value.as_table();
+                        sub && !find_style_field(field)) {
                         collect(*sub, prefix + k + ".");
                         continue;
                     }
@@ -258,10 +260,10 @@ void SpecParser::read_vary(const toml::table& root, DatasetSpec& spec) const {
                 error(&value, field_name,
                       cat("is a ", field->type == FieldType::kChoice ? "choice" : "non-numeric",
                           " field: only { choice = [...] } varies it"));
-            const char* name = dist->get("uniform") ? "uniform"
+            const char* name = dist->get("uniform")  ? "uniform"
                                : dist->get("normal") ? "normal"
                                                      : "log_uniform";
-            rule.kind = dist->get("uniform") ? VaryRule::Kind::kUniform
+            rule.kind = dist->get("uniform")  ? VaryRule::Kind::kUniform
                         : dist->get("normal") ? VaryRule::Kind::kNormal
                                               : VaryRule::Kind::kLogUniform;
             const toml::node& ab = *dist->get(name);
@@ -270,9 +272,11 @@ void SpecParser::read_vary(const toml::table& root, DatasetSpec& spec) const {
             rule.b = number(pair[1], field_name + "." + name);
             if (rule.kind == VaryRule::Kind::kNormal) {
                 if (!(rule.b >= 0))
-                    error(&ab, field_name + ".normal", cat("the standard deviation must be ≥ 0, got ", rule.b));
+                    error(&ab, field_name + ".normal",
+                          cat("the standard deviation must be ≥ 0, got ", rule.b));
             } else if (!(rule.a <= rule.b)) {
-                error(&ab, field_name + "." + name, cat("expects [a, b] with a ≤ b, got [", rule.a, ", ", rule.b, "]"));
+                error(&ab, field_name + "." + name,
+                      cat("expects [a, b] with a ≤ b, got [", rule.a, ", ", rule.b, "]"));
             }
             if (rule.kind == VaryRule::Kind::kLogUniform && !(rule.a > 0))
                 error(&ab, field_name + ".log_uniform", cat("expects a > 0, got ", rule.a));
@@ -292,7 +296,8 @@ void SpecParser::read_vary(const toml::table& root, DatasetSpec& spec) const {
             if (rule.kind == VaryRule::Kind::kNormal)
                 rule.choices = {format_draw(std::clamp(rule.a, rule.lo, rule.hi), rule.integer)};
             else
-                rule.choices = {format_draw(rule.a, rule.integer), format_draw(rule.b, rule.integer)};
+                rule.choices = {format_draw(rule.a, rule.integer),
+                                format_draw(rule.b, rule.integer)};
         }
         // Every option (or end) must be a value the field takes on every base style.
         for (const BaseStyle& base : spec.bases)
@@ -325,7 +330,8 @@ void SpecParser::read_output(const toml::table& root, DatasetSpec& spec) const {
             const std::string ext = string(e, "output.hair");
             const auto& list = hair_extensions();
             if (std::find(list.begin(), list.end(), ext) == list.end())
-                error(&e, "output.hair", "unknown format '" + excerpt(ext) + "' (hair, usda, npz, obj, ply)");
+                error(&e, "output.hair",
+                      "unknown format '" + excerpt(ext) + "' (hair, usda, npz, obj, ply)");
             if (std::find(o.hair.begin(), o.hair.end(), ext) != o.hair.end())
                 error(&e, "output.hair", "'" + ext + "' given twice");
             o.hair.push_back(ext);

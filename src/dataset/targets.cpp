@@ -31,17 +31,24 @@ TargetMaps draw_targets(const Hair& hair, const Mesh* head, const Camera& camera
             const Vec3f b = camera.project(head->vertices[f[1]]);
             const Vec3f c = camera.project(head->vertices[f[2]]);
             if (a.z() < kNear || b.z() < kNear || c.z() < kNear) continue;
-            const float area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+            const float area =
+                (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
             if (area == 0.f || !std::isfinite(area)) continue;
-            const int x0 = std::max(0, static_cast<int>(std::floor(std::min({a.x(), b.x(), c.x()}))));
-            const int x1 = std::min(m.width - 1, static_cast<int>(std::ceil(std::max({a.x(), b.x(), c.x()}))));
-            const int y0 = std::max(0, static_cast<int>(std::floor(std::min({a.y(), b.y(), c.y()}))));
-            const int y1 = std::min(m.height - 1, static_cast<int>(std::ceil(std::max({a.y(), b.y(), c.y()}))));
+            const int x0 =
+                std::max(0, static_cast<int>(std::floor(std::min({a.x(), b.x(), c.x()}))));
+            const int x1 =
+                std::min(m.width - 1, static_cast<int>(std::ceil(std::max({a.x(), b.x(), c.x()}))));
+            const int y0 =
+                std::max(0, static_cast<int>(std::floor(std::min({a.y(), b.y(), c.y()}))));
+            const int y1 = std::min(m.height - 1,
+                                    static_cast<int>(std::ceil(std::max({a.y(), b.y(), c.y()}))));
             for (int y = y0; y <= y1; ++y)
                 for (int x = x0; x <= x1; ++x) {
                     const float px = x + 0.5f, py = y + 0.5f;
-                    const float w0 = ((b.x() - px) * (c.y() - py) - (b.y() - py) * (c.x() - px)) / area;
-                    const float w1 = ((c.x() - px) * (a.y() - py) - (c.y() - py) * (a.x() - px)) / area;
+                    const float w0 =
+                        ((b.x() - px) * (c.y() - py) - (b.y() - py) * (c.x() - px)) / area;
+                    const float w1 =
+                        ((c.x() - px) * (a.y() - py) - (c.y() - py) * (a.x() - px)) / area;
                     const float w2 = 1.f - w0 - w1;
                     if (w0 < 0 || w1 < 0 || w2 < 0) continue;
                     const float z = 1.f / (w0 / a.z() + w1 / b.z() + w2 / c.z());
@@ -110,8 +117,8 @@ RgbImage mask_image(const TargetMaps& maps) {
 std::string encode_npy(const std::vector<float>& values, int rows, int cols) {
     if (values.size() != static_cast<size_t>(rows) * cols)
         fail("encode_npy: ", values.size(), " values for a ", rows, "x", cols, " array");
-    std::string header = cat("{'descr': '<f4', 'fortran_order': False, 'shape': (", rows, ", ",
-                             cols, "), }");
+    std::string header =
+        cat("{'descr': '<f4', 'fortran_order': False, 'shape': (", rows, ", ", cols, "), }");
     // Magic (6) + version (2) + length (2) + header + '\n', padded to a multiple of 64.
     const size_t total = (10 + header.size() + 1 + 63) / 64 * 64;
     header.append(total - 10 - header.size() - 1, ' ');

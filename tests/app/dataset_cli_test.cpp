@@ -65,8 +65,8 @@ TEST(DatasetCli, ShardsJobsAndThreadsGiveByteIdenticalSamples) {
     EXPECT_EQ(slurp(one / "manifest.jsonl"), slurp(sharded / "manifest.jsonl"));
     ASSERT_EQ(run("dataset run " + one.string() + " --threads 1 --jobs 1"), 0);
     for (int i = 0; i < 3; ++i)
-        ASSERT_EQ(run("dataset run " + sharded.string() + " --jobs 2 --shard " +
-                      std::to_string(i) + "/3"),
+        ASSERT_EQ(run("dataset run " + sharded.string() + " --jobs 2 --shard " + std::to_string(i) +
+                      "/3"),
                   0);
     const auto a = tree(one / "samples"), b = tree(sharded / "samples");
     EXPECT_EQ(a.size(), 8u * 14u);  // style, 2 hair, meta, cameras, 4 per camera × 2, complete
@@ -156,9 +156,9 @@ TEST(DatasetCli, BadSpecsAndUsage) {
     Dir d;
     const fs::path spec = d.path / "bad.toml";
     std::ofstream(spec) << "samples = 2\n[vary]\n\"solve.stiffness\" = { uniform = [-1, 2] }\n";
-    ASSERT_EQ(run("dataset plan " + spec.string() + " -o " + (d.path / "x").string(),
-                  d.path / "err.txt"),
-              1);
+    ASSERT_EQ(
+        run("dataset plan " + spec.string() + " -o " + (d.path / "x").string(), d.path / "err.txt"),
+        1);
     const std::string err = slurp(d.path / "err.txt");
     EXPECT_NE(err.find(spec.string() + ":3: field 'solve.stiffness'"), std::string::npos) << err;
     EXPECT_FALSE(fs::exists(d.path / "x" / "dataset.json"));

@@ -71,7 +71,8 @@ TEST(DatasetSpec, MistakesNameFileLineFieldAndReason) {
         {"samples = 1\n[[base]]\npreset = \"short\"\nweight = 0\n",
          "spec.toml:4: field 'base[0].weight': expects a weight in (0, 1e12]"},
         {"samples = 1\n[[base]]\npreset = \"nope\"\n", "spec.toml:3: field 'base[0].preset': "},
-        {"samples = 1\n[[base]]\nstyle = \"missing.toml\"\n", "spec.toml:3: field 'base[0].style': "},
+        {"samples = 1\n[[base]]\nstyle = \"missing.toml\"\n",
+         "spec.toml:3: field 'base[0].style': "},
         {"samples = 1\n[[head]]\nscale = -1\n", "spec.toml:3: field 'head.scale': "},
         {"samples = 1\n[output]\nhair = [\"fbx\"]\n",
          "spec.toml:3: field 'output.hair': unknown format 'fbx'"},
@@ -84,7 +85,8 @@ TEST(DatasetSpec, MistakesNameFileLineFieldAndReason) {
     for (const auto& [text, expected] : cases) {
         const std::string message = error_of(text);
         EXPECT_NE(message.find(expected), std::string::npos)
-            << "spec:\n" << text << "message: " << message << "\nexpected: " << expected;
+            << "spec:\n"
+            << text << "message: " << message << "\nexpected: " << expected;
     }
 }
 
@@ -134,11 +136,11 @@ TEST(DatasetSpec, DrawsStayInTheirDistributionsAndReachTheirEnds) {
 TEST(DatasetSpec, SampleKIsAFunctionOfSpecAndKAlone) {
     const DatasetSpec spec = parse_dataset_spec(kRules, "spec.toml", ".");
     // Another rule: the values the other rules draw do not change.
-    const DatasetSpec more =
-        parse_dataset_spec(std::string(kRules) + "\"solve.threshold\" = { uniform = [0.1, 0.2] }\n",
-                           "spec.toml", ".");
+    const DatasetSpec more = parse_dataset_spec(
+        std::string(kRules) + "\"solve.threshold\" = { uniform = [0.1, 0.2] }\n", "spec.toml", ".");
     for (uint64_t k : {0u, 7u, 49u}) {
-        const SampleDraw a = draw_sample(spec, k), b = draw_sample(spec, k), c = draw_sample(more, k);
+        const SampleDraw a = draw_sample(spec, k), b = draw_sample(spec, k),
+                         c = draw_sample(more, k);
         EXPECT_EQ(a.values, b.values);
         EXPECT_EQ(a.seed, b.seed);
         EXPECT_EQ(a.style.seed, b.style.seed);

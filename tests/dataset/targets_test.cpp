@@ -9,7 +9,9 @@ namespace wisp {
 namespace {
 
 // A camera on +Z looking at the origin, 64×64 pixels.
-Camera front() { return look_at(Vec3f(0, 0, 50), Vec3f(0, 0, 0), Vec3f::UnitY(), 30.f, 64, 64); }
+Camera front() {
+    return look_at(Vec3f(0, 0, 50), Vec3f(0, 0, 0), Vec3f::UnitY(), 30.f, 64, 64);
+}
 
 Hair straight(const Vec3f& from, const Vec3f& to, int points = 16) {
     Hair h;
@@ -39,12 +41,12 @@ TEST(Targets, OrientationOfStrandsOfKnownDirection) {
         double theta;  // in the image, from +x towards up
     };
     const Case cases[] = {
-        {{-5, 0, 0}, {5, 0, 0}, 0},                 // left to right
-        {{5, 0, 0}, {-5, 0, 0}, 0},                 // the same line, drawn the other way
-        {{0, -5, 0}, {0, 5, 0}, M_PI / 2},          // vertical
-        {{-4, -4, 0}, {4, 4, 0}, M_PI / 4},         // rising to the right
-        {{-4, 4, 0}, {4, -4, 0}, 3 * M_PI / 4},     // falling to the right
-        {{0, 0, -5}, {3, 0, 5}, 0},                 // through depth: horizontal on screen
+        {{-5, 0, 0}, {5, 0, 0}, 0},              // left to right
+        {{5, 0, 0}, {-5, 0, 0}, 0},              // the same line, drawn the other way
+        {{0, -5, 0}, {0, 5, 0}, M_PI / 2},       // vertical
+        {{-4, -4, 0}, {4, 4, 0}, M_PI / 4},      // rising to the right
+        {{-4, 4, 0}, {4, -4, 0}, 3 * M_PI / 4},  // falling to the right
+        {{0, 0, -5}, {3, 0, 5}, 0},              // through depth: horizontal on screen
     };
     for (const Case& c : cases) {
         const TargetMaps m = draw_targets(straight(c.from, c.to), nullptr, front());
@@ -55,8 +57,9 @@ TEST(Targets, OrientationOfStrandsOfKnownDirection) {
         EXPECT_LT(diff, 0.02) << c.from.transpose() << " -> " << c.to.transpose() << ": " << t;
         // Every pixel of a straight strand has the same orientation.
         for (size_t i = 0; i < m.hair.size(); ++i)
-            if (m.hair[i])
+            if (m.hair[i]) {
                 EXPECT_LT(std::abs(std::remainder(m.orientation[i] - c.theta, M_PI)), 0.02);
+            }
     }
 }
 
@@ -98,7 +101,9 @@ TEST(Targets, HairBehindTheHeadIsHidden) {
             ++head;
             EXPECT_NEAR(ahead.depth[i], 50.f, 1e-2f);
         }
-        if (ahead.hair[i]) EXPECT_NEAR(ahead.depth[i], 48.f, 1e-2f);
+        if (ahead.hair[i]) {
+            EXPECT_NEAR(ahead.depth[i], 48.f, 1e-2f);
+        }
     }
     EXPECT_GT(hair, 10);
     EXPECT_GT(head, 500);
@@ -108,7 +113,8 @@ TEST(Targets, NpyHeader) {
     const std::string npy = encode_npy(std::vector<float>(6, 1.f), 2, 3);
     ASSERT_GT(npy.size(), 10u);
     EXPECT_EQ(npy.substr(0, 6), "\x93NUMPY");
-    const size_t header = static_cast<unsigned char>(npy[8]) | (static_cast<unsigned char>(npy[9]) << 8);
+    const size_t header =
+        static_cast<unsigned char>(npy[8]) | (static_cast<unsigned char>(npy[9]) << 8);
     EXPECT_EQ((10 + header) % 64, 0u);
     EXPECT_NE(npy.find("'shape': (2, 3)"), std::string::npos);
     EXPECT_EQ(npy.size(), 10 + header + 6 * sizeof(float));
