@@ -85,9 +85,7 @@ TargetMaps draw_targets(const Hair& hair, const Mesh* head, const Camera& camera
                 }
             }
         }
-    // Head pixels drawn over hair were overwritten in depth but not in the flags: the flag
-    // is set only by a hair fragment nearer than everything before it, and a later head
-    // triangle never runs (the head is drawn first).
+    // The head is drawn first, so a hair flag, once set, marks the nearest surface.
     for (float& d : m.depth)
         if (d == far) d = 0.f;
     return m;

@@ -104,6 +104,14 @@ TEST(DatasetCli, ASamplesStyleRegeneratesItsHair) {
     const std::string status = slurp(d.path / "status.txt");
     EXPECT_NE(status.find("done 2\npending 6\nfailed 0"), std::string::npos) << status;
     EXPECT_NE(status.find("missing 0-2,4-6"), std::string::npos) << status;
+    // The task index of a job array's environment: Slurm's, with its count.
+    const std::string env_run = "SLURM_ARRAY_TASK_ID=1 SLURM_ARRAY_TASK_COUNT=4 " +
+                                std::string(WISP_EXE) + " dataset run " + dir.string() +
+                                " -q >/dev/null 2>&1";
+    ASSERT_EQ(std::system(env_run.c_str()), 0);
+    EXPECT_TRUE(fs::exists(dir / "samples" / "000001" / "complete.json"));
+    EXPECT_TRUE(fs::exists(dir / "samples" / "000005" / "complete.json"));
+    EXPECT_FALSE(fs::exists(dir / "samples" / "000000"));
     // verify fails until the dataset is complete, and catches a changed file.
     EXPECT_EQ(run("dataset verify " + dir.string()), 1);
     std::ofstream(dir / "samples" / "000003" / "cam0_mask.png", std::ios::app) << "x";
