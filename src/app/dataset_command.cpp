@@ -237,6 +237,13 @@ void add_dataset_commands(CLI::App& app, DatasetCommands& a) {
     a.slurm->add_option("--time", a.time, "Time limit per task (sbatch --time)");
     a.slurm->add_option("--cpus-per-task", a.cpus, "CPUs per task")->check(CLI::Range(0, 4096));
     a.slurm->add_flag("--submit", a.submit, "Submit it with sbatch");
+
+    a.pack = a.dataset->add_subcommand(
+        "pack", "Write the done samples as WebDataset-style tar shards into DIR/pack");
+    a.pack->add_option("dir", a.dir, "Dataset folder")->required();
+    a.pack->add_option("--samples-per-shard", a.per_shard, "Samples in each tar")
+        ->check(CLI::Range(int64_t(1), int64_t(1) << 40))
+        ->capture_default_str();
 }
 
 std::optional<int> run_dataset_commands(const DatasetCommands& a) {
@@ -250,6 +257,12 @@ std::optional<int> run_dataset_commands(const DatasetCommands& a) {
     if (*a.status) return status_command(a, false);
     if (*a.verify) return status_command(a, true);
     if (*a.slurm) return slurm_command(a);
+    if (*a.pack) {
+        const size_t shards = pack_dataset(a.dir, static_cast<uint64_t>(a.per_shard));
+        std::cerr << "wisp: wrote " << shards << " tar shard" << (shards == 1 ? "" : "s") << " in "
+                  << (std::filesystem::path(a.dir) / "pack").string() << '\n';
+        return 0;
+    }
     return 2;
 }
 

@@ -11,7 +11,7 @@ namespace wisp {
 struct DatasetCommands {
     CLI::App* dataset = nullptr;
     CLI::App *plan = nullptr, *run = nullptr, *status = nullptr, *verify = nullptr,
-             *slurm = nullptr;
+             *slurm = nullptr, *pack = nullptr;
     std::string spec, dir;
     std::string shard;     // "i/N"
     int64_t task_id = -1;  // --task-id K
@@ -23,6 +23,8 @@ struct DatasetCommands {
     int throttle = 0, cpus = 0;
     std::string partition, time;
     bool submit = false;
+    // pack
+    int64_t per_shard = 1000;
 };
 
 // Adds `dataset` and its subcommands to `app`, their options bound to `args`.

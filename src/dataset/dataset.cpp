@@ -631,3 +631,74 @@ std::string slurm_script(const fs::path& dir, const SlurmOptions& o) {
 }
 
 }  // namespace wisp
+
+namespace wisp {
+
+namespace {
+
+// One ustar header block for a regular file.
+std::string tar_header(const std::string& name, uint64_t size) {
+    if (name.size() > 100) fail("pack: member name '", excerpt(name), "' is over 100 bytes");
+    std::string h(512, '\0');
+    const auto put = [&](size_t at, size_t width, const std::string& s) {
+        std::copy(s.begin(), s.begin() + std::min(s.size(), width), h.begin() + at);
+    };
+    const auto octal = [](uint64_t v, int digits) {
+        char buffer[32];
+        std::snprintf(buffer, sizeof buffer, "%0*llo", digits, static_cast<unsigned long long>(v));
+        return std::string(buffer);
+    };
+    put(0, 100, name);
+    put(100, 8, octal(0644, 7));
+    put(108, 8, octal(0, 7));
+    put(116, 8, octal(0, 7));
+    put(124, 12, octal(size, 11));
+    put(136, 12, octal(0, 11));
+    put(148, 8, "        ");  // the checksum counts its own field as spaces
+    h[156] = '0';
+    put(257, 6, std::string("ustar\0", 6));
+    put(263, 2, "00");
+    unsigned sum = 0;
+    for (const char c : h)
+        sum += static_cast<unsigned char>(c);
+    put(148, 8, octal(sum, 6) + std::string("\0 ", 2));
+    return h;
+}
+
+}  // namespace
+
+size_t pack_dataset(const fs::path& dir, uint64_t samples_per_shard) {
+    if (samples_per_shard == 0) fail("pack: --samples-per-shard must be at least 1");
+    const DatasetSpec spec = load_planned_spec(dir);
+    std::vector<uint64_t> done;
+    std::error_code ec;
+    for (uint64_t k = 0; k < spec.samples; ++k)
+        if (fs::exists(dir / "samples" / sample_name(spec.samples, k) / "complete.json", ec))
+            done.push_back(k);
+    fs::create_directories(dir / "pack");
+    size_t shards = 0;
+    ReadLimits limits;
+    limits.what = "a sample's file";
+    for (size_t first = 0; first < done.size(); first += samples_per_shard, ++shards) {
+        AtomicFile tar(dir / "pack" / ("shard-" + sample_name(0, shards) + ".tar"));
+        std::ostream& out = tar.stream();
+        for (size_t i = first; i < std::min(done.size(), first + samples_per_shard); ++i) {
+            const std::string name = sample_name(spec.samples, done[i]);
+            const fs::path folder = dir / "samples" / name;
+            std::set<std::string> files;
+            for (const auto& entry : fs::directory_iterator(folder))
+                if (entry.is_regular_file()) files.insert(entry.path().filename().string());
+            files.erase("complete.json");
+            for (const std::string& f : files) {
+                const std::string bytes = read_file(folder / f, limits);
+                out << tar_header(name + "." + f, bytes.size()) << bytes
+                    << std::string((512 - bytes.size() % 512) % 512, '\0');
+            }
+        }
+        out << std::string(1024, '\0');
+        tar.commit();
+    }
+    return shards;
+}
+
+}  // namespace wisp

@@ -123,3 +123,15 @@ struct SlurmOptions {
 std::string slurm_script(const std::filesystem::path& dir, const SlurmOptions& options);
 
 }  // namespace wisp
+
+namespace wisp {
+
+// `wisp dataset pack`: the done samples as WebDataset-style tar shards (POSIX ustar, written
+// here: no dependency), `samples_per_shard` samples each, in index order, into
+// DIR/pack/shard-NNNNNN.tar (atomic). A sample's files are members "<name>.<file>"
+// ("000007.cam0.png"), so WebDataset groups them by the key "000007"; complete.json is left
+// out. Every member has mode 0644, owner 0 and time 0, so a shard's bytes depend only on its
+// samples. Returns the number of shards written.
+size_t pack_dataset(const std::filesystem::path& dir, uint64_t samples_per_shard);
+
+}  // namespace wisp

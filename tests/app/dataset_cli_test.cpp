@@ -112,6 +112,27 @@ TEST(DatasetCli, ASamplesStyleRegeneratesItsHair) {
     EXPECT_TRUE(fs::exists(dir / "samples" / "000001" / "complete.json"));
     EXPECT_TRUE(fs::exists(dir / "samples" / "000005" / "complete.json"));
     EXPECT_FALSE(fs::exists(dir / "samples" / "000000"));
+    // pack: the done samples (1, 3, 5, 7) as tar shards of 3 samples that tar lists.
+    ASSERT_EQ(run("dataset pack " + dir.string() + " --samples-per-shard 3"), 0);
+    ASSERT_TRUE(fs::exists(dir / "pack" / "shard-000001.tar"));
+    EXPECT_FALSE(fs::exists(dir / "pack" / "shard-000002.tar"));
+    const fs::path listing = d.path / "tar.txt";
+    ASSERT_EQ(std::system(("tar -tf " + (dir / "pack" / "shard-000000.tar").string() + " >" +
+                           listing.string())
+                              .c_str()),
+              0);
+    const std::string members = slurp(listing);
+    EXPECT_NE(members.find("000001.style.toml\n"), std::string::npos) << members;
+    EXPECT_NE(members.find("000005.cam1_orientation.png\n"), std::string::npos) << members;
+    EXPECT_EQ(members.find("000007."), std::string::npos) << members;
+    EXPECT_EQ(members.find("complete.json"), std::string::npos) << members;
+    ASSERT_EQ(std::system(("mkdir -p " + (d.path / "x").string() + " && tar -xf " +
+                           (dir / "pack" / "shard-000001.tar").string() + " -C " +
+                           (d.path / "x").string())
+                              .c_str()),
+              0);
+    EXPECT_TRUE(slurp(d.path / "x" / "000007.hair.hair") ==
+                slurp(dir / "samples" / "000007" / "hair.hair"));
     // verify fails until the dataset is complete, and catches a changed file.
     EXPECT_EQ(run("dataset verify " + dir.string()), 1);
     std::ofstream(dir / "samples" / "000003" / "cam0_mask.png", std::ios::app) << "x";
