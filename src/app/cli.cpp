@@ -1,4 +1,5 @@
 #include "app/cli.hpp"
+#include "app/dataset_command.hpp"
 #include "app/edit_command.hpp"
 
 #include <spawn.h>
@@ -862,6 +863,8 @@ int run_cli(int argc, char** argv) {
 
     EditCommands edit_args;  // `wisp edit` and `wisp schema` (app/edit_command.cpp)
     add_edit_commands(app, edit_args);
+    DatasetCommands dataset_args;  // `wisp dataset ...` (app/dataset_command.cpp)
+    add_dataset_commands(app, dataset_args);
 
     std::string render_in, render_out, render_head, render_view = "three-quarter",
                                                     render_size = "1024x1024";
@@ -1038,6 +1041,7 @@ int run_cli(int argc, char** argv) {
             return 0;
         }
         if (const auto code = run_edit_commands(edit_args)) return *code;
+        if (const auto code = run_dataset_commands(dataset_args)) return *code;
         if (app.got_subcommand("presets")) {
             for (const std::string& name : preset_names())
                 std::cout << name << '\n';

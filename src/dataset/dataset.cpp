@@ -1,0 +1,704 @@
+#include "dataset/dataset.hpp"
+
+#include <signal.h>
+#include <unistd.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <fstream>
+#include <mutex>
+#include <set>
+#include <thread>
+
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "core/rng.hpp"
+#include "core/timer.hpp"
+#include "dataset/targets.hpp"
+#include "dataset/toml_value.hpp"
+#include "groom/head.hpp"
+#include "groom/style_schema.hpp"
+#include "groom/style_toml.hpp"
+#include "io/hair_io.hpp"
+#include "render/render.hpp"
+#include "solve/pipeline.hpp"
+
+namespace wisp {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The streams of one sample, all from its seed (Stream::kMisc ids): the base, the head, the
+// style's seed, the cameras; each varied field draws from the stream of its path's hash.
+enum : uint64_t { kBaseStream = 1, kHeadStream = 2, kStyleSeedStream = 3, kCameraStream = 4 };
+
+uint64_t fnv1a(std::string_view s, uint64_t h = 0xcbf29ce484222325ull) {
+    for (const char c : s) {
+        h ^= static_cast<unsigned char>(c);
+        h *= 0x100000001b3ull;
+    }
+    return h;
+}
+
+std::string hex64(uint64_t v) {
+    char buffer[17];
+    std::snprintf(buffer, sizeof buffer, "%016llx", static_cast<unsigned long long>(v));
+    return buffer;
+}
+
+template <typename T>
+size_t pick(const std::vector<T>& items, double u) {
+    double total = 0;
+    for (const T& item : items)
+        total += item.weight;
+    double at = u * total;
+    for (size_t i = 0; i < items.size(); ++i) {
+        if (at < items[i].weight) return i;
+        at -= items[i].weight;
+    }
+    return items.size() - 1;
+}
+
+nlohmann::json toml_to_json(const toml::node& node) {
+    if (const auto* s = node.as_string()) return s->get();
+    if (const auto* i = node.as_integer()) return i->get();
+    if (const auto* f = node.as_floating_point()) return f->get();
+    if (const auto* b = node.as_boolean()) return b->get();
+    if (const auto* a = node.as_array()) {
+        nlohmann::json out = nlohmann::json::array();
+        for (const toml::node& e : *a)
+            out.push_back(toml_to_json(e));
+        return out;
+    }
+    if (const auto* t = node.as_table()) {
+        nlohmann::json out = nlohmann::json::object();
+        for (const auto& [key, value] : *t)
+            out[std::string(key.str())] = toml_to_json(value);
+        return out;
+    }
+    return nullptr;
+}
+
+std::string draw_value(const VaryRule& rule, Rng& rng) {
+    using Kind = VaryRule::Kind;
+    if (rule.kind == Kind::kChoice)
+        return rule.choices[rng.below(static_cast<uint32_t>(rule.choices.size()))];
+    const double u = rng.uniform_double();
+    switch (rule.kind) {
+        case Kind::kUniform:
+            if (rule.integer) {
+                // Every integer of [a, b] equally likely.
+                const double lo = std::ceil(rule.a), hi = std::floor(rule.b);
+                return format_draw(std::min(hi, std::floor(lo + u * (hi - lo + 1))), true);
+            }
+            return format_draw(rule.a + (rule.b - rule.a) * u, false);
+        case Kind::kLogUniform:
+            return format_draw(
+                std::exp(std::log(rule.a) + (std::log(rule.b) - std::log(rule.a)) * u),
+                rule.integer);
+        case Kind::kNormal: {
+            double u1 = u;
+            const double u2 = rng.uniform_double();
+            if (u1 < 1e-300) u1 = 1e-300;
+            const double z = std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
+            double v = std::clamp(rule.a + rule.b * z, rule.lo, rule.hi);
+            if (rule.integer)
+                v = std::clamp(std::round(v), std::ceil(rule.lo), std::floor(rule.hi));
+            return format_draw(v, rule.integer);
+        }
+        default:
+            return {};
+    }
+}
+
+std::string host_name() {
+    char buffer[256] = {};
+    if (gethostname(buffer, sizeof buffer - 1) != 0) return "host";
+    std::string s(buffer);
+    for (char& c : s)
+        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-') c = '_';
+    return s.empty() ? "host" : s;
+}
+
+uint32_t file_crc(const fs::path& path, uint64_t* size) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) fail(path.string(), ": cannot read");
+    uLong crc = crc32(0L, Z_NULL, 0);
+    std::vector<char> buffer(1 << 16);
+    uint64_t total = 0;
+    while (in) {
+        in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+        const std::streamsize got = in.gcount();
+        if (got <= 0) break;
+        crc = crc32(crc, reinterpret_cast<const Bytef*>(buffer.data()), static_cast<uInt>(got));
+        total += static_cast<uint64_t>(got);
+    }
+    if (size) *size = total;
+    return static_cast<uint32_t>(crc);
+}
+
+void write_json_file(const fs::path& path, const nlohmann::json& j) {
+    write_file_atomic(path, j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+}
+
+nlohmann::json vec(const Vec3f& v) {
+    return {v.x(), v.y(), v.z()};
+}
+
+// Temporary folders of sample `name` left by runs on this host that are no longer alive
+// (killed mid-sample) are removed; those of live runs are left alone.
+void remove_stale_temporaries(const fs::path& samples, const std::string& name) {
+    const std::string prefix = "." + name + ".tmp-" + host_name() + "-";
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(samples, ec)) {
+        const std::string f = entry.path().filename().string();
+        if (f.rfind(prefix, 0) != 0) continue;
+        const long pid = std::strtol(f.c_str() + prefix.size(), nullptr, 10);
+        if (pid > 0 && (kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM)) continue;
+        fs::remove_all(entry.path(), ec);
+    }
+}
+
+// Loading a head (and fitting its scalp) costs as much as a small sample's grooming: a run
+// keeps the heads it has loaded, keyed by the style's [head] fields as TOML.
+std::shared_ptr<const Head> cached_head(const Style& style) {
+    static std::mutex mutex;
+    static std::vector<std::pair<std::string, std::shared_ptr<const Head>>> cache;
+    std::string key;
+    for (const StyleField& f : style_schema())
+        if (f.path.rfind("head.", 0) == 0)
+            key += std::string(f.path) + "=" + style_field_toml(style, f) + "\n";
+    {
+        const std::lock_guard lock(mutex);
+        for (const auto& [k, head] : cache)
+            if (k == key) return head;
+    }
+    auto head = std::make_shared<const Head>(load_head(style.head));
+    const std::lock_guard lock(mutex);
+    if (cache.size() >= 16) cache.erase(cache.begin());
+    cache.emplace_back(key, head);
+    return head;
+}
+
+}  // namespace
+
+SampleDraw draw_sample(const DatasetSpec& spec, uint64_t k) {
+    SampleDraw d;
+    d.index = k;
+    d.seed = Rng(spec.seed, Stream::kMisc, k).next();
+    d.base = pick(spec.bases, Rng(d.seed, Stream::kMisc, kBaseStream).uniform_double());
+    d.head = pick(spec.heads, Rng(d.seed, Stream::kMisc, kHeadStream).uniform_double());
+    d.style = spec.bases[d.base].style;
+    const HeadChoice& head = spec.heads[d.head];
+    try {
+        for (const auto& [path, value] : head.fields)
+            set_style_field(d.style, path, value, cat(spec.source, ":", head.line), spec.base_dir);
+        d.style.seed = Rng(d.seed, Stream::kMisc, kStyleSeedStream).next() >> 1;
+        d.values = nlohmann::json::object();
+        for (const VaryRule& rule : spec.vary) {
+            Rng rng(d.seed, Stream::kMisc, fnv1a(rule.path));
+            const std::string text = draw_value(rule, rng);
+            apply_draw(d.style, rule.path, text, cat(spec.source, ":", rule.line), spec.base_dir);
+            d.values_toml += rule.path + " = " + text + "\n";
+            const toml::table t = toml::parse("v = " + text);
+            d.values[rule.path] = toml_to_json(*t.get("v"));
+        }
+    } catch (const Error& e) {
+        fail("sample ", k, ": ", e.what());
+    } catch (const toml::parse_error& e) {
+        fail("sample ", k, ": ", e.description());
+    }
+    // As `wisp generate` does: a wisp needs at least one strand.
+    d.style.wisps = std::min(d.style.wisps, d.style.strands);
+    Rng camera(d.seed, Stream::kMisc, kCameraStream);
+    for (size_t c = 0; c < spec.cameras.size() * 3; ++c)
+        d.camera_draws.push_back(2.0 * camera.uniform_double() - 1.0);
+    d.hash = fnv1a(d.values_toml, fnv1a(spec.bases[d.base].name + "\n" + head.name + "\n"));
+    return d;
+}
+
+nlohmann::json manifest_entry(const DatasetSpec& spec, const SampleDraw& draw) {
+    return {{"index", draw.index},
+            {"seed", draw.seed},
+            {"style_seed", draw.style.seed},
+            {"base", spec.bases[draw.base].name},
+            {"head", spec.heads[draw.head].name},
+            {"values", draw.values},
+            {"hash", hex64(draw.hash)}};
+}
+
+Camera sample_camera(const DatasetSpec& spec, const SampleDraw& draw, size_t c, const Hair& hair,
+                     const Mesh& head) {
+    const CameraSpec& cs = spec.cameras[c];
+    RenderOptions options;
+    options.width = spec.output.width;
+    options.height = spec.output.height;
+    options.view = cs.view;
+    options.fov_y_degrees = static_cast<float>(cs.fov_y_degrees);
+    const Camera framed = render_camera(hair, &head, options);
+    const Box3 box = framing_bounds(hair, &head);
+    const Vec3f target = box.empty() ? framed.eye + framed.forward : box.center();
+    const double* u = &draw.camera_draws[3 * c];
+    const float azimuth = static_cast<float>(cs.azimuth * u[0] * M_PI / 180);
+    const float elevation = static_cast<float>(cs.elevation * u[1] * M_PI / 180);
+    const float distance = static_cast<float>(1 + cs.distance * u[2]);
+    // Round the target: first about the camera's right axis (elevation), then about Y.
+    const Eigen::Matrix3f turn =
+        (Eigen::AngleAxisf(azimuth, Vec3f::UnitY()) * Eigen::AngleAxisf(-elevation, framed.right))
+            .toRotationMatrix();
+    const Vec3f eye = target + distance * (turn * (framed.eye - target));
+    const Vec3f up = turn * framed.up;
+    return look_at(eye, target, up, options.fov_y_degrees, options.width, options.height);
+}
+
+std::string sample_name(uint64_t samples, uint64_t k) {
+    int digits = 6;
+    for (uint64_t n = samples > 0 ? samples - 1 : 0; n >= 1'000'000; n /= 10)
+        ++digits;
+    std::string s = std::to_string(k);
+    return std::string(s.size() < static_cast<size_t>(digits) ? digits - s.size() : 0, '0') + s;
+}
+
+void write_sample(const DatasetSpec& spec, uint64_t k, const fs::path& folder,
+                  std::vector<std::pair<std::string, double>>* times) {
+    Stopwatch watch;
+    const auto lap = [&](const std::string& stage) {
+        if (times) times->emplace_back(stage, watch.ms());
+        watch = Stopwatch();
+    };
+    const SampleDraw draw = draw_sample(spec, k);
+    const std::shared_ptr<const Head> head_ptr = cached_head(draw.style);
+    const Head& head = *head_ptr;
+    lap("head");
+    const HairstyleResult result = generate_hairstyle(draw.style, head);
+    const Hair& hair = result.hair;
+    lap("generate");
+
+    const fs::path parent = folder.parent_path();
+    const std::string name = folder.filename().string();
+    fs::create_directories(parent);
+    remove_stale_temporaries(parent, name);
+    const fs::path tmp = parent / cat(".", name, ".tmp-", host_name(), "-", getpid());
+    fs::remove_all(tmp);
+    fs::create_directories(tmp);
+    // Whatever goes wrong below, no temporary folder is left (a kill -9 leaves one, which
+    // the next run of the sample removes, and which is never mistaken for a sample).
+    struct Cleanup {
+        fs::path path;
+        ~Cleanup() {
+            std::error_code ec;
+            if (!path.empty()) fs::remove_all(path, ec);
+        }
+    } cleanup{tmp};
+
+    write_file_atomic(tmp / "style.toml", "# wisp dataset sample " + std::to_string(k) +
+                                              ": `wisp generate style.toml`"
+                                              " makes this sample's hair\n" +
+                                              style_to_toml(draw.style, folder));
+    HairWriteOptions hair_options;
+    hair_options.resample_points = spec.output.resample;
+    for (const std::string& ext : spec.output.hair)
+        write_hair(tmp / ("hair." + ext), hair, hair_options);
+    lap("write hair");
+
+    nlohmann::json cameras = nlohmann::json::array();
+    for (size_t c = 0; c < spec.cameras.size(); ++c) {
+        const Camera cam = sample_camera(spec, draw, c, hair, *head.mesh);
+        const std::string prefix = cat("cam", c);
+        if (spec.output.picture) {
+            RenderOptions options;
+            options.width = cam.width;
+            options.height = cam.height;
+            options.fov_y_degrees = cam.fov_y_degrees;
+            options.look_at = LookAt{cam.eye, cam.eye + cam.forward, cam.up};
+            write_png(tmp / (prefix + ".png"), render(hair, head.mesh.get(), options));
+            lap("render");
+        }
+        if (spec.output.orientation || spec.output.mask || spec.output.depth) {
+            const TargetMaps maps = draw_targets(hair, head.mesh.get(), cam);
+            if (spec.output.orientation)
+                write_png(tmp / (prefix + "_orientation.png"), orientation_image(maps));
+            if (spec.output.mask) write_png(tmp / (prefix + "_mask.png"), mask_image(maps));
+            if (spec.output.depth)
+                write_file_atomic(tmp / (prefix + "_depth.npy"),
+                                  encode_npy(maps.depth, maps.height, maps.width));
+            lap("maps");
+        }
+        // OpenCV's convention: x right, y down, z forward; x_pixel = K (R p + t).
+        Eigen::Matrix3f r;
+        r.row(0) = cam.right;
+        r.row(1) = -cam.up;
+        r.row(2) = cam.forward;
+        const Vec3f t = -(r * cam.eye);
+        nlohmann::json w2c = nlohmann::json::array();
+        for (int i = 0; i < 3; ++i)
+            w2c.push_back({r(i, 0), r(i, 1), r(i, 2), t[i]});
+        w2c.push_back({0, 0, 0, 1});
+        cameras.push_back({{"name", prefix},
+                           {"view", spec.cameras[c].view},
+                           {"width", cam.width},
+                           {"height", cam.height},
+                           {"fov_y_degrees", cam.fov_y_degrees},
+                           {"fx", cam.focal_pixels},
+                           {"fy", cam.focal_pixels},
+                           {"cx", 0.5 * cam.width},
+                           {"cy", 0.5 * cam.height},
+                           {"eye", vec(cam.eye)},
+                           {"right", vec(cam.right)},
+                           {"up", vec(cam.up)},
+                           {"forward", vec(cam.forward)},
+                           {"world_to_camera", w2c}});
+    }
+    write_json_file(tmp / "cameras.json",
+                    {{"units", "cm, head space (Y up, +Z forward)"},
+                     {"convention",
+                      "world_to_camera maps head space to OpenCV camera space (x "
+                      "right, y down, z forward); pixel = K (R p + t), pixel (i, j) "
+                      "covers [i, i+1) x [j, j+1)"},
+                     {"cameras", cameras}});
+
+    nlohmann::json meta = manifest_entry(spec, draw);
+    meta["strands"] = hair.strand_count();
+    meta["points"] = hair.point_count();
+    meta["wisps"] = result.masters.count();
+    meta["points_per_strand"] = draw.style.points_per_strand;
+    meta["version"] = kDatasetVersion;
+    meta["solver"] = {{"joints", result.solve.joints},
+                      {"unresolved_joints", result.solve.unresolved}};
+    meta["points_inside_head"] = result.points_inside_head;
+    write_json_file(tmp / "meta.json", meta);
+
+    // The completion marker, last: what it lists is what the sample is.
+    nlohmann::json files = nlohmann::json::object();
+    std::set<std::string> names;
+    for (const auto& entry : fs::directory_iterator(tmp))
+        names.insert(entry.path().filename().string());
+    for (const std::string& f : names) {
+        uint64_t size = 0;
+        const uint32_t crc = file_crc(tmp / f, &size);
+        files[f] = {{"bytes", size}, {"crc32", crc}};
+    }
+    write_json_file(tmp / "complete.json", {{"index", k}, {"files", files}});
+    lap("write");
+
+    std::error_code ec;
+    fs::rename(tmp, folder, ec);
+    if (ec) {
+        // Another run published the sample first (the same bytes), or a folder without a
+        // marker is in the way: keep a complete one, replace anything else.
+        if (fs::exists(folder / "complete.json")) return;
+        fs::remove_all(folder);
+        fs::rename(tmp, folder);
+    }
+    cleanup.path.clear();
+}
+
+namespace {
+
+fs::path spec_copy(const fs::path& dir) {
+    return dir / "spec.toml";
+}
+
+}  // namespace
+
+uint64_t plan_dataset(const fs::path& spec_path, const fs::path& dir) {
+    const DatasetSpec spec = load_dataset_spec(spec_path);
+    ReadLimits limits;
+    limits.what = "a dataset spec";
+    limits.text = true;
+    const std::string text = read_file(spec_path, limits);
+    std::error_code ec;
+    if (fs::exists(dir / "dataset.json", ec)) {
+        const std::string old = read_file(spec_copy(dir), limits);
+        if (old != text)
+            fail(dir.string(), ": already planned from another spec (its spec.toml differs from ",
+                 spec_path.string(), "); plan into a new folder");
+    }
+    fs::create_directories(dir / "samples");
+    // Streamed: a large dataset's manifest need not fit in memory.
+    AtomicFile manifest(dir / "manifest.jsonl");
+    for (uint64_t k = 0; k < spec.samples; ++k)
+        manifest.stream() << manifest_entry(spec, draw_sample(spec, k)).dump() << '\n';
+    manifest.commit();
+    write_file_atomic(spec_copy(dir), text);
+    write_json_file(dir / "dataset.json", {{"samples", spec.samples},
+                                           {"seed", spec.seed},
+                                           {"spec", fs::absolute(spec_path).string()},
+                                           {"spec_dir", fs::absolute(spec.base_dir).string()},
+                                           {"version", kDatasetVersion}});
+    return spec.samples;
+}
+
+DatasetSpec load_planned_spec(const fs::path& dir) {
+    const fs::path info = dir / "dataset.json";
+    std::error_code ec;
+    if (!fs::exists(info, ec))
+        fail(dir.string(),
+             ": no dataset.json: not a planned dataset (run `wisp dataset plan "
+             "SPEC.toml -o ",
+             dir.string(), "` first)");
+    ReadLimits limits;
+    limits.max_bytes = 1 << 20;
+    limits.what = "dataset.json";
+    limits.text = true;
+    nlohmann::json j;
+    try {
+        j = nlohmann::json::parse(read_file(info, limits));
+        return load_dataset_spec(spec_copy(dir), j.at("spec_dir").get<std::string>());
+    } catch (const nlohmann::json::exception& e) {
+        fail(info.string(), ": ", e.what());
+    }
+}
+
+RunSummary run_dataset(const fs::path& dir, const RunOptions& options) {
+    const DatasetSpec spec = load_planned_spec(dir);
+    const Slice slice = options.slice;
+    if (slice.count == 0 || slice.index >= slice.count)
+        fail("task ", slice.index, " of ", slice.count, ": the index must be below the count");
+    std::vector<uint64_t> todo;
+    for (uint64_t k = slice.index; k < spec.samples; k += slice.count)
+        todo.push_back(k);
+    const fs::path samples = dir / "samples";
+    fs::create_directories(samples);
+
+    RunSummary summary;
+    std::mutex mutex;
+    std::atomic<size_t> next{0};
+    uint64_t done = 0;
+    const auto worker = [&] {
+        for (size_t i = next++; i < todo.size(); i = next++) {
+            const uint64_t k = todo[i];
+            const std::string name = sample_name(spec.samples, k);
+            const fs::path folder = samples / name;
+            const fs::path failed = samples / (name + ".failed");
+            std::error_code ec;
+            bool skipped = fs::exists(folder / "complete.json", ec);
+            bool ok = true;
+            std::vector<std::pair<std::string, double>> times;
+            std::string why;
+            if (!skipped) {
+                try {
+                    write_sample(spec, k, folder, &times);
+                    fs::remove(failed, ec);
+                } catch (const std::exception& e) {
+                    ok = false;
+                    why = e.what();
+                    try {
+                        write_file_atomic(failed, why + "\n");
+                    } catch (const std::exception&) {
+                    }
+                }
+            }
+            const std::lock_guard lock(mutex);
+            ++done;
+            if (skipped)
+                ++summary.skipped;
+            else if (ok)
+                ++summary.made;
+            else
+                ++summary.failed;
+            if (!ok && options.on_failure) options.on_failure(k, why);
+            if (ok && !skipped && options.on_times) options.on_times(k, times);
+            if (options.on_sample) options.on_sample(done, todo.size(), k, skipped);
+        }
+    };
+    const int jobs = std::max(1, std::min<int>(options.jobs, static_cast<int>(todo.size())));
+    std::vector<std::thread> threads;
+    for (int j = 1; j < jobs; ++j)
+        threads.emplace_back(worker);
+    worker();
+    for (std::thread& t : threads)
+        t.join();
+    return summary;
+}
+
+DatasetStatus dataset_status(const fs::path& dir, bool checksums) {
+    const DatasetSpec spec = load_planned_spec(dir);
+    DatasetStatus s;
+    s.samples = spec.samples;
+    const fs::path samples = dir / "samples";
+    ReadLimits limits;
+    limits.max_bytes = 1 << 20;
+    limits.what = "complete.json";
+    limits.text = true;
+    for (uint64_t k = 0; k < spec.samples; ++k) {
+        const std::string name = sample_name(spec.samples, k);
+        const fs::path folder = samples / name;
+        std::error_code ec;
+        if (fs::exists(folder / "complete.json", ec)) {
+            std::string problem;
+            if (checksums) {
+                try {
+                    const nlohmann::json j =
+                        nlohmann::json::parse(read_file(folder / "complete.json", limits));
+                    for (const auto& [f, entry] : j.at("files").items()) {
+                        if (!fs::exists(folder / f, ec)) {
+                            problem = f + " is missing";
+                            break;
+                        }
+                        uint64_t size = 0;
+                        const uint32_t crc = file_crc(folder / f, &size);
+                        if (size != entry.at("bytes").get<uint64_t>() ||
+                            crc != entry.at("crc32").get<uint32_t>()) {
+                            problem = f + " does not match its size or CRC-32";
+                            break;
+                        }
+                    }
+                } catch (const std::exception& e) {
+                    problem = std::string("complete.json: ") + e.what();
+                }
+            }
+            if (problem.empty()) {
+                ++s.done;
+                continue;
+            }
+            ++s.corrupt;
+            s.problems.push_back(name + ": " + problem);
+        } else if (fs::exists(samples / (name + ".failed"), ec)) {
+            ++s.failed;
+            std::string why;
+            try {
+                why = read_file(samples / (name + ".failed"), limits);
+            } catch (const Error&) {
+            }
+            while (!why.empty() && why.back() == '\n')
+                why.pop_back();
+            s.problems.push_back(name + ": failed: " + excerpt(why, 300));
+        } else {
+            ++s.pending;
+        }
+        s.missing.push_back(k);
+    }
+    return s;
+}
+
+std::string index_ranges(const std::vector<uint64_t>& indices) {
+    std::string out;
+    for (size_t i = 0; i < indices.size();) {
+        size_t j = i;
+        while (j + 1 < indices.size() && indices[j + 1] == indices[j] + 1)
+            ++j;
+        if (!out.empty()) out += ',';
+        out += std::to_string(indices[i]);
+        if (j > i) {
+            out += '-';
+            out += std::to_string(indices[j]);
+        }
+        i = j + 1;
+    }
+    return out;
+}
+
+namespace {
+
+// A word for bash, quoted so that nothing in it is expanded.
+std::string shell_quote(const std::string& s) {
+    std::string out = "'";
+    for (const char c : s) {
+        if (c == '\'')
+            out += "'\\''";
+        else
+            out += c;
+    }
+    return out + "'";
+}
+
+}  // namespace
+
+std::string slurm_script(const fs::path& dir, const SlurmOptions& o) {
+    if (o.tasks < 1) fail("--tasks must be at least 1");
+    for (const std::string* s : {&o.partition, &o.time})
+        if (s->find_first_of("\n\r\"'\\ \t") != std::string::npos)
+            fail("slurm: '", excerpt(*s), "' holds a character sbatch options cannot");
+    const fs::path abs = fs::absolute(dir);
+    std::string s = "#!/bin/bash\n";
+    s += "# wisp dataset: a job array whose task i makes the samples k with k % " +
+         std::to_string(o.tasks) + " == i.\n";
+    s += "# Resubmitting it (or single tasks: sbatch --array=3,7 ...) makes what is missing.\n";
+    s += "#SBATCH --job-name=wisp-dataset\n";
+    s += cat("#SBATCH --array=0-", o.tasks - 1, o.throttle > 0 ? cat("%", o.throttle) : "", "\n");
+    s += "#SBATCH --output=" + (abs / "slurm" / "task-%a.log").string() + "\n";
+    if (!o.partition.empty()) s += "#SBATCH --partition=" + o.partition + "\n";
+    if (!o.time.empty()) s += "#SBATCH --time=" + o.time + "\n";
+    if (o.cpus_per_task > 0) s += cat("#SBATCH --cpus-per-task=", o.cpus_per_task, "\n");
+    s += "set -euo pipefail\n";
+    s += "exec " + shell_quote(o.wisp) + " dataset run " + shell_quote(abs.string()) +
+         " --task-id \"$SLURM_ARRAY_TASK_ID\" --tasks " + std::to_string(o.tasks) + "\n";
+    return s;
+}
+
+}  // namespace wisp
+
+namespace wisp {
+
+namespace {
+
+// One ustar header block for a regular file.
+std::string tar_header(const std::string& name, uint64_t size) {
+    if (name.size() > 100) fail("pack: member name '", excerpt(name), "' is over 100 bytes");
+    std::string h(512, '\0');
+    const auto put = [&](size_t at, size_t width, const std::string& s) {
+        std::copy(s.begin(), s.begin() + std::min(s.size(), width), h.begin() + at);
+    };
+    const auto octal = [](uint64_t v, int digits) {
+        char buffer[32];
+        std::snprintf(buffer, sizeof buffer, "%0*llo", digits, static_cast<unsigned long long>(v));
+        return std::string(buffer);
+    };
+    put(0, 100, name);
+    put(100, 8, octal(0644, 7));
+    put(108, 8, octal(0, 7));
+    put(116, 8, octal(0, 7));
+    put(124, 12, octal(size, 11));
+    put(136, 12, octal(0, 11));
+    put(148, 8, "        ");  // the checksum counts its own field as spaces
+    h[156] = '0';
+    put(257, 6, std::string("ustar\0", 6));
+    put(263, 2, "00");
+    unsigned sum = 0;
+    for (const char c : h)
+        sum += static_cast<unsigned char>(c);
+    put(148, 8, octal(sum, 6) + std::string("\0 ", 2));
+    return h;
+}
+
+}  // namespace
+
+size_t pack_dataset(const fs::path& dir, uint64_t samples_per_shard) {
+    if (samples_per_shard == 0) fail("pack: --samples-per-shard must be at least 1");
+    const DatasetSpec spec = load_planned_spec(dir);
+    std::vector<uint64_t> done;
+    std::error_code ec;
+    for (uint64_t k = 0; k < spec.samples; ++k)
+        if (fs::exists(dir / "samples" / sample_name(spec.samples, k) / "complete.json", ec))
+            done.push_back(k);
+    fs::create_directories(dir / "pack");
+    size_t shards = 0;
+    ReadLimits limits;
+    limits.what = "a sample's file";
+    for (size_t first = 0; first < done.size(); first += samples_per_shard, ++shards) {
+        AtomicFile tar(dir / "pack" / ("shard-" + sample_name(0, shards) + ".tar"));
+        std::ostream& out = tar.stream();
+        for (size_t i = first; i < std::min(done.size(), first + samples_per_shard); ++i) {
+            const std::string name = sample_name(spec.samples, done[i]);
+            const fs::path folder = dir / "samples" / name;
+            std::set<std::string> files;
+            for (const auto& entry : fs::directory_iterator(folder))
+                if (entry.is_regular_file()) files.insert(entry.path().filename().string());
+            files.erase("complete.json");
+            for (const std::string& f : files) {
+                const std::string bytes = read_file(folder / f, limits);
+                out << tar_header(name + "." + f, bytes.size()) << bytes
+                    << std::string((512 - bytes.size() % 512) % 512, '\0');
+            }
+        }
+        out << std::string(1024, '\0');
+        tar.commit();
+    }
+    return shards;
+}
+
+}  // namespace wisp

@@ -1,0 +1,132 @@
+#include "dataset/targets.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/error.hpp"
+
+namespace wisp {
+
+namespace {
+
+constexpr float kNear = 1e-3f;  // cm: what lies closer to the eye plane is not drawn
+
+}  // namespace
+
+TargetMaps draw_targets(const Hair& hair, const Mesh* head, const Camera& camera) {
+    TargetMaps m;
+    m.width = camera.width;
+    m.height = camera.height;
+    const size_t n = static_cast<size_t>(m.width) * m.height;
+    const float far = std::numeric_limits<float>::infinity();
+    m.depth.assign(n, far);
+    m.orientation.assign(n, 0.f);
+    m.hair.assign(n, 0);
+
+    if (head) {
+        // Barycentric rasterization at pixel centres; 1/z interpolates linearly on screen.
+        for (const Vec3i& f : head->faces) {
+            const Vec3f a = camera.project(head->vertices[f[0]]);
+            const Vec3f b = camera.project(head->vertices[f[1]]);
+            const Vec3f c = camera.project(head->vertices[f[2]]);
+            if (a.z() < kNear || b.z() < kNear || c.z() < kNear) continue;
+            const float area =
+                (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+            if (area == 0.f || !std::isfinite(area)) continue;
+            const int x0 =
+                std::max(0, static_cast<int>(std::floor(std::min({a.x(), b.x(), c.x()}))));
+            const int x1 =
+                std::min(m.width - 1, static_cast<int>(std::ceil(std::max({a.x(), b.x(), c.x()}))));
+            const int y0 =
+                std::max(0, static_cast<int>(std::floor(std::min({a.y(), b.y(), c.y()}))));
+            const int y1 = std::min(m.height - 1,
+                                    static_cast<int>(std::ceil(std::max({a.y(), b.y(), c.y()}))));
+            for (int y = y0; y <= y1; ++y)
+                for (int x = x0; x <= x1; ++x) {
+                    const float px = x + 0.5f, py = y + 0.5f;
+                    const float w0 =
+                        ((b.x() - px) * (c.y() - py) - (b.y() - py) * (c.x() - px)) / area;
+                    const float w1 =
+                        ((c.x() - px) * (a.y() - py) - (c.y() - py) * (a.x() - px)) / area;
+                    const float w2 = 1.f - w0 - w1;
+                    if (w0 < 0 || w1 < 0 || w2 < 0) continue;
+                    const float z = 1.f / (w0 / a.z() + w1 / b.z() + w2 / c.z());
+                    float& d = m.depth[static_cast<size_t>(y) * m.width + x];
+                    if (z < d) d = z;
+                }
+        }
+    }
+
+    for (size_t s = 0; s + 1 < hair.offsets.size(); ++s)
+        for (uint32_t i = hair.offsets[s]; i + 1 < hair.offsets[s + 1]; ++i) {
+            const Vec3f p = camera.project(hair.points[i]);
+            const Vec3f q = camera.project(hair.points[i + 1]);
+            if (p.z() < kNear || q.z() < kNear) continue;
+            const float dx = q.x() - p.x(), dy = q.y() - p.y();
+            // Image rows grow downwards: the angle is measured with y up.
+            float theta = std::atan2(-dy, dx);
+            if (theta < 0) theta += static_cast<float>(M_PI);
+            if (theta >= static_cast<float>(M_PI)) theta -= static_cast<float>(M_PI);
+            const float steps_f = std::ceil(std::max(std::abs(dx), std::abs(dy)));
+            if (!std::isfinite(steps_f) || steps_f > 1e5f) continue;
+            const int steps = std::max(1, static_cast<int>(steps_f));
+            for (int k = 0; k < steps; ++k) {
+                const float t = (k + 0.5f) / steps;
+                const int x = static_cast<int>(std::floor(p.x() + dx * t));
+                const int y = static_cast<int>(std::floor(p.y() + dy * t));
+                if (x < 0 || y < 0 || x >= m.width || y >= m.height) continue;
+                const float z = 1.f / ((1.f - t) / p.z() + t / q.z());
+                const size_t at = static_cast<size_t>(y) * m.width + x;
+                if (z < m.depth[at]) {
+                    m.depth[at] = z;
+                    m.hair[at] = 1;
+                    m.orientation[at] = theta;
+                }
+            }
+        }
+    // The head is drawn first, so a hair flag, once set, marks the nearest surface.
+    for (float& d : m.depth)
+        if (d == far) d = 0.f;
+    return m;
+}
+
+RgbImage orientation_image(const TargetMaps& maps) {
+    RgbImage image{maps.width, maps.height, {}};
+    image.rgb.assign(static_cast<size_t>(maps.width) * maps.height * 3, 0);
+    for (size_t i = 0; i < maps.hair.size(); ++i) {
+        if (!maps.hair[i]) continue;
+        const float t = 2.f * maps.orientation[i];
+        image.rgb[3 * i] = 255;
+        image.rgb[3 * i + 1] = static_cast<uint8_t>(std::lround(127.5f * (1.f + std::cos(t))));
+        image.rgb[3 * i + 2] = static_cast<uint8_t>(std::lround(127.5f * (1.f + std::sin(t))));
+    }
+    return image;
+}
+
+RgbImage mask_image(const TargetMaps& maps) {
+    RgbImage image{maps.width, maps.height, {}};
+    image.rgb.assign(static_cast<size_t>(maps.width) * maps.height * 3, 0);
+    for (size_t i = 0; i < maps.hair.size(); ++i)
+        if (maps.hair[i]) image.rgb[3 * i] = image.rgb[3 * i + 1] = image.rgb[3 * i + 2] = 255;
+    return image;
+}
+
+std::string encode_npy(const std::vector<float>& values, int rows, int cols) {
+    if (values.size() != static_cast<size_t>(rows) * cols)
+        fail("encode_npy: ", values.size(), " values for a ", rows, "x", cols, " array");
+    std::string header =
+        cat("{'descr': '<f4', 'fortran_order': False, 'shape': (", rows, ", ", cols, "), }");
+    // Magic (6) + version (2) + length (2) + header + '\n', padded to a multiple of 64.
+    const size_t total = (10 + header.size() + 1 + 63) / 64 * 64;
+    header.append(total - 10 - header.size() - 1, ' ');
+    header += '\n';
+    std::string out = std::string("\x93NUMPY\x01\x00", 8);
+    out += static_cast<char>(header.size() & 0xFF);
+    out += static_cast<char>(header.size() >> 8);
+    out += header;
+    out.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(float));
+    return out;
+}
+
+}  // namespace wisp

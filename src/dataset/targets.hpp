@@ -1,0 +1,46 @@
+#pragma once
+// The training targets hair-reconstruction methods learn from, drawn for one camera:
+//
+//   orientation  #H×W  the undirected 2D direction θ ∈ [0, π) of the nearest strand at each
+//                pixel, measured in the image from +x (right) towards up, as the orientation
+//                maps of the literature (Paris et al. 2004, Chai et al. 2012, HairNet) give
+//                it for photographs. Encoded in an RGB PNG as R = 255 on hair, G =
+//                (1 + cos 2θ)/2, B = (1 + sin 2θ)/2 (θ and θ + π are one orientation);
+//                black off the hair.
+//   mask         #H×W  255 where hair is the nearest surface, else 0 (a gray PNG as RGB)
+//   depth        #H×W  float32 distance in cm along the camera's forward axis to the nearest
+//                surface, hair or head; 0 where the ray meets neither (a .npy array)
+//
+// The head is rasterized as triangles at pixel centres; every strand segment between
+// consecutive control points as a one-pixel line (DDA, one sample per pixel on its major
+// axis) tested against the depth buffer. Strands are drawn in order with a strict depth
+// test, so the maps are the same at any thread count.
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+#include "core/hair.hpp"
+#include "core/image.hpp"
+#include "geometry/mesh.hpp"
+#include "render/camera.hpp"
+
+namespace wisp {
+
+struct TargetMaps {
+    int width = 0, height = 0;
+    std::vector<float> depth;        // #H·W, row-major, top row first; 0: background
+    std::vector<float> orientation;  // #H·W, θ in [0, π); meaningful where hair is set
+    std::vector<uint8_t> hair;       // #H·W, 1 where hair is the nearest surface
+};
+
+// Draws the maps of hair (and head, if not null) seen by `camera`.
+TargetMaps draw_targets(const Hair& hair, const Mesh* head, const Camera& camera);
+
+// The encodings above.
+RgbImage orientation_image(const TargetMaps& maps);
+RgbImage mask_image(const TargetMaps& maps);
+
+// A float32 array #rows×cols as numpy's .npy (version 1.0, little-endian, C order).
+std::string encode_npy(const std::vector<float>& values, int rows, int cols);
+
+}  // namespace wisp

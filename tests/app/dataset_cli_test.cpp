@@ -1,0 +1,210 @@
+// `wisp dataset` as users run it: shards and jobs give byte-identical samples, a sample's
+// style regenerates its hair, a killed run leaves no half sample and resumes, bad specs exit 1.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <thread>
+
+extern char** environ;
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kSpec = fs::path(WISP_SOURCE_DIR) / "tests" / "dataset" / "small.toml";
+
+struct Dir {
+    fs::path path;
+    Dir() {
+        static int counter = 0;
+        path = fs::temp_directory_path() / ("wisp_dataset_test_" + std::to_string(::getpid()) +
+                                            "_" + std::to_string(counter++));
+        fs::create_directories(path);
+    }
+    ~Dir() {
+        std::error_code ec;
+        fs::remove_all(path, ec);
+    }
+};
+
+int run(const std::string& args, const fs::path& out = "/dev/null") {
+    const std::string cmd = std::string(WISP_EXE) + " " + args + " >" + out.string() + " 2>&1";
+    const int status = std::system(cmd.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+// Every file under dir (relative path -> bytes).
+std::map<std::string, std::string> tree(const fs::path& dir) {
+    std::map<std::string, std::string> files;
+    for (const auto& e : fs::recursive_directory_iterator(dir))
+        if (e.is_regular_file()) files[fs::relative(e.path(), dir).string()] = slurp(e.path());
+    return files;
+}
+
+TEST(DatasetCli, ShardsJobsAndThreadsGiveByteIdenticalSamples) {
+    Dir d;
+    const fs::path one = d.path / "one", sharded = d.path / "sharded";
+    ASSERT_EQ(run("dataset plan " + kSpec.string() + " -o " + one.string()), 0);
+    ASSERT_EQ(run("dataset plan " + kSpec.string() + " -o " + sharded.string()), 0);
+    EXPECT_EQ(slurp(one / "manifest.jsonl"), slurp(sharded / "manifest.jsonl"));
+    ASSERT_EQ(run("dataset run " + one.string() + " --threads 1 --jobs 1"), 0);
+    for (int i = 0; i < 3; ++i)
+        ASSERT_EQ(run("dataset run " + sharded.string() + " --jobs 2 --shard " + std::to_string(i) +
+                      "/3"),
+                  0);
+    const auto a = tree(one / "samples"), b = tree(sharded / "samples");
+    EXPECT_EQ(a.size(), 8u * 14u);  // style, 2 hair, meta, cameras, 4 per camera × 2, complete
+    ASSERT_EQ(a.size(), b.size());
+    for (const auto& [name, bytes] : a) {
+        ASSERT_TRUE(b.count(name)) << name;
+        EXPECT_TRUE(bytes == b.at(name)) << name << " differs";
+    }
+    // Nothing about the run (times, hosts, pids) in a sample's metadata.
+    const std::string meta = a.at("000000/meta.json");
+    EXPECT_EQ(meta.find("ms"), std::string::npos);
+    EXPECT_NE(meta.find("\"values\""), std::string::npos);
+    // A rerun skips every finished sample and changes nothing.
+    ASSERT_EQ(run("dataset run " + one.string(), d.path / "rerun.txt"), 0);
+    EXPECT_NE(slurp(d.path / "rerun.txt").find("0 made, 8 done before"), std::string::npos)
+        << slurp(d.path / "rerun.txt");
+    EXPECT_EQ(tree(one / "samples"), a);
+    ASSERT_EQ(run("dataset verify " + one.string(), d.path / "verify.txt"), 0);
+    EXPECT_NE(slurp(d.path / "verify.txt").find("done 8"), std::string::npos);
+}
+
+TEST(DatasetCli, ASamplesStyleRegeneratesItsHair) {
+    Dir d;
+    const fs::path dir = d.path / "ds";
+    ASSERT_EQ(run("dataset plan " + kSpec.string() + " -o " + dir.string()), 0);
+    ASSERT_EQ(run("dataset run " + dir.string() + " --task-id 3 --tasks 4"), 0);
+    for (const char* sample : {"000003", "000007"}) {
+        const fs::path s = dir / "samples" / sample;
+        ASSERT_TRUE(fs::exists(s / "complete.json")) << sample;
+        const fs::path again = d.path / (std::string(sample) + ".hair");
+        ASSERT_EQ(run("generate " + (s / "style.toml").string() + " -q -o " + again.string()), 0);
+        EXPECT_TRUE(slurp(again) == slurp(s / "hair.hair")) << sample;
+    }
+    ASSERT_EQ(run("dataset status " + dir.string(), d.path / "status.txt"), 0);
+    const std::string status = slurp(d.path / "status.txt");
+    EXPECT_NE(status.find("done 2\npending 6\nfailed 0"), std::string::npos) << status;
+    EXPECT_NE(status.find("missing 0-2,4-6"), std::string::npos) << status;
+    // The task index of a job array's environment: Slurm's, with its count.
+    const std::string env_run = "SLURM_ARRAY_TASK_ID=1 SLURM_ARRAY_TASK_COUNT=4 " +
+                                std::string(WISP_EXE) + " dataset run " + dir.string() +
+                                " -q >/dev/null 2>&1";
+    ASSERT_EQ(std::system(env_run.c_str()), 0);
+    EXPECT_TRUE(fs::exists(dir / "samples" / "000001" / "complete.json"));
+    EXPECT_TRUE(fs::exists(dir / "samples" / "000005" / "complete.json"));
+    EXPECT_FALSE(fs::exists(dir / "samples" / "000000"));
+    // pack: the done samples (1, 3, 5, 7) as tar shards of 3 samples that tar lists.
+    ASSERT_EQ(run("dataset pack " + dir.string() + " --samples-per-shard 3"), 0);
+    ASSERT_TRUE(fs::exists(dir / "pack" / "shard-000001.tar"));
+    EXPECT_FALSE(fs::exists(dir / "pack" / "shard-000002.tar"));
+    const fs::path listing = d.path / "tar.txt";
+    ASSERT_EQ(std::system(("tar -tf " + (dir / "pack" / "shard-000000.tar").string() + " >" +
+                           listing.string())
+                              .c_str()),
+              0);
+    const std::string members = slurp(listing);
+    EXPECT_NE(members.find("000001.style.toml\n"), std::string::npos) << members;
+    EXPECT_NE(members.find("000005.cam1_orientation.png\n"), std::string::npos) << members;
+    EXPECT_EQ(members.find("000007."), std::string::npos) << members;
+    EXPECT_EQ(members.find("complete.json"), std::string::npos) << members;
+    ASSERT_EQ(std::system(("mkdir -p " + (d.path / "x").string() + " && tar -xf " +
+                           (dir / "pack" / "shard-000001.tar").string() + " -C " +
+                           (d.path / "x").string())
+                              .c_str()),
+              0);
+    EXPECT_TRUE(slurp(d.path / "x" / "000007.hair.hair") ==
+                slurp(dir / "samples" / "000007" / "hair.hair"));
+    // verify fails until the dataset is complete, and catches a changed file.
+    EXPECT_EQ(run("dataset verify " + dir.string()), 1);
+    std::ofstream(dir / "samples" / "000003" / "cam0_mask.png", std::ios::app) << "x";
+    ASSERT_EQ(run("dataset verify " + dir.string(), d.path / "verify.txt"), 1);
+    EXPECT_NE(slurp(d.path / "verify.txt").find("corrupt 1"), std::string::npos);
+}
+
+TEST(DatasetCli, AKilledRunLeavesNoHalfSampleAndResumes) {
+    Dir d;
+    const fs::path dir = d.path / "ds", whole = d.path / "whole";
+    ASSERT_EQ(run("dataset plan " + kSpec.string() + " -o " + dir.string()), 0);
+    // Kill a run mid-sample several times: at a temporary folder's first sight, and later.
+    for (int attempt = 0; attempt < 3; ++attempt) {
+        std::vector<std::string> args = {WISP_EXE, "dataset", "run", dir.string(), "--quiet"};
+        std::vector<char*> argv;
+        for (std::string& a : args)
+            argv.push_back(a.data());
+        argv.push_back(nullptr);
+        pid_t pid = 0;
+        ASSERT_EQ(posix_spawn(&pid, WISP_EXE, nullptr, nullptr, argv.data(), environ), 0);
+        bool saw_temporary = false;
+        for (int i = 0; i < 400 && !saw_temporary; ++i) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+            std::error_code ec;
+            for (const auto& e : fs::directory_iterator(dir / "samples", ec))
+                saw_temporary |= e.path().filename().string().find(".tmp-") != std::string::npos;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(150 * attempt));
+        kill(pid, SIGKILL);
+        int status = 0;
+        waitpid(pid, &status, 0);
+        // Every folder that looks like a sample is a complete one.
+        for (const auto& e : fs::directory_iterator(dir / "samples")) {
+            const std::string name = e.path().filename().string();
+            if (name[0] == '.') continue;  // a temporary folder: never taken for a sample
+            EXPECT_TRUE(fs::exists(e.path() / "complete.json")) << name;
+        }
+    }
+    ASSERT_EQ(run("dataset run " + dir.string()), 0);
+    ASSERT_EQ(run("dataset verify " + dir.string()), 0);
+    // The killed runs' temporary folders are gone, and the samples equal a clean run's.
+    for (const auto& e : fs::directory_iterator(dir / "samples"))
+        EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos);
+    ASSERT_EQ(run("dataset plan " + kSpec.string() + " -o " + whole.string()), 0);
+    ASSERT_EQ(run("dataset run " + whole.string()), 0);
+    EXPECT_EQ(tree(dir / "samples"), tree(whole / "samples"));
+}
+
+TEST(DatasetCli, BadSpecsAndUsage) {
+    Dir d;
+    const fs::path spec = d.path / "bad.toml";
+    std::ofstream(spec) << "samples = 2\n[vary]\n\"solve.stiffness\" = { uniform = [-1, 2] }\n";
+    ASSERT_EQ(
+        run("dataset plan " + spec.string() + " -o " + (d.path / "x").string(), d.path / "err.txt"),
+        1);
+    const std::string err = slurp(d.path / "err.txt");
+    EXPECT_NE(err.find(spec.string() + ":3: field 'solve.stiffness'"), std::string::npos) << err;
+    EXPECT_FALSE(fs::exists(d.path / "x" / "dataset.json"));
+    EXPECT_EQ(run("dataset run " + (d.path / "nothing").string()), 1);
+    const fs::path dir = d.path / "ds";
+    ASSERT_EQ(run("dataset plan " + kSpec.string() + " -o " + dir.string()), 0);
+    EXPECT_EQ(run("dataset run " + dir.string() + " --shard 3/3"), 2);
+    EXPECT_EQ(run("dataset run " + dir.string() + " --shard x"), 2);
+    EXPECT_EQ(run("dataset run " + dir.string() + " --task-id 2"), 2);  // no task count
+    // Planning another spec into a planned folder is refused.
+    std::ofstream(spec) << "samples = 2\n";
+    EXPECT_EQ(run("dataset plan " + spec.string() + " -o " + dir.string()), 1);
+    // The sbatch script runs this dataset's tasks.
+    ASSERT_EQ(run("dataset slurm " + dir.string() + " --tasks 4 --throttle 2"), 0);
+    const std::string script = slurp(dir / "slurm" / "array.sbatch");
+    EXPECT_NE(script.find("#SBATCH --array=0-3%2"), std::string::npos) << script;
+    EXPECT_NE(script.find("--task-id \"$SLURM_ARRAY_TASK_ID\" --tasks 4"), std::string::npos);
+}
+
+}  // namespace

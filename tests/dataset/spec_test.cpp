@@ -1,0 +1,162 @@
+// The dataset spec: every mistake is reported with the file, line, field and reason, and
+// draws are a pure function of (spec, k) that stay within their distributions.
+#include "dataset/spec.hpp"
+
+#include <gtest/gtest.h>
+
+#include <map>
+
+#include "core/error.hpp"
+#include "dataset/dataset.hpp"
+
+namespace wisp {
+namespace {
+
+std::string error_of(const std::string& text) {
+    try {
+        parse_dataset_spec(text, "spec.toml", ".");
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "(no error)";
+}
+
+TEST(DatasetSpec, TheIssuesSmallestSpecParses) {
+    const DatasetSpec spec = parse_dataset_spec(R"(samples = 6
+seed = 11
+[[base]]
+preset = "short"
+[vary]
+"roots.strands" = { choice = [2000, 3000] }
+"solve.stiffness" = { uniform = [0.4, 2.0] }
+)",
+                                                "spec.toml", ".");
+    EXPECT_EQ(spec.samples, 6u);
+    EXPECT_EQ(spec.seed, 11u);
+    ASSERT_EQ(spec.vary.size(), 2u);
+    EXPECT_EQ(spec.vary[0].path, "roots.strands");  // the file's order
+    EXPECT_EQ(spec.vary[1].kind, VaryRule::Kind::kUniform);
+    ASSERT_EQ(spec.cameras.size(), 1u);
+    EXPECT_EQ(spec.output.hair, std::vector<std::string>{"hair"});
+    // The preset's 3000 wisps come down to a drawn 2000 strands, as `--strands` does.
+    for (uint64_t k = 0; k < 6; ++k) {
+        const SampleDraw d = draw_sample(spec, k);
+        EXPECT_LE(d.style.wisps, d.style.strands);
+    }
+}
+
+TEST(DatasetSpec, MistakesNameFileLineFieldAndReason) {
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"seed = 1\n", "spec.toml: field 'samples': required"},
+        {"samples = 0\n", "spec.toml:1: field 'samples': expects an integer in [1, "},
+        {"samples = 1\nsampels = 3\n", "spec.toml:2: field 'sampels': unknown field"},
+        {"samples = 1\n[vary]\n\"solve.stifness\" = { uniform = [0, 1] }\n",
+         "spec.toml:3: field 'vary.solve.stifness': is no style field"},
+        {"samples = 1\n[vary]\n\"solve.stiffness\" = { uniform = [-1, 2] }\n",
+         "spec.toml:3: field 'solve.stiffness': "},
+        {"samples = 1\n[vary]\n\"prototype.shape\" = { choice = [\"straight\", \"spiral\"] }\n",
+         "spec.toml:3: field 'prototype.shape': "},
+        {"samples = 1\n[vary]\n\"prototype.shape\" = { uniform = [0, 1] }\n",
+         "spec.toml:3: field 'vary.prototype.shape': is a choice field"},
+        {"samples = 1\n[vary]\n\"solve.stiffness\" = { uniform = [2, 1] }\n",
+         "spec.toml:3: field 'vary.solve.stiffness.uniform': expects [a, b] with a ≤ b"},
+        {"samples = 1\n[vary]\n\"solve.stiffness\" = { log_uniform = [0, 1] }\n",
+         "spec.toml:3: field 'vary.solve.stiffness.log_uniform': expects a > 0"},
+        {"samples = 1\n[vary]\n\"solve.stiffness\" = { uniform = [1, 2], normal = [1, 1] }\n",
+         "spec.toml:3: field 'vary.solve.stiffness': give one of"},
+        {"samples = 1\n[vary]\n\"solve.stiffness\" = { uniform = [1, nan] }\n",
+         "spec.toml:3: field 'vary.solve.stiffness.uniform': expects a finite number"},
+        {"samples = 1\n[vary]\nsolve.stiffness = { uniform = [1, 2] }\n",
+         "spec.toml:3: field 'vary.solve': is no style field; quote dotted paths"},
+        {"samples = 1\n[[base]]\npreset = \"short\"\nweight = 0\n",
+         "spec.toml:4: field 'base[0].weight': expects a weight in (0, 1e12]"},
+        {"samples = 1\n[[base]]\npreset = \"nope\"\n", "spec.toml:3: field 'base[0].preset': "},
+        {"samples = 1\n[[base]]\nstyle = \"missing.toml\"\n",
+         "spec.toml:3: field 'base[0].style': "},
+        {"samples = 1\n[[head]]\nscale = -1\n", "spec.toml:3: field 'head.scale': "},
+        {"samples = 1\n[output]\nhair = [\"fbx\"]\n",
+         "spec.toml:3: field 'output.hair': unknown format 'fbx'"},
+        {"samples = 1\n[output]\nsize = [4, 64]\n", "spec.toml:3: field 'output.size': expects"},
+        {"samples = 1\n[[camera]]\nview = \"below\"\n",
+         "spec.toml:3: field 'camera[0].view': unknown view 'below'"},
+        {"samples = 1\n[[camera]]\nazimuth = 400\n", "spec.toml:3: field 'camera[0].azimuth'"},
+        {"samples = 1\n[vary\n", "spec.toml:2:"},
+    };
+    for (const auto& [text, expected] : cases) {
+        const std::string message = error_of(text);
+        EXPECT_NE(message.find(expected), std::string::npos)
+            << "spec:\n"
+            << text << "message: " << message << "\nexpected: " << expected;
+    }
+}
+
+const char* kRules = R"(samples = 50
+seed = 3
+[[base]]
+preset = "short"
+[[base]]
+preset = "curly"
+weight = 3
+[vary]
+"roots.wisps" = { uniform = [100, 104] }
+"solve.stiffness" = { normal = [1.0, 5.0], min = 0.5, max = 1.5 }
+"prototype.amplitude" = { log_uniform = [0.1, 10] }
+"growth.part" = { choice = ["none", "left"] }
+)";
+
+TEST(DatasetSpec, DrawsStayInTheirDistributionsAndReachTheirEnds) {
+    const DatasetSpec spec = parse_dataset_spec(kRules, "spec.toml", ".");
+    std::map<int, int> wisps;
+    std::map<std::string, int> bases, parts;
+    double lo = 1e9, hi = -1e9;
+    for (uint64_t k = 0; k < 50; ++k) {
+        const SampleDraw d = draw_sample(spec, k);
+        ++wisps[d.values["roots.wisps"].get<int>()];
+        const double s = d.values["solve.stiffness"].get<double>();
+        EXPECT_GE(s, 0.5);
+        EXPECT_LE(s, 1.5);
+        lo = std::min(lo, s);
+        hi = std::max(hi, s);
+        const double a = d.values["prototype.amplitude"].get<double>();
+        EXPECT_GE(a, 0.1 - 1e-6);
+        EXPECT_LE(a, 10 + 1e-5);
+        ++bases[spec.bases[d.base].name];
+        ++parts[d.values["growth.part"].get<std::string>()];
+        EXPECT_EQ(d.style.wisps, d.values["roots.wisps"].get<int>());
+    }
+    EXPECT_EQ(wisps.size(), 5u);  // 100 … 104, both ends included
+    EXPECT_EQ(wisps.begin()->first, 100);
+    EXPECT_EQ(wisps.rbegin()->first, 104);
+    EXPECT_EQ(lo, 0.5);  // a standard deviation of 5 reaches both clamps
+    EXPECT_EQ(hi, 1.5);
+    EXPECT_GT(bases["preset:curly"], bases["preset:short"]);  // weight 3 against 1
+    EXPECT_EQ(parts.size(), 2u);
+}
+
+TEST(DatasetSpec, SampleKIsAFunctionOfSpecAndKAlone) {
+    const DatasetSpec spec = parse_dataset_spec(kRules, "spec.toml", ".");
+    // Another rule: the values the other rules draw do not change.
+    const DatasetSpec more = parse_dataset_spec(
+        std::string(kRules) + "\"solve.threshold\" = { uniform = [0.1, 0.2] }\n", "spec.toml", ".");
+    for (uint64_t k : {0u, 7u, 49u}) {
+        const SampleDraw a = draw_sample(spec, k), b = draw_sample(spec, k),
+                         c = draw_sample(more, k);
+        EXPECT_EQ(a.values, b.values);
+        EXPECT_EQ(a.seed, b.seed);
+        EXPECT_EQ(a.style.seed, b.style.seed);
+        for (const auto& [path, value] : a.values.items())
+            EXPECT_EQ(c.values[path], value) << path;
+        EXPECT_NE(a.hash, c.hash);
+    }
+    EXPECT_NE(draw_sample(spec, 1).seed, draw_sample(spec, 2).seed);
+}
+
+TEST(DatasetSpec, IndexRangesAndSampleNames) {
+    EXPECT_EQ(index_ranges({0, 1, 2, 3, 7, 9, 10}), "0-3,7,9-10");
+    EXPECT_EQ(index_ranges({}), "");
+    EXPECT_EQ(sample_name(10, 3), "000003");
+    EXPECT_EQ(sample_name(20'000'000, 3), "00000003");
+}
+
+}  // namespace
+}  // namespace wisp
