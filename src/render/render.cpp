@@ -177,8 +177,18 @@ struct Scene {
     LightShadow key_shadow, rim_shadow;
     std::vector<uint32_t> strand_order;  // strands in Z-order of their projected middles
     float specular_floor = 0.f;          // cone cosine below which the specular term is < 1/4096
+    float lobe_shadow_exponent = 0.f;    // lobe_shadow_opacity / shadow_opacity − 1, ≥ 0
     Box3 hair_box;
 };
+
+// The key's visibility for the lobes as a fraction of `shadow`, its visibility for the diffuse
+// term: the lobes are light scattered once, which the hair in front blocks at a fibre's full
+// opacity (lobe_shadow_opacity), where the diffuse term stands for light scattered many times,
+// which passes more (shadow_opacity). Both are e^−τ of the same map, so the lobes' visibility
+// is shadow^(opacity ratio), shadow times this.
+float lobe_shadow(const Scene& scene, float shadow) {
+    return scene.lobe_shadow_exponent > 0.f ? pow_unit(shadow, scene.lobe_shadow_exponent) : 1.f;
+}
 
 // The hair's reflectance under the key light (visible fraction `shadow`), the fill light, the
 // rim light (visible fraction `rim_shadow`) and ambient: the lobes of real hair (`lobes`, the
@@ -189,10 +199,10 @@ Vec3f shade_hair(const Scene& scene, const Vec3f& p, const Vec3f& t, const Vec3f
     const Lights& l = scene.lights;
     const Vec3f e = (scene.camera.eye - p).normalized();
     if (o.shading == RenderOptions::Shading::kHair) {
-        Vec3f c =
-            l.ambient.cwiseProduct(color) +
-            shadow * l.key_color.cwiseProduct(hair_reflectance(t, l.key_dir, e, color, lobes)) +
-            l.fill_color.cwiseProduct(hair_reflectance(t, l.fill_dir, e, color, lobes));
+        Vec3f c = l.ambient.cwiseProduct(color) +
+                  shadow * l.key_color.cwiseProduct(hair_reflectance(t, l.key_dir, e, color, lobes,
+                                                                     lobe_shadow(scene, shadow))) +
+                  l.fill_color.cwiseProduct(hair_reflectance(t, l.fill_dir, e, color, lobes));
         if (l.rim && rim_shadow > kRimInvisible) {
             // Kajiya-Kay's diffuse term and the shifted lobes have no azimuth: they would light
             // a strand's far side, where a back light shines, as brightly as its near side.
@@ -299,7 +309,8 @@ void tessellate_strands(const Scene& scene, std::vector<HairVertex>& vertices,
                     .cwiseMin(1.f);
             const float width_scale =
                 o.width_scale * (1.f + o.strand_width * uniform(0x3c6ef372fe94f82b));
-            const HairLobeSet lobes = base_lobes.with_sparkle(o.hair, variation);
+            const HairLobeSet lobes =
+                base_lobes.with_sparkle(o.hair, variation, uniform(0x9e3779b97f4a7c15));
             const std::span<const Vec3f> p = hair.strand(s);
             const uint32_t first = first_vertex[k_order];
             uint32_t k = first;
@@ -669,6 +680,9 @@ RgbImage render(const Hair& hair, const Mesh* head, const RenderOptions& o, Rend
     scene.lights.rim_color = o.rim.color;
     scene.lights.rim = o.rim.color.maxCoeff() > 0.f;
     scene.lights.ambient = o.ambient;
+    scene.lobe_shadow_exponent = o.shadow_opacity > 0.f
+                                     ? std::max(0.f, o.lobe_shadow_opacity / o.shadow_opacity - 1.f)
+                                     : 0.f;
     scene.specular_floor = std::pow(1.f / 4096.f, 1.f / std::max(o.specular_exponent, 1e-3f));
     lap("camera");
 
