@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <span>
@@ -61,10 +62,47 @@ Vec3f unpack_color(uint32_t v) {
     return {d(v), d(v >> 10), d(v >> 20)};
 }
 
-uint8_t to_srgb8(float linear) {
+// The sRGB encoding, rounded to 8 bits.
+uint8_t srgb8_exact(float linear) {
     const float c = std::clamp(linear, 0.f, 1.f);
     const float s = c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.f / 2.4f) - 0.055f;
     return static_cast<uint8_t>(s * 255.f + 0.5f);
+}
+
+// srgb8_exact without its pow per channel (3 per pixel): `level` holds the code of
+// bucket j's lower end j/4096 and `threshold[k]` the least float coded k or more (found by
+// bisection over the float bits, the encoding being monotone), so a value's code is its
+// bucket's plus the thresholds it passes, at most a few. The same code to the bit.
+struct Srgb8Table {
+    static constexpr int kBuckets = 4096;
+    std::array<uint8_t, kBuckets + 1> level;
+    std::array<float, 257> threshold;
+    Srgb8Table() {
+        for (int k = 0; k <= 256; ++k) {
+            uint32_t lo = 0, hi = 0x3f800001u;  // bits of 0 and just above 1
+            while (lo < hi) {
+                const uint32_t mid = lo + (hi - lo) / 2;
+                float f;
+                std::memcpy(&f, &mid, 4);
+                if (srgb8_exact(f) >= k && k <= 255)
+                    hi = mid;
+                else
+                    lo = mid + 1;
+            }
+            std::memcpy(&threshold[k], &lo, 4);  // 256: above 1, never passed
+        }
+        for (int j = 0; j <= kBuckets; ++j)
+            level[j] = srgb8_exact(static_cast<float>(j) / kBuckets);
+    }
+};
+
+uint8_t to_srgb8(float linear) {
+    static const Srgb8Table table;
+    const float c = std::clamp(linear, 0.f, 1.f);
+    int k = table.level[static_cast<int>(c * Srgb8Table::kBuckets)];
+    while (c >= table.threshold[k + 1])
+        ++k;
+    return static_cast<uint8_t>(k);
 }
 
 struct Lights {
@@ -316,9 +354,13 @@ void tessellate_strands(const Scene& scene, std::vector<HairVertex>& vertices,
             uint32_t k = first;
             const uint8_t* m = &pieces[hair.offsets[s]];
             // Shadows change slowly along a strand: looked up at the control points and
-            // interpolated in between.
+            // interpolated in between; the rim's, from its coarser maps, at every other control
+            // point (and the tip).
             int segment = -1;
-            float shadow0 = 1.f, shadow1 = 1.f, rim0 = 1.f, rim1 = 1.f;
+            float shadow0 = 1.f, shadow1 = 1.f;
+            int rim_a = -1, rim_b = -1;  // control points of the rim's current span
+            float rim0 = 1.f, rim1 = 1.f, rim_scale = 1.f;
+            const int last = static_cast<int>(p.size()) - 1;
             for_each_strand_sample(
                 hair, s, width_scale, tip,
                 [&](size_t i, const Vec3f&, const Vec3f&) { return static_cast<int>(m[i]); },
@@ -333,16 +375,23 @@ void tessellate_strands(const Scene& scene, std::vector<HairVertex>& vertices,
                     if (sample.segment != segment) {
                         const bool first_segment = segment < 0;
                         shadow0 = first_segment ? key.visibility(p[sample.segment]) : shadow1;
-                        if (rim)
-                            rim0 = first_segment ? rim_light.visibility(p[sample.segment]) : rim1;
                         segment = sample.segment;
                         const bool more = p.size() > 1;
                         shadow1 = more ? key.visibility(p[segment + 1]) : shadow0;
-                        if (rim) rim1 = more ? rim_light.visibility(p[segment + 1]) : rim0;
+                        if (rim && segment >= rim_b) {
+                            const int a = segment & ~1, b = std::min(a + 2, last);
+                            rim0 = a == rim_b ? rim1 : rim_light.visibility(p[a]);
+                            rim1 = b > a ? rim_light.visibility(p[b]) : rim0;
+                            rim_a = a;
+                            rim_b = b;
+                            rim_scale = 1.f / static_cast<float>(std::max(1, b - a));
+                        }
                     }
                     if (q.z() <= kNear) return;
                     const float shadow = shadow0 + (shadow1 - shadow0) * sample.u;
-                    const float rim_shadow = rim0 + (rim1 - rim0) * sample.u;
+                    const float rim_u =
+                        (static_cast<float>(segment - rim_a) + sample.u) * rim_scale;
+                    const float rim_shadow = rim0 + (rim1 - rim0) * rim_u;
                     v.w = sample.width * cam.focal_pixels / q.z();
                     v.rgb = pack_color(
                         shade_hair(scene, sample.p, sample.t, color, shadow, rim_shadow, lobes));
