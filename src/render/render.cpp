@@ -314,8 +314,7 @@ void tessellate_strands(const Scene& scene, std::vector<HairVertex>& vertices,
                     }
                     const float by_bend = std::sqrt(dev / kFlatness);
                     const float by_length = len / kMaxPiecePixels;
-                    m = std::clamp(static_cast<int>(std::ceil(std::max(by_bend, by_length))), 1,
-                                   kMaxPieces);
+                    m = std::clamp(ceil_to_int(std::max(by_bend, by_length)), 1, kMaxPieces);
                 }
                 pieces[hair.offsets[s] + i] = static_cast<uint8_t>(m);
                 n += static_cast<uint32_t>(m);
@@ -506,14 +505,10 @@ void render_tile(const Scene& scene, const HeadGeometry& head, const Bins<uint32
             const float area =
                 (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
             const float inv = 1.f / area;
-            const int bx0 =
-                std::max(x0, static_cast<int>(std::floor(std::min({a.x(), b.x(), c.x()}))));
-            const int bx1 =
-                std::min(x1 - 1, static_cast<int>(std::floor(std::max({a.x(), b.x(), c.x()}))));
-            const int by0 =
-                std::max(y0, static_cast<int>(std::floor(std::min({a.y(), b.y(), c.y()}))));
-            const int by1 =
-                std::min(y1 - 1, static_cast<int>(std::floor(std::max({a.y(), b.y(), c.y()}))));
+            const int bx0 = std::max(x0, floor_to_int(std::min({a.x(), b.x(), c.x()})));
+            const int bx1 = std::min(x1 - 1, floor_to_int(std::max({a.x(), b.x(), c.x()})));
+            const int by0 = std::max(y0, floor_to_int(std::min({a.y(), b.y(), c.y()})));
+            const int by1 = std::min(y1 - 1, floor_to_int(std::max({a.y(), b.y(), c.y()})));
             const float iza = 1.f / a.z(), izb = 1.f / b.z(), izc = 1.f / c.z();
             for (int y = by0; y <= by1; ++y)
                 for (int x = bx0; x <= bx1; ++x)
@@ -574,14 +569,10 @@ void render_tile(const Scene& scene, const HeadGeometry& head, const Bins<uint32
             // The piece's pixels: its ends' box widened by its width (rasterize_strand_piece
             // reaches width / cos(slope) / 2 < 0.71 width across the line) and a pixel.
             const float r = std::max(v0.w, v1.w) + 1.f;
-            const int px0 =
-                std::max(0, static_cast<int>(std::floor(std::min(v0.x, v1.x) - r)) - x0);
-            const int px1 =
-                std::min(x1 - x0 - 1, static_cast<int>(std::floor(std::max(v0.x, v1.x) + r)) - x0);
-            const int py0 =
-                std::max(0, static_cast<int>(std::floor(std::min(v0.y, v1.y) - r)) - y0);
-            const int py1 =
-                std::min(y1 - y0 - 1, static_cast<int>(std::floor(std::max(v0.y, v1.y) + r)) - y0);
+            const int px0 = std::max(0, floor_to_int(std::min(v0.x, v1.x) - r) - x0);
+            const int px1 = std::min(x1 - x0 - 1, floor_to_int(std::max(v0.x, v1.x) + r) - x0);
+            const int py0 = std::max(0, floor_to_int(std::min(v0.y, v1.y) - r) - y0);
+            const int py1 = std::min(y1 - y0 - 1, floor_to_int(std::max(v0.y, v1.y) + r) - y0);
             if (px0 > px1 || py0 > py1) continue;
             const uint32_t columns =
                 static_cast<uint32_t>(((uint64_t{2} << px1) - 1) & ~((uint64_t{1} << px0) - 1));
