@@ -29,7 +29,8 @@ namespace wisp {
 
 struct HairLobes {
     float diffuse = 0.5f;             // k_d, times the strand's colour
-    float primary = 0.12f;            // k_R, uncoloured
+    float primary = 0.05f;            // k_R, uncoloured: Marschner's R at its peak, ¼ F(η = 1.55)
+                                      // g(0; β_R) ≈ ¼ · 0.046 · 4.6 (β_R = 5°), ≈ 0.05
     float primary_shift = -5.f;       // α_R, degrees (negative: toward the root)
     float primary_width = 5.f;        // β_R, degrees
     float secondary = 0.22f;          // k_TRT, times the strand's colour
@@ -40,6 +41,10 @@ struct HairLobes {
     float transmission_width = 12.f;  // β_TT, degrees, and its spread around the back
     float sparkle = 0.35f;  // per-strand variation of the secondary: its strength varies by
                             // ± this fraction and its shift by ± this × its width
+    // Per-strand variation of the primary's shift, ± this × its width: neighbouring fibres
+    // tilt by a few degrees, so a sheet of hair shows its sheen strand by strand instead of as
+    // one even grey film.
+    float primary_jitter = 1.f;
 };
 
 // The exponent n of cos(·)^n that gives a lobe of width β (degrees): n = 1 / (4 β²).
@@ -132,9 +137,14 @@ struct HairLobeSet {
         floor_trt = std::pow(1.f / 4096.f, 1.f / n_trt);
         floor_tt = std::pow(1.f / 4096.f, 1.f / n_tt);
     }
-    // These lobes with the secondary varied by a strand's `variation` in [−1, 1].
-    HairLobeSet with_sparkle(const HairLobes& h, float variation) const {
+    // These lobes with the secondary varied by a strand's `variation` in [−1, 1], and the
+    // primary's shift by its `primary_variation` in [−1, 1].
+    HairLobeSet with_sparkle(const HairLobes& h, float variation,
+                             float primary_variation = 0.f) const {
         HairLobeSet out = *this;
+        if (primary_variation != 0.f)
+            out.r = LobeShift::degrees(h.primary_shift +
+                                       h.primary_jitter * primary_variation * h.primary_width);
         out.k_trt = h.secondary * (1.f + h.sparkle * variation);
         out.trt = LobeShift::degrees(h.secondary_shift + h.sparkle * variation * h.secondary_width);
         return out;
@@ -146,8 +156,9 @@ struct HairLobeSet {
 
 // Reflectance of a strand with unit tangent t (root to tip) and colour `color` (linear, in
 // [0, 1]) for a unit light from unit direction l seen from unit direction e.
+// The lobes (R, TRT, TT), not the diffuse term, are scaled by lobe_scale.
 inline Vec3f hair_reflectance(const Vec3f& t, const Vec3f& l, const Vec3f& e, const Vec3f& color,
-                              const HairLobeSet& k) {
+                              const HairLobeSet& k, float lobe_scale = 1.f) {
     const float sin_i = std::clamp(t.dot(l), -1.f, 1.f), sin_r = std::clamp(t.dot(e), -1.f, 1.f);
     // The three lobes share cos(θ_i + θ_r) and sin(θ_i + θ_r) (shifted_cone_cosine, inlined).
     const float cos_i = sin_from_cos(sin_i), cos_r = sin_from_cos(sin_r);
@@ -173,7 +184,8 @@ inline Vec3f hair_reflectance(const Vec3f& t, const Vec3f& l, const Vec3f& e, co
         }
     }
     if (k.azimuthal) diffuse = 0.f;
-    return Vec3f::Constant(k.k_r * r) + (diffuse + k.k_trt * trt + k.k_tt * tt) * color;
+    return Vec3f::Constant(lobe_scale * k.k_r * r) +
+           (diffuse + lobe_scale * (k.k_trt * trt + k.k_tt * tt)) * color;
 }
 
 }  // namespace wisp

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <span>
@@ -61,10 +62,47 @@ Vec3f unpack_color(uint32_t v) {
     return {d(v), d(v >> 10), d(v >> 20)};
 }
 
-uint8_t to_srgb8(float linear) {
+// The sRGB encoding, rounded to 8 bits.
+uint8_t srgb8_exact(float linear) {
     const float c = std::clamp(linear, 0.f, 1.f);
     const float s = c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.f / 2.4f) - 0.055f;
     return static_cast<uint8_t>(s * 255.f + 0.5f);
+}
+
+// srgb8_exact without its pow per channel (3 per pixel): `level` holds the code of
+// bucket j's lower end j/4096 and `threshold[k]` the least float coded k or more (found by
+// bisection over the float bits, the encoding being monotone), so a value's code is its
+// bucket's plus the thresholds it passes, at most a few. The same code to the bit.
+struct Srgb8Table {
+    static constexpr int kBuckets = 4096;
+    std::array<uint8_t, kBuckets + 1> level;
+    std::array<float, 257> threshold;
+    Srgb8Table() {
+        for (int k = 0; k <= 256; ++k) {
+            uint32_t lo = 0, hi = 0x3f800001u;  // bits of 0 and just above 1
+            while (lo < hi) {
+                const uint32_t mid = lo + (hi - lo) / 2;
+                float f;
+                std::memcpy(&f, &mid, 4);
+                if (srgb8_exact(f) >= k && k <= 255)
+                    hi = mid;
+                else
+                    lo = mid + 1;
+            }
+            std::memcpy(&threshold[k], &lo, 4);  // 256: above 1, never passed
+        }
+        for (int j = 0; j <= kBuckets; ++j)
+            level[j] = srgb8_exact(static_cast<float>(j) / kBuckets);
+    }
+};
+
+uint8_t to_srgb8(float linear) {
+    static const Srgb8Table table;
+    const float c = std::clamp(linear, 0.f, 1.f);
+    int k = table.level[static_cast<int>(c * Srgb8Table::kBuckets)];
+    while (c >= table.threshold[k + 1])
+        ++k;
+    return static_cast<uint8_t>(k);
 }
 
 struct Lights {
@@ -177,8 +215,18 @@ struct Scene {
     LightShadow key_shadow, rim_shadow;
     std::vector<uint32_t> strand_order;  // strands in Z-order of their projected middles
     float specular_floor = 0.f;          // cone cosine below which the specular term is < 1/4096
+    float lobe_shadow_exponent = 0.f;    // lobe_shadow_opacity / shadow_opacity − 1, ≥ 0
     Box3 hair_box;
 };
+
+// The key's visibility for the lobes as a fraction of `shadow`, its visibility for the diffuse
+// term: the lobes are light scattered once, which the hair in front blocks at a fibre's full
+// opacity (lobe_shadow_opacity), where the diffuse term stands for light scattered many times,
+// which passes more (shadow_opacity). Both are e^−τ of the same map, so the lobes' visibility
+// is shadow^(opacity ratio), shadow times this.
+float lobe_shadow(const Scene& scene, float shadow) {
+    return scene.lobe_shadow_exponent > 0.f ? pow_unit(shadow, scene.lobe_shadow_exponent) : 1.f;
+}
 
 // The hair's reflectance under the key light (visible fraction `shadow`), the fill light, the
 // rim light (visible fraction `rim_shadow`) and ambient: the lobes of real hair (`lobes`, the
@@ -189,10 +237,10 @@ Vec3f shade_hair(const Scene& scene, const Vec3f& p, const Vec3f& t, const Vec3f
     const Lights& l = scene.lights;
     const Vec3f e = (scene.camera.eye - p).normalized();
     if (o.shading == RenderOptions::Shading::kHair) {
-        Vec3f c =
-            l.ambient.cwiseProduct(color) +
-            shadow * l.key_color.cwiseProduct(hair_reflectance(t, l.key_dir, e, color, lobes)) +
-            l.fill_color.cwiseProduct(hair_reflectance(t, l.fill_dir, e, color, lobes));
+        Vec3f c = l.ambient.cwiseProduct(color) +
+                  shadow * l.key_color.cwiseProduct(hair_reflectance(t, l.key_dir, e, color, lobes,
+                                                                     lobe_shadow(scene, shadow))) +
+                  l.fill_color.cwiseProduct(hair_reflectance(t, l.fill_dir, e, color, lobes));
         if (l.rim && rim_shadow > kRimInvisible) {
             // Kajiya-Kay's diffuse term and the shifted lobes have no azimuth: they would light
             // a strand's far side, where a back light shines, as brightly as its near side.
@@ -266,8 +314,7 @@ void tessellate_strands(const Scene& scene, std::vector<HairVertex>& vertices,
                     }
                     const float by_bend = std::sqrt(dev / kFlatness);
                     const float by_length = len / kMaxPiecePixels;
-                    m = std::clamp(static_cast<int>(std::ceil(std::max(by_bend, by_length))), 1,
-                                   kMaxPieces);
+                    m = std::clamp(ceil_to_int(std::max(by_bend, by_length)), 1, kMaxPieces);
                 }
                 pieces[hair.offsets[s] + i] = static_cast<uint8_t>(m);
                 n += static_cast<uint32_t>(m);
@@ -299,15 +346,20 @@ void tessellate_strands(const Scene& scene, std::vector<HairVertex>& vertices,
                     .cwiseMin(1.f);
             const float width_scale =
                 o.width_scale * (1.f + o.strand_width * uniform(0x3c6ef372fe94f82b));
-            const HairLobeSet lobes = base_lobes.with_sparkle(o.hair, variation);
+            const HairLobeSet lobes =
+                base_lobes.with_sparkle(o.hair, variation, uniform(0x9e3779b97f4a7c15));
             const std::span<const Vec3f> p = hair.strand(s);
             const uint32_t first = first_vertex[k_order];
             uint32_t k = first;
             const uint8_t* m = &pieces[hair.offsets[s]];
             // Shadows change slowly along a strand: looked up at the control points and
-            // interpolated in between.
+            // interpolated in between; the rim's, from its coarser maps, at every other control
+            // point (and the tip).
             int segment = -1;
-            float shadow0 = 1.f, shadow1 = 1.f, rim0 = 1.f, rim1 = 1.f;
+            float shadow0 = 1.f, shadow1 = 1.f;
+            int rim_a = -1, rim_b = -1;  // control points of the rim's current span
+            float rim0 = 1.f, rim1 = 1.f, rim_scale = 1.f;
+            const int last = static_cast<int>(p.size()) - 1;
             for_each_strand_sample(
                 hair, s, width_scale, tip,
                 [&](size_t i, const Vec3f&, const Vec3f&) { return static_cast<int>(m[i]); },
@@ -322,16 +374,23 @@ void tessellate_strands(const Scene& scene, std::vector<HairVertex>& vertices,
                     if (sample.segment != segment) {
                         const bool first_segment = segment < 0;
                         shadow0 = first_segment ? key.visibility(p[sample.segment]) : shadow1;
-                        if (rim)
-                            rim0 = first_segment ? rim_light.visibility(p[sample.segment]) : rim1;
                         segment = sample.segment;
                         const bool more = p.size() > 1;
                         shadow1 = more ? key.visibility(p[segment + 1]) : shadow0;
-                        if (rim) rim1 = more ? rim_light.visibility(p[segment + 1]) : rim0;
+                        if (rim && segment >= rim_b) {
+                            const int a = segment & ~1, b = std::min(a + 2, last);
+                            rim0 = a == rim_b ? rim1 : rim_light.visibility(p[a]);
+                            rim1 = b > a ? rim_light.visibility(p[b]) : rim0;
+                            rim_a = a;
+                            rim_b = b;
+                            rim_scale = 1.f / static_cast<float>(std::max(1, b - a));
+                        }
                     }
                     if (q.z() <= kNear) return;
                     const float shadow = shadow0 + (shadow1 - shadow0) * sample.u;
-                    const float rim_shadow = rim0 + (rim1 - rim0) * sample.u;
+                    const float rim_u =
+                        (static_cast<float>(segment - rim_a) + sample.u) * rim_scale;
+                    const float rim_shadow = rim0 + (rim1 - rim0) * rim_u;
                     v.w = sample.width * cam.focal_pixels / q.z();
                     v.rgb = pack_color(
                         shade_hair(scene, sample.p, sample.t, color, shadow, rim_shadow, lobes));
@@ -446,14 +505,10 @@ void render_tile(const Scene& scene, const HeadGeometry& head, const Bins<uint32
             const float area =
                 (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
             const float inv = 1.f / area;
-            const int bx0 =
-                std::max(x0, static_cast<int>(std::floor(std::min({a.x(), b.x(), c.x()}))));
-            const int bx1 =
-                std::min(x1 - 1, static_cast<int>(std::floor(std::max({a.x(), b.x(), c.x()}))));
-            const int by0 =
-                std::max(y0, static_cast<int>(std::floor(std::min({a.y(), b.y(), c.y()}))));
-            const int by1 =
-                std::min(y1 - 1, static_cast<int>(std::floor(std::max({a.y(), b.y(), c.y()}))));
+            const int bx0 = std::max(x0, floor_to_int(std::min({a.x(), b.x(), c.x()})));
+            const int bx1 = std::min(x1 - 1, floor_to_int(std::max({a.x(), b.x(), c.x()})));
+            const int by0 = std::max(y0, floor_to_int(std::min({a.y(), b.y(), c.y()})));
+            const int by1 = std::min(y1 - 1, floor_to_int(std::max({a.y(), b.y(), c.y()})));
             const float iza = 1.f / a.z(), izb = 1.f / b.z(), izc = 1.f / c.z();
             for (int y = by0; y <= by1; ++y)
                 for (int x = bx0; x <= bx1; ++x)
@@ -514,14 +569,10 @@ void render_tile(const Scene& scene, const HeadGeometry& head, const Bins<uint32
             // The piece's pixels: its ends' box widened by its width (rasterize_strand_piece
             // reaches width / cos(slope) / 2 < 0.71 width across the line) and a pixel.
             const float r = std::max(v0.w, v1.w) + 1.f;
-            const int px0 =
-                std::max(0, static_cast<int>(std::floor(std::min(v0.x, v1.x) - r)) - x0);
-            const int px1 =
-                std::min(x1 - x0 - 1, static_cast<int>(std::floor(std::max(v0.x, v1.x) + r)) - x0);
-            const int py0 =
-                std::max(0, static_cast<int>(std::floor(std::min(v0.y, v1.y) - r)) - y0);
-            const int py1 =
-                std::min(y1 - y0 - 1, static_cast<int>(std::floor(std::max(v0.y, v1.y) + r)) - y0);
+            const int px0 = std::max(0, floor_to_int(std::min(v0.x, v1.x) - r) - x0);
+            const int px1 = std::min(x1 - x0 - 1, floor_to_int(std::max(v0.x, v1.x) + r) - x0);
+            const int py0 = std::max(0, floor_to_int(std::min(v0.y, v1.y) - r) - y0);
+            const int py1 = std::min(y1 - y0 - 1, floor_to_int(std::max(v0.y, v1.y) + r) - y0);
             if (px0 > px1 || py0 > py1) continue;
             const uint32_t columns =
                 static_cast<uint32_t>(((uint64_t{2} << px1) - 1) & ~((uint64_t{1} << px0) - 1));
@@ -669,6 +720,9 @@ RgbImage render(const Hair& hair, const Mesh* head, const RenderOptions& o, Rend
     scene.lights.rim_color = o.rim.color;
     scene.lights.rim = o.rim.color.maxCoeff() > 0.f;
     scene.lights.ambient = o.ambient;
+    scene.lobe_shadow_exponent = o.shadow_opacity > 0.f
+                                     ? std::max(0.f, o.lobe_shadow_opacity / o.shadow_opacity - 1.f)
+                                     : 0.f;
     scene.specular_floor = std::pow(1.f / 4096.f, 1.f / std::max(o.specular_exponent, 1e-3f));
     lap("camera");
 

@@ -93,6 +93,11 @@ struct RenderOptions {
     int rim_shadow_resolution = 128;
     int rim_shadow_slices = 32;
     float shadow_opacity = 0.4f;  // light blocked by one strand fully covering a texel
+    // The same for the hair lobes' (R, TRT, TT) share of the key light: light scattered once,
+    // which a fibre in front blocks whole, where shadow_opacity, for the diffuse term, stands
+    // for light scattered many times through the hair. Without it, the primary highlight of the
+    // strands under the outer layer added up to an even grey film over a sheet of dark hair.
+    float lobe_shadow_opacity = 1.f;
     // The same for the rim light: a fibre's full opacity, so that the rim lights the outermost
     // strands of the silhouette and not, through a sparse layer, the whole hair's far side.
     float rim_shadow_opacity = 1.f;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "render/strand_raster.hpp"  // floor_to_int
+
 namespace wisp {
 
 ShadowDepthMap::ShadowDepthMap(const Mesh& mesh, const LightFrame& light, const Box3& bounds,
@@ -89,7 +91,7 @@ float ShadowDepthMap::visibility(const Vec3f& p, float bias) const {
     // 4×4 nearest texels by (1 − a, 1, 1, a) / 3 along each axis, so a shadow's edge fades over
     // three texels instead of stepping along the texel grid.
     const float fx = (l.x() - lo_.x()) / texel_ - 0.5f, fy = (l.y() - lo_.y()) / texel_ - 0.5f;
-    const int x0 = static_cast<int>(std::floor(fx)), y0 = static_cast<int>(std::floor(fy));
+    const int x0 = floor_to_int(fx), y0 = floor_to_int(fy);  // no libm floor: strand_raster.hpp
     const float ax = fx - x0, ay = fy - y0;
     const float z = l.z() - bias - 1.5f * texel_;
     const float wx[4] = {(1.f - ax) / 3.f, 1.f / 3.f, 1.f / 3.f, ax / 3.f};

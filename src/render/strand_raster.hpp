@@ -13,6 +13,18 @@
 
 namespace wisp {
 
+// ⌊x⌋ and ⌈x⌉ as ints, for x within the int range: std::floor and std::ceil are a libm call or
+// a long sequence on the baseline x86-64 this is built for (no SSE4.1 round), and the tiles
+// take several per piece and one per pixel column.
+inline int floor_to_int(float x) {
+    const int i = static_cast<int>(x);  // toward zero
+    return i - (static_cast<float>(i) > x);
+}
+inline int ceil_to_int(float x) {
+    const int i = static_cast<int>(x);
+    return i + (static_cast<float>(i) < x);
+}
+
 // Calls fragment(x, y, t, coverage) for each pixel (x, y) of the clip rectangle
 // [clip_x0, clip_x1) × [clip_y0, clip_y1) that the segment from (x0, y0) with width w0 to
 // (x1, y1) with width w1 (pixels) covers: t in [0, 1] is the position along the segment,
@@ -29,8 +41,8 @@ void rasterize_strand_piece(float x0, float y0, float w0, float x1, float y1, fl
     const int lo_a = x_major ? clip_x0 : clip_y0, hi_a = x_major ? clip_x1 : clip_y1;
     const int lo_b = x_major ? clip_y0 : clip_x0, hi_b = x_major ? clip_y1 : clip_x1;
     const float a_min = std::min(a0, a0 + da), a_max = std::max(a0, a0 + da);
-    const int first = std::max(lo_a, static_cast<int>(std::ceil(a_min - 0.5f)));
-    const int last = std::min(hi_a, static_cast<int>(std::ceil(a_max - 0.5f)));  // exclusive
+    const int first = std::max(lo_a, ceil_to_int(a_min - 0.5f));
+    const int last = std::min(hi_a, ceil_to_int(a_max - 0.5f));  // exclusive
     if (first >= last) return;
     const float inv_da = 1.f / da, slope = db * inv_da;
     const float stretch = std::sqrt(1.f + slope * slope);  // 1 / cos of the angle to the axis
@@ -41,9 +53,8 @@ void rasterize_strand_piece(float x0, float y0, float w0, float x1, float y1, fl
         if (!(h > 0.f)) continue;
         if (h <= 1.f) {  // the common case: two rows weighted by a tent, as below
             const float c = b - 0.5f;
-            const float floor_c = std::floor(c);
-            const int j = static_cast<int>(floor_c);
-            const float f = c - floor_c;
+            const int j = floor_to_int(c);
+            const float f = c - static_cast<float>(j);
             if (j >= lo_b && j < hi_b && f < 1.f) {
                 if (x_major)
                     fragment(i, j, t, (1.f - f) * h);
@@ -61,8 +72,8 @@ void rasterize_strand_piece(float x0, float y0, float w0, float x1, float y1, fl
         const float half = 0.5f * h;
         const float gain = 1.f;
         const float lo = b - half, hi = b + half;
-        const int j0 = std::max(lo_b, static_cast<int>(std::floor(lo)));
-        const int j1 = std::min(hi_b - 1, static_cast<int>(std::floor(hi)));
+        const int j0 = std::max(lo_b, floor_to_int(lo));
+        const int j1 = std::min(hi_b - 1, floor_to_int(hi));
         for (int j = j0; j <= j1; ++j) {
             const float overlap =
                 std::min(hi, static_cast<float>(j + 1)) - std::max(lo, static_cast<float>(j));

@@ -96,7 +96,7 @@ TEST(HairShading, PrimaryIsUncolouredSecondaryTinted) {
     only_r.secondary = 0.f;
     const Geometry at_r(radians(30.f), radians(2.f * lobes.primary_shift - 30.f));
     const Vec3f r = hair_reflectance(at_r.t, at_r.l, at_r.e, brown, HairLobeSet(only_r, 0.f));
-    EXPECT_GT(r.x(), 0.09f);
+    EXPECT_NEAR(r.x(), lobes.primary, 1e-3f);  // on its peak
     EXPECT_FLOAT_EQ(r.x(), r.y());
     EXPECT_FLOAT_EQ(r.y(), r.z());
     HairLobes only_trt = lobes;
@@ -154,7 +154,23 @@ TEST(HairShading, ZeroVariationIsTheSetLobes) {
     EXPECT_FLOAT_EQ(a.k_trt, lobes.secondary);
     EXPECT_FLOAT_EQ(b.k_trt, lobes.secondary * (1.f + lobes.sparkle));
     EXPECT_FLOAT_EQ(c.k_trt, lobes.secondary * (1.f - lobes.sparkle));
-    EXPECT_FLOAT_EQ(a.k_r, b.k_r);  // the primary does not sparkle
+    EXPECT_FLOAT_EQ(a.k_r, b.k_r);  // the primary's strength does not sparkle
+}
+
+TEST(HairShading, PrimaryShiftVariesPerStrandByItsJitter) {
+    // A strand's primary_variation v moves its primary's peak by v × jitter × width, so the
+    // sheen of a sheet of hair breaks into strands; the secondary is left as it was.
+    const HairLobes lobes;
+    const HairLobeSet base(lobes);
+    for (float v : {-1.f, -0.5f, 0.5f, 1.f}) {
+        const HairLobeSet k = base.with_sparkle(lobes, 0.f, v);
+        EXPECT_NEAR(peak_half_angle(k, 1.f, 0.f),
+                    lobes.primary_shift + v * lobes.primary_jitter * lobes.primary_width, 0.1f)
+            << "variation " << v;
+        EXPECT_NEAR(peak_half_angle(k, 0.f, 1.f), peak_half_angle(base, 0.f, 1.f), 0.05f);
+    }
+    EXPECT_NEAR(peak_half_angle(base.with_sparkle(lobes, 0.f, 0.f), 1.f, 0.f), lobes.primary_shift,
+                0.1f);
 }
 
 }  // namespace wisp
