@@ -25,7 +25,9 @@ std::vector<uint32_t> strand_order(size_t n);
 //   float32 positions[3·P']    cm, head space
 //   float32 colors[3·S']       linear RGB in [0, 1]
 // every number little-endian.
-std::string encode_strands(const Hair& hair, size_t limit);
+// `total`, when non-zero, is the count written as "strands in all" (a preview's hair holds
+// only the strands it sends).
+std::string encode_strands(const Hair& hair, size_t limit, size_t total = 0);
 
 // The masters' control polylines in the same layout (colors: a neutral grey).
 std::string encode_masters(const Masters& masters);
