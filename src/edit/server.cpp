@@ -225,10 +225,13 @@ struct EditServer::Impl {
             res.set_content(encode_strands(*hair, limit, cache.strands_in_all()),
                             "application/octet-stream");
         });
-        server.Get("/api/masters", [this](const httplib::Request&, httplib::Response& res) {
+        server.Get("/api/masters", [this](const httplib::Request& req, httplib::Response& res) {
             const uint64_t ticket = ++hair_requests;
             std::lock_guard lock(cache_mutex);
-            const Masters* m = cache.update_masters(CancelToken(hair_requests, ticket));
+            const CancelToken cancel(hair_requests, ticket);
+            const Masters* m = req.get_param_value("preview") == "1"
+                                   ? cache.update_masters_preview(cancel)
+                                   : cache.update_masters(cancel);
             if (!m) return send_error(res, 409, "superseded by a newer request");
             res.set_content(encode_masters(*m), "application/octet-stream");
         });

@@ -17,7 +17,8 @@
 //                             request overtaken by a newer one (or a set), before it starts
 //                             or while its stages run, is cancelled and gets 409
 //   GET  /api/masters         the solved masters (encode_masters): the first preview; 409
-//                             as /api/hair
+//                             as /api/hair; ?preview=1 while a slider moves: a coarse solve
+//                             of every k-th wisp (StageCache::update_masters_preview)
 //   GET  /api/head            the head mesh (encode_head)
 //   GET  /api/stats           strands, points, stage runs and times
 #include <cstddef>
