@@ -31,8 +31,7 @@ enum class Answer { kMasters, kMastersExact, kPreview, kAll };
 
 constexpr size_t kPreviewStrands = 20000;  // web/src/main.js previewStrands
 
-void run(benchmark::State& state, const char* path, const char* a, const char* b,
-         Answer answer) {
+void run(benchmark::State& state, const char* path, const char* a, const char* b, Answer answer) {
     const ThreadLimit limit(2);
     StageCache cache(load_preset("default"));
     cache.update();

@@ -130,9 +130,9 @@ bool StageCache::run_until(Stage last, const CancelToken& cancel, const StagePro
                 break;
             }
             case Stage::kMembers: {
-                MembersResult m = members_stage(style_, head_, *head_field_, roots_,
-                                                result_.masters, groups_.wisp_group, nullptr,
-                                                {}, cancel);
+                MembersResult m =
+                    members_stage(style_, head_, *head_field_, roots_, result_.masters,
+                                  groups_.wisp_group, nullptr, {}, cancel);
                 if (cancel.cancelled()) return false;
                 result_.hair = std::move(m.hair);
                 result_.points_pushed = m.points_pushed;
@@ -195,14 +195,13 @@ const Hair* StageCache::update_preview(size_t strands, const CancelToken& cancel
     preview_ = std::move(m.hair);
     // Strand i is strand ids[i] of the full hair, so it takes that strand's colour, unless the
     // cut removed strands and shifted the indices.
-    color_stage(style_, preview_,
-                m.strands_removed == 0 ? ids : std::span<const uint32_t>());
+    color_stage(style_, preview_, m.strands_removed == 0 ? ids : std::span<const uint32_t>());
     preview_ms_ = watch.ms();
     return &preview_;
 }
 
 const Masters* StageCache::update_masters_preview(const CancelToken& cancel,
-                                                   const StageProgress& progress) {
+                                                  const StageProgress& progress) {
     if (!run_until(Stage::kMasters, cancel, progress)) return nullptr;
     const size_t w_count = masters_.count();
     if (stale_ > Stage::kSolve || !style_.solve.enabled || w_count <= kPreviewWisps)
@@ -242,9 +241,9 @@ const Masters* StageCache::update_masters_preview(const CancelToken& cancel,
     const HeadField& head = head_field();
     // The full problem's field covers the coarse one's reach, and stays for the exact solve.
     const StylingField& field = styling_field_for(solve_bounds(style_, head_, roots_, masters_));
-    const SolveStats stats = solve_stage(style_, head_, head, roots,
-                                         select_groups(style_, head_, roots), m, nullptr, &field,
-                                         cancel);
+    const SolveStats stats =
+        solve_stage(style_, head_, head, roots, select_groups(style_, head_, roots), m, nullptr,
+                    &field, cancel);
     return stats.cancelled ? nullptr : &m;
 }
 

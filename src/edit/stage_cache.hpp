@@ -109,8 +109,8 @@ class StageCache {
     GroupSelection groups_;   // the constraint groups' wisps (the solve stage)
     HairstyleResult result_;  // hair, solved masters, stats
     std::optional<StylingField> field_;
-    std::string field_key_;   // what field_ was built from (the fields feeding it, bounds)
-    Hair preview_;            // the last update_preview of a subset
+    std::string field_key_;    // what field_ was built from (the fields feeding it, bounds)
+    Hair preview_;             // the last update_preview of a subset
     Masters preview_masters_;  // the last coarse solve of update_masters_preview
     Stage stale_ = Stage::kRoots;
     std::array<int, kStageCount> runs_{};

@@ -201,8 +201,7 @@ StylingField styling_field(const Style& style, const Head& head, const Box3& bou
 
 SolveStats solve_stage(const Style& style, const Head& head, const HeadField& head_field,
                        const Roots& roots, const GroupSelection& groups, Masters& masters,
-                       StageTimes* times, const StylingField* kept,
-                       const CancelToken& cancel) {
+                       StageTimes* times, const StylingField* kept, const CancelToken& cancel) {
     Stopwatch watch;
     const HeadFrame frame = head_frame(*head.scalp);
     StylingField own;

@@ -66,8 +66,7 @@ GroupSelection select_groups(const Style& style, const Head& head, const Roots& 
 
 // The box the solver's grids span: the head, grown by the longest master around the roots.
 // Throws wisp::Error naming solve.cell and the lengths when the grids would be too large.
-Box3 solve_bounds(const Style& style, const Head& head, const Roots& roots,
-                  const Masters& masters);
+Box3 solve_bounds(const Style& style, const Head& head, const Roots& roots, const Masters& masters);
 // The styling field Φ of style.solve.field over `bounds` at solve.cell (§3.1).
 StylingField styling_field(const Style& style, const Head& head, const Box3& bounds);
 

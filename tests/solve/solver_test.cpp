@@ -364,9 +364,9 @@ TEST(Solver, ACancelledSolveStopsAtOnceAndSaysSo) {
     const std::vector<Vec3f> before = masters.outline;
     const std::atomic<uint64_t> newest{2};
     const CancelToken overtaken(newest, 1);
-    const SolveStats stats = solve_stage(style, builtin(), builtin_field(), roots,
-                                         select_groups(style, builtin(), roots), masters,
-                                         nullptr, nullptr, overtaken);
+    const SolveStats stats =
+        solve_stage(style, builtin(), builtin_field(), roots,
+                    select_groups(style, builtin(), roots), masters, nullptr, nullptr, overtaken);
     EXPECT_TRUE(stats.cancelled);
     EXPECT_EQ(stats.joints, 0u);
     EXPECT_EQ(masters.outline, before);
