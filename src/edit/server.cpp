@@ -84,7 +84,7 @@ struct EditServer::Impl {
     std::filesystem::path base_dir;
     StageCache cache;
     std::mutex cache_mutex;                  // the cache is used by one request at a time
-    std::atomic<uint64_t> hair_requests{0};  // the newest /api/hair request wins
+    std::atomic<uint64_t> hair_requests{0};  // the newest request wins: older ones cancel
     httplib::Server server;
     std::thread thread;
     std::atomic<bool> listening_done{false};
@@ -180,6 +180,7 @@ struct EditServer::Impl {
             if (!j->contains("value")) return send_error(res, 400, "'value' is required", path);
             try {
                 const std::string value = json_to_toml_value((*j)["value"], path);
+                ++hair_requests;  // the update running for the old value is stale
                 std::lock_guard lock(cache_mutex);
                 cache.set(path, value, "value");
                 send_json(res, {{"stale", stage_name(cache.stale())},
@@ -215,16 +216,24 @@ struct EditServer::Impl {
                                       "strands");
                 limit = static_cast<size_t>(n);
             }
+            // A preview grows only the strands it sends; a newer request (or a set) cancels
+            // this one, even while its stages run.
             const uint64_t ticket = ++hair_requests;
             std::lock_guard lock(cache_mutex);
-            if (ticket != hair_requests.load())
-                return send_error(res, 409, "superseded by a newer request");
-            const HairstyleResult& r = cache.update();
-            res.set_content(encode_strands(r.hair, limit), "application/octet-stream");
+            const Hair* hair = cache.update_preview(limit, CancelToken(hair_requests, ticket));
+            if (!hair) return send_error(res, 409, "superseded by a newer request");
+            res.set_content(encode_strands(*hair, limit, cache.strands_in_all()),
+                            "application/octet-stream");
         });
-        server.Get("/api/masters", [this](const httplib::Request&, httplib::Response& res) {
+        server.Get("/api/masters", [this](const httplib::Request& req, httplib::Response& res) {
+            const uint64_t ticket = ++hair_requests;
             std::lock_guard lock(cache_mutex);
-            res.set_content(encode_masters(cache.update_masters()), "application/octet-stream");
+            const CancelToken cancel(hair_requests, ticket);
+            const Masters* m = req.get_param_value("preview") == "1"
+                                   ? cache.update_masters_preview(cancel)
+                                   : cache.update_masters(cancel);
+            if (!m) return send_error(res, 409, "superseded by a newer request");
+            res.set_content(encode_masters(*m), "application/octet-stream");
         });
         server.Get("/api/head", [this](const httplib::Request&, httplib::Response& res) {
             std::lock_guard lock(cache_mutex);

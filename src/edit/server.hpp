@@ -12,9 +12,13 @@
 //                             or 400 {"field": path, "error": message}
 //   POST /api/preset          {"name": "curly"}: the whole style from a shipped preset
 //   GET  /api/presets         ["bangs", …]
-//   GET  /api/hair?strands=N  the first N strands in shuffled order (encode_strands); a
-//                             request overtaken by a newer one before it starts gets 409
-//   GET  /api/masters         the solved masters (encode_masters): the first preview
+//   GET  /api/hair?strands=N  the first N strands in shuffled order (encode_strands): fewer
+//                             than all grow only those (StageCache::update_preview); a
+//                             request overtaken by a newer one (or a set), before it starts
+//                             or while its stages run, is cancelled and gets 409
+//   GET  /api/masters         the solved masters (encode_masters): the first preview; 409
+//                             as /api/hair; ?preview=1 while a slider moves: a coarse solve
+//                             of every k-th wisp (StageCache::update_masters_preview)
 //   GET  /api/head            the head mesh (encode_head)
 //   GET  /api/stats           strands, points, stage runs and times
 #include <cstddef>

@@ -1,9 +1,12 @@
 #include "edit/stage_cache.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
+#include "core/error.hpp"
 #include "core/timer.hpp"
+#include "edit/wire.hpp"
 #include "groom/generate.hpp"
 #include "groom/style_toml.hpp"
 
@@ -55,13 +58,53 @@ void StageCache::set_style(Style style) {
     mark(stage);
 }
 
-void StageCache::run_until(Stage last) {
+const HeadField& StageCache::head_field() {
+    // The solve and the push out of the head need the head field; its cell follows
+    // solve.cell, so it is rebuilt when that moves it.
+    const float cell = head_field_cell(style_.solve);
+    if (!head_field_ || cell != head_field_cell_) {
+        head_field_ = build_head_field(style_, head_);
+        head_field_cell_ = cell;
+        ++head_field_runs_;
+    }
+    return *head_field_;
+}
+
+const StylingField& StageCache::styling_field_for(const Box3& bounds) {
+    // Φ is a function of the head (a new head clears field_), the growth section, the field
+    // terms, the cell and the bounds: while only κ, τ or the other solver numbers move, the
+    // field of the last solve is the one a new build would give, value for value. A field
+    // file is read again each time: it may have changed on disk.
+    std::string key;
+    for (const StyleField& f : style_schema())
+        if (f.path.starts_with("growth.") || f.path == "solve.field" || f.path == "solve.cell")
+            key += cat(f.path, '=', style_field_toml(style_, f), '\n');
+    key.append(reinterpret_cast<const char*>(bounds.lo.data()), sizeof(float) * 3);
+    key.append(reinterpret_cast<const char*>(bounds.hi.data()), sizeof(float) * 3);
+    bool file = false;
+    for (const FieldTerm& t : style_.solve.field)
+        file |= t.kind == FieldTerm::Kind::kFile;
+    if (!field_ || key != field_key_ || file) {
+        field_ = styling_field(style_, head_, bounds);
+        field_key_ = file ? std::string() : std::move(key);
+        ++styling_field_runs_;
+    }
+    return *field_;
+}
+
+bool StageCache::run_until(Stage last, const CancelToken& cancel, const StageProgress& progress) {
+    // A stage that finishes is published even if the token fires just after (its output is
+    // right for the style, and the next request need not redo it); one that was cancelled
+    // part way publishes nothing and leaves the cache stale from it.
     for (int s = int(stale_); s <= int(last) && s < kStageCount; ++s) {
+        if (progress) progress(Stage(s));
+        if (cancel.cancelled()) return false;
         Stopwatch watch;
         switch (Stage(s)) {
             case Stage::kHead:
                 head_ = load_head(style_.head);
                 head_field_.reset();
+                field_.reset();
                 break;
             case Stage::kRoots:
                 roots_ = grow_roots(style_, head_);
@@ -70,26 +113,27 @@ void StageCache::run_until(Stage last) {
                 masters_ = synthesize_masters(style_, head_, roots_);
                 break;
             case Stage::kSolve: {
-                // The solve and the push out of the head need the head field; its cell
-                // follows solve.cell, so it is rebuilt when that moves it.
-                const float cell = head_field_cell(style_.solve);
-                if (!head_field_ || cell != head_field_cell_) {
-                    head_field_ = build_head_field(style_, head_);
-                    head_field_cell_ = cell;
-                    ++head_field_runs_;
-                }
+                head_field();
                 groups_ = select_groups(style_, head_, roots_);
+                Masters solved = masters_;
+                SolveStats stats;
+                if (style_.solve.enabled) {
+                    const StylingField& field =
+                        styling_field_for(solve_bounds(style_, head_, roots_, masters_));
+                    stats = solve_stage(style_, head_, *head_field_, roots_, groups_, solved,
+                                        nullptr, &field, cancel);
+                    if (stats.cancelled) return false;
+                }
                 result_.wisp_group = groups_.wisp_group;
-                result_.masters = masters_;
-                result_.solve = {};
-                if (style_.solve.enabled)
-                    result_.solve =
-                        solve_stage(style_, head_, *head_field_, roots_, groups_, result_.masters);
+                result_.masters = std::move(solved);
+                result_.solve = std::move(stats);
                 break;
             }
             case Stage::kMembers: {
-                MembersResult m = members_stage(style_, head_, *head_field_, roots_,
-                                                result_.masters, groups_.wisp_group);
+                MembersResult m =
+                    members_stage(style_, head_, *head_field_, roots_, result_.masters,
+                                  groups_.wisp_group, nullptr, {}, cancel);
+                if (cancel.cancelled()) return false;
                 result_.hair = std::move(m.hair);
                 result_.points_pushed = m.points_pushed;
                 result_.points_inside_head = m.points_inside_head;
@@ -107,19 +151,100 @@ void StageCache::run_until(Stage last) {
         last_ms_[s] = watch.ms();
         stale_ = Stage(s + 1);  // after kColor: kNone, up to date
     }
+    return true;
 }
 
 const HairstyleResult& StageCache::update() {
-    run_until(Stage::kColor);
+    return *update(CancelToken());
+}
+
+const HairstyleResult* StageCache::update(const CancelToken& cancel,
+                                          const StageProgress& progress) {
+    if (!run_until(Stage::kColor, cancel, progress)) return nullptr;
     result_.times.clear();
     for (int s = 0; s < kStageCount; ++s)
         result_.times.emplace_back(stage_name(Stage(s)), last_ms_[s]);
-    return result_;
+    return &result_;
 }
 
 const Masters& StageCache::update_masters() {
-    run_until(Stage::kSolve);
-    return result_.masters;
+    return *update_masters(CancelToken());
+}
+
+const Masters* StageCache::update_masters(const CancelToken& cancel,
+                                          const StageProgress& progress) {
+    if (!run_until(Stage::kSolve, cancel, progress)) return nullptr;
+    return &result_.masters;
+}
+
+const Hair* StageCache::update_preview(size_t strands, const CancelToken& cancel,
+                                       const StageProgress& progress) {
+    if (!run_until(Stage::kSolve, cancel, progress)) return nullptr;
+    if (stale_ > Stage::kMembers || strands >= roots_.members.size()) {
+        const HairstyleResult* r = update(cancel, progress);
+        return r ? &r->hair : nullptr;
+    }
+    if (progress) progress(Stage::kMembers);
+    if (cancel.cancelled()) return nullptr;
+    Stopwatch watch;
+    const std::vector<uint32_t> order = strand_order(roots_.members.size());
+    const std::span<const uint32_t> ids(order.data(), strands);
+    MembersResult m = members_stage(style_, head_, *head_field_, roots_, result_.masters,
+                                    groups_.wisp_group, nullptr, ids, cancel);
+    if (cancel.cancelled()) return nullptr;
+    preview_ = std::move(m.hair);
+    // Strand i is strand ids[i] of the full hair, so it takes that strand's colour, unless the
+    // cut removed strands and shifted the indices.
+    color_stage(style_, preview_, m.strands_removed == 0 ? ids : std::span<const uint32_t>());
+    preview_ms_ = watch.ms();
+    return &preview_;
+}
+
+const Masters* StageCache::update_masters_preview(const CancelToken& cancel,
+                                                  const StageProgress& progress) {
+    if (!run_until(Stage::kMasters, cancel, progress)) return nullptr;
+    const size_t w_count = masters_.count();
+    if (stale_ > Stage::kSolve || !style_.solve.enabled || w_count <= kPreviewWisps)
+        return update_masters(cancel, progress);
+    if (progress) progress(Stage::kSolve);
+    if (cancel.cancelled()) return nullptr;
+    const size_t k = (w_count + kPreviewWisps - 1) / kPreviewWisps;
+    const size_t count = (w_count + k - 1) / k;
+    const int n = masters_.points;
+    // Wisp i of the coarse problem is wisp k·i, with the strands of wisps k·i … k·i + k − 1.
+    Roots roots;
+    roots.wisp_offsets.push_back(0);
+    Masters& m = preview_masters_;
+    m = Masters();
+    m.points = n;
+    for (size_t i = 0; i < count; ++i) {
+        const size_t w = k * i, last = std::min(w + k, w_count);
+        const uint32_t own = roots_.wisp_offsets[w + 1] - roots_.wisp_offsets[w];
+        const uint32_t all = roots_.wisp_offsets[last] - roots_.wisp_offsets[w];
+        roots.masters.push_back(roots_.masters[w]);
+        roots.wisp_offsets.push_back(roots.wisp_offsets.back() + all);
+        // The same strands per cross-section as the wisp's own (Choe & Ko eq. (6)'s ρ_Δ).
+        roots.wisp_radius.push_back(roots_.wisp_radius[w] *
+                                    std::sqrt(float(std::max(all, 1u)) / float(std::max(own, 1u))));
+        m.roots.push_back(masters_.roots[w]);
+        m.segment.push_back(masters_.segment[w]);
+        m.direction.push_back(masters_.direction[w]);
+        m.root_frame.push_back(masters_.root_frame[w]);
+        const auto copy = [&](auto& to, const auto& from) {
+            to.insert(to.end(), from.begin() + w * n, from.begin() + (w + 1) * n);
+        };
+        copy(m.outline, masters_.outline);
+        copy(m.details, masters_.details);
+        copy(m.frames, masters_.frames);
+        copy(m.control, masters_.control);
+    }
+    const HeadField& head = head_field();
+    // The full problem's field covers the coarse one's reach, and stays for the exact solve.
+    const StylingField& field = styling_field_for(solve_bounds(style_, head_, roots_, masters_));
+    const SolveStats stats =
+        solve_stage(style_, head_, head, roots, select_groups(style_, head_, roots), m, nullptr,
+                    &field, cancel);
+    return stats.cancelled ? nullptr : &m;
 }
 
 }  // namespace wisp

@@ -7,16 +7,21 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
 
+#include "core/cancel.hpp"
 #include "groom/head.hpp"
 #include "groom/style.hpp"
 #include "groom/style_schema.hpp"
 #include "solve/pipeline.hpp"
 
 namespace wisp {
+
+// Called as each stage of an update starts (the editor's progress events).
+using StageProgress = std::function<void(Stage stage)>;
 
 class StageCache {
   public:
@@ -42,19 +47,57 @@ class StageCache {
     // the stages do (a map image that cannot be read); the cache then stays stale from the
     // stage that failed, so a later fix re-runs it.
     const HairstyleResult& update();
+    // The same, abandoned as soon as `cancel` fires (a newer request arrived): the stage then
+    // running publishes nothing, the cache stays stale from it (the stages that finished
+    // before it stay done) and the result is null. `progress`, when given, is called as each
+    // stage starts.
+    const HairstyleResult* update(const CancelToken& cancel, const StageProgress& progress = {});
     // The solved masters, running the stages up to the solve only (the preview's first
-    // answer while a solver parameter moves).
+    // answer while a solver parameter moves); null when cancelled.
     const Masters& update_masters();
+    const Masters* update_masters(const CancelToken& cancel, const StageProgress& progress = {});
+    // The first answer while a solver value (κ, τ, …) moves: when the solve is stale, a
+    // coarse solve of every k-th wisp only (at most kPreviewWisps of them), each carrying the
+    // strands of the k wisps from it on over a cross-section grown to match (so the density
+    // field holds all the hair); the cache's stages are left as they were, and the full
+    // update that follows solves every wisp exactly. When the solve is up to date, the solved
+    // masters. Null when cancelled.
+    static constexpr size_t kPreviewWisps = 700;
+    const Masters* update_masters_preview(const CancelToken& cancel = {},
+                                          const StageProgress& progress = {});
+    // A preview of `strands` strands while a value moves: the stages up to the solve as
+    // update() runs them (so they are done for the full update that follows), then the
+    // members, cut, push out of the head and colour of only the first `strands` strands of
+    // strand_order (edit/wire.hpp), strand i being strand_order[i] of the full hair. When the
+    // members are up to date, or `strands` covers them all, it is the full hair (update()).
+    // Null when cancelled.
+    const Hair* update_preview(size_t strands, const CancelToken& cancel = {},
+                               const StageProgress& progress = {});
+
+    // The strands of the whole hair: the last full result's when the members are up to
+    // date, else the member roots' (what update_preview draws its subset from).
+    size_t strands_in_all() const {
+        return stale_ > Stage::kMembers ? result_.hair.strand_count() : roots_.members.size();
+    }
 
     // How many times each stage ran (indexed by Stage, kHead … kColor), for tests and the
     // HUD, and how long it took the last time (ms).
     const std::array<int, kStageCount>& runs() const { return runs_; }
     const std::array<double, kStageCount>& last_ms() const { return last_ms_; }
     int head_field_runs() const { return head_field_runs_; }
+    // How many times the styling field was built (kept while only κ, τ and the like move).
+    int styling_field_runs() const { return styling_field_runs_; }
+    // How long the last update_preview of a subset took after the solve (ms).
+    double preview_ms() const { return preview_ms_; }
 
   private:
     void mark(Stage stage);
-    void run_until(Stage last);  // runs the stale stages up to `last` inclusive
+    // Runs the stale stages up to `last` inclusive; false when cancelled.
+    bool run_until(Stage last, const CancelToken& cancel, const StageProgress& progress);
+    // The head field at the style's cell, built when missing or when solve.cell moved it.
+    const HeadField& head_field();
+    // The styling field for the current style and solve bounds, kept while they stay.
+    const StylingField& styling_field_for(const Box3& bounds);
 
     Style style_;
     std::filesystem::path base_dir_;
@@ -65,10 +108,16 @@ class StageCache {
     Masters masters_;         // as synthesized
     GroupSelection groups_;   // the constraint groups' wisps (the solve stage)
     HairstyleResult result_;  // hair, solved masters, stats
+    std::optional<StylingField> field_;
+    std::string field_key_;    // what field_ was built from (the fields feeding it, bounds)
+    Hair preview_;             // the last update_preview of a subset
+    Masters preview_masters_;  // the last coarse solve of update_masters_preview
     Stage stale_ = Stage::kRoots;
     std::array<int, kStageCount> runs_{};
     std::array<double, kStageCount> last_ms_{};
     int head_field_runs_ = 0;
+    int styling_field_runs_ = 0;
+    double preview_ms_ = 0.;
 };
 
 }  // namespace wisp

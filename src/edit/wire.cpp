@@ -147,7 +147,7 @@ std::vector<uint32_t> strand_order(size_t n) {
     return order;
 }
 
-std::string encode_strands(const Hair& hair, size_t limit) {
+std::string encode_strands(const Hair& hair, size_t limit, size_t all) {
     const size_t total = hair.strand_count();
     const size_t count = std::min(limit, total);
     const std::vector<uint32_t> order = strand_order(total);
@@ -160,7 +160,7 @@ std::string encode_strands(const Hair& hair, size_t limit) {
     put_u32(out, 1);
     put_u32(out, static_cast<uint32_t>(count));
     put_u32(out, static_cast<uint32_t>(points));
-    put_u32(out, static_cast<uint32_t>(total));
+    put_u32(out, static_cast<uint32_t>(all ? all : total));
     uint32_t offset = 0;
     put_u32(out, 0);
     for (size_t i = 0; i < count; ++i) {

@@ -26,7 +26,9 @@ std::vector<uint32_t> strand_order(size_t n);
 //   float32 positions[3·P']    cm, head space
 //   float32 colors[3·S']       linear RGB in [0, 1]
 // every number little-endian.
-std::string encode_strands(const Hair& hair, size_t limit);
+// `total`, when non-zero, is the count written as "strands in all" (a preview's hair holds
+// only the strands it sends).
+std::string encode_strands(const Hair& hair, size_t limit, size_t total = 0);
 
 // One frame of the live motion (issue 17) for strands the browser already has from
 // encode_strands (the same strands, in the same order): "WISPFRAM", uint32 version (1),

@@ -37,13 +37,13 @@ float srgb_to_linear(float c) {
 }
 
 void color_strands(const ColorSpec& spec, uint64_t seed, std::span<const int32_t> wisp,
-                   std::span<Vec3f> out) {
+                   std::span<Vec3f> out, std::span<const uint32_t> ids) {
     const bool per_wisp =
         spec.wisp_hue > 0.f || spec.wisp_saturation > 0.f || spec.wisp_value > 0.f;
     parallel_for(
         out.size(),
         [&](size_t i) {
-            Rng rng(seed, Stream::kColor, i);
+            Rng rng(seed, Stream::kColor, ids.empty() ? i : ids[i]);
             Vec3f hsv(sample(spec.hue, rng), sample(spec.saturation, rng), sample(spec.value, rng));
             if (per_wisp && wisp[i] >= 0) {
                 Rng wrng(seed, Stream::kWispColor, static_cast<uint64_t>(wisp[i]));

@@ -18,7 +18,9 @@ float srgb_to_linear(float c);
 // variation is non-zero (Fig. 12d). The HSV model is over display (sRGB) values; the
 // result is linear RGB.
 //   wisp   #S wisp id per strand;  out  #S linear RGB
+//   ids    #S the strand whose colour out[i] is (its random stream), or empty for i: a
+//          subset of the strands gets the colours the whole hair gives them
 void color_strands(const ColorSpec& spec, uint64_t seed, std::span<const int32_t> wisp,
-                   std::span<Vec3f> out);
+                   std::span<Vec3f> out, std::span<const uint32_t> ids = {});
 
 }  // namespace wisp

@@ -115,33 +115,42 @@ Masters synthesize_masters(const Style& style, const Head& head, const Roots& ro
     return m;
 }
 
-Hair grow_members(const Style& style, const Masters& masters, const Roots& roots) {
+Hair grow_members(const Style& style, const Masters& masters, const Roots& roots,
+                  std::span<const uint32_t> only, const CancelToken& cancel) {
     const size_t w_count = masters.count();
-    const size_t s_count = roots.members.size();
+    const size_t s_count = only.empty() ? roots.members.size() : only.size();
+    const auto id = [&](size_t i) { return only.empty() ? static_cast<uint32_t>(i) : only[i]; };
     const int n = masters.points;
     Hair hair;
     hair.default_width = style.root_width;
     hair.wisp.resize(s_count);
     hair.root_uv.resize(s_count);
     hair.root_normal.resize(s_count);
-    for (size_t j = 0; j < s_count; ++j) {
-        hair.root_uv[j] = roots.members[j].uv;
-        hair.root_normal[j] = roots.members[j].normal;
+    for (size_t i = 0; i < s_count; ++i) {
+        hair.root_uv[i] = roots.members[id(i)].uv;
+        hair.root_normal[i] = roots.members[id(i)].normal;
     }
     hair.offsets.assign(s_count + 1, 0);
     std::vector<float> u(s_count);
     parallel_for(
         s_count,
-        [&](size_t j) {
-            Rng rng(style.seed, Stream::kLength, j);
-            u[j] = std::clamp(sample(style.wisp.length, rng), 1e-3f, 1.f);
+        [&](size_t i) {
+            Rng rng(style.seed, Stream::kLength, id(i));
+            u[i] = std::clamp(sample(style.wisp.length, rng), 1e-3f, 1.f);
         },
         4096);
-    for (size_t w = 0; w < w_count; ++w)
-        for (uint32_t j = roots.wisp_offsets[w]; j < roots.wisp_offsets[w + 1]; ++j)
-            hair.wisp[j] = static_cast<int32_t>(w);
-    for (size_t j = 0; j < s_count; ++j)
-        hair.offsets[j + 1] = hair.offsets[j] + member_point_count(n, u[j]);
+    if (only.empty()) {
+        for (size_t w = 0; w < w_count; ++w)
+            for (uint32_t j = roots.wisp_offsets[w]; j < roots.wisp_offsets[w + 1]; ++j)
+                hair.wisp[j] = static_cast<int32_t>(w);
+    } else {
+        for (size_t i = 0; i < s_count; ++i)
+            hair.wisp[i] = static_cast<int32_t>(
+                std::upper_bound(roots.wisp_offsets.begin(), roots.wisp_offsets.end(), only[i]) -
+                roots.wisp_offsets.begin() - 1);
+    }
+    for (size_t i = 0; i < s_count; ++i)
+        hair.offsets[i + 1] = hair.offsets[i] + member_point_count(n, u[i]);
     hair.points.resize(hair.offsets.back());
     hair.widths.resize(hair.offsets.back());
 
@@ -153,26 +162,45 @@ Hair grow_members(const Style& style, const Masters& masters, const Roots& roots
                                   static_cast<float>(k) / static_cast<float>(n - 1)) /
                  r0;
 
-    parallel_for(w_count, [&](size_t w) {
-        std::vector<float> radius(n);
-        for (int k = 0; k < n; ++k)
-            radius[k] = roots.wisp_radius[w] * rel[k];
+    // Strand i, member j = id(i) of wisp w, with the wisp's radii r(s).
+    const auto grow = [&](size_t i, size_t w, std::span<const float> radius) {
+        const uint32_t j = id(i);
         const std::span<const Vec3f> master = masters.strand(w);
         const std::span<const Frame> frames(masters.frames.data() + w * n, static_cast<size_t>(n));
-        const Frame& f0 = frames[0];
-        for (uint32_t j = roots.wisp_offsets[w]; j < roots.wisp_offsets[w + 1]; ++j) {
-            Rng rng(style.seed, Stream::kMember, j);
-            const Vec3f d1 = f0.to_local(roots.members[j].position - master[0]);
-            std::span<Vec3f> out = hair.strand(j);
-            grow_member(master, frames, radius, d1, u[j], style.wisp.fuzziness, rng, out);
-            const size_t count = out.size();
-            float* widths = hair.widths.data() + hair.offsets[j];
-            for (size_t k = 0; k < count; ++k) {
-                const float t = static_cast<float>(k) / static_cast<float>(count - 1);
-                widths[k] = style.root_width + (style.tip_width - style.root_width) * t;
-            }
+        Rng rng(style.seed, Stream::kMember, j);
+        const Vec3f d1 = frames[0].to_local(roots.members[j].position - master[0]);
+        std::span<Vec3f> out = hair.strand(i);
+        grow_member(master, frames, radius, d1, u[i], style.wisp.fuzziness, rng, out);
+        const size_t count = out.size();
+        float* widths = hair.widths.data() + hair.offsets[i];
+        for (size_t k = 0; k < count; ++k) {
+            const float t = static_cast<float>(k) / static_cast<float>(count - 1);
+            widths[k] = style.root_width + (style.tip_width - style.root_width) * t;
         }
-    });
+    };
+    if (only.empty()) {
+        parallel_for(w_count, [&](size_t w) {
+            if (cancel.cancelled()) return;
+            std::vector<float> radius(n);
+            for (int k = 0; k < n; ++k)
+                radius[k] = roots.wisp_radius[w] * rel[k];
+            for (uint32_t j = roots.wisp_offsets[w]; j < roots.wisp_offsets[w + 1]; ++j)
+                grow(j, w, radius);
+        });
+    } else {
+        std::vector<float> radius(w_count * n);
+        for (size_t w = 0; w < w_count; ++w)
+            for (int k = 0; k < n; ++k)
+                radius[w * n + k] = roots.wisp_radius[w] * rel[k];
+        parallel_for(
+            s_count,
+            [&](size_t i) {
+                if (cancel.cancelled()) return;
+                const size_t w = static_cast<size_t>(hair.wisp[i]);
+                grow(i, w, std::span<const float>(radius.data() + w * n, static_cast<size_t>(n)));
+            },
+            64);
+    }
     return hair;
 }
 

@@ -2,8 +2,10 @@
 // The grooming pipeline of DESIGN.md: roots → masters → (solve) → members → color → Hair.
 // Each stage is a plain function of its inputs, timed in the stats.
 #include <cstdint>
+#include <span>
 #include <vector>
 
+#include "core/cancel.hpp"
 #include "core/hair.hpp"
 #include "core/timer.hpp"
 #include "groom/head.hpp"
@@ -22,7 +24,11 @@ Masters synthesize_masters(const Style& style, const Head& head, const Roots& ro
 
 // Stage 4 (§2.1): every member strand of every wisp, with widths, wisp ids and the scalp UV
 // and normal of its root (no colors, no groups).
-Hair grow_members(const Style& style, const Masters& masters, const Roots& roots);
+// With `only` (ids into roots.members), strand i is member only[i], the same strand the whole
+// hair has at index only[i] (the editor's preview of a subset). `cancel` is polled once per
+// wisp; a cancelled call returns partial hair.
+Hair grow_members(const Style& style, const Masters& masters, const Roots& roots,
+                  std::span<const uint32_t> only = {}, const CancelToken& cancel = {});
 
 // The masters as strands (the guides a DCC or Unreal rebuilds or drives the members from):
 // strand w is master w's control points, wisp id w, its root's scalp UV and normal, width

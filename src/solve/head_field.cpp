@@ -137,6 +137,22 @@ HeadField::HeadField(const Mesh& open_mesh, float cell) {
             });
         frontier.swap(next);
     }
+    // 3. The smallest distance at each cell's nodes, for beyond().
+    const Vec3i cells = dims - Vec3i::Ones();
+    cell_min_.resize(static_cast<size_t>(cells.x()) * cells.y() * cells.z());
+    parallel_for(
+        static_cast<size_t>(cells.z()),
+        [&](size_t zi) {
+            const int z = static_cast<int>(zi);
+            for (int y = 0; y < cells.y(); ++y)
+                for (int x = 0; x < cells.x(); ++x) {
+                    float m = INFINITY;
+                    for (int c = 0; c < 8; ++c)
+                        m = std::min(m, grid_.at(x + (c & 1), y + ((c >> 1) & 1), z + (c >> 2)));
+                    cell_min_[(static_cast<size_t>(z) * cells.y() + y) * cells.x() + x] = m;
+                }
+        },
+        1);
 }
 
 float HeadField::sdf(const Vec3f& p) const {

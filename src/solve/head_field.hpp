@@ -2,6 +2,10 @@
 // The head as a field: a signed distance grid around the head mesh, from which the solver
 // reads the head's density (Choe & Ko §3.2: 1 inside the head and shoulders, 0 outside) and
 // its gradient, and which keeps every hair point out of the head.
+#include <algorithm>
+#include <cstddef>
+#include <vector>
+
 #include "core/grid.hpp"
 #include "geometry/mesh.hpp"
 
@@ -28,6 +32,24 @@ class HeadField {
     float sdf(const Vec3f& p, Vec3f* gradient) const;
     // Gradient of the trilinear signed distance (central differences), ≈ outward normal.
     Vec3f gradient(const Vec3f& p) const;
+    // True only when sdf(p) ≥ `distance` is certain from the cell holding p alone: the
+    // smallest distance at its 8 nodes is that far (with a slack far above the rounding of
+    // the interpolation). False says nothing. Many of the member points the push out of the
+    // head examines are a few cells off the skin: this spares them the trilinear lookup, and
+    // every result stays what the lookup gives. (The solver's joints mostly lie within a cell
+    // or two of the skin, where the test costs more than it spares.)
+    bool beyond(const Vec3f& p, float distance) const {
+        if (cell_min_.empty()) return false;
+        const Vec3f g = (p - grid_.origin()) / grid_.cell();
+        const Vec3i& dims = grid_.dims();
+        size_t index = 0, stride = 1;
+        for (int a = 0; a < 3; ++a) {
+            if (!(g[a] >= 0.f) || g[a] > static_cast<float>(dims[a] - 1)) return false;
+            index += stride * static_cast<size_t>(std::min(static_cast<int>(g[a]), dims[a] - 2));
+            stride *= static_cast<size_t>(dims[a] - 1);
+        }
+        return cell_min_[index] >= distance + kBeyondSlack;
+    }
     // Head density: 1 on and inside the surface, falling linearly to 0 at `margin` cm out.
     float density(const Vec3f& p, float margin) const {
         const float d = sdf(p);
@@ -37,8 +59,12 @@ class HeadField {
     bool empty() const { return grid_.size() == 0; }
 
   private:
+    // cm: more than the rounding of a trilinear lookup of distances of up to a few metres.
+    static constexpr float kBeyondSlack = 1e-3f;
     Grid3<float> grid_;
     Box3 box_;
+    std::vector<float> cell_min_;  // #cells (dims − 1 per axis, x fastest): the smallest
+                                   // distance at each cell's 8 nodes, cm
 };
 
 }  // namespace wisp

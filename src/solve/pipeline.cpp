@@ -110,6 +110,9 @@ size_t push_out_of_head(Hair& hair, const HeadField& head, float clearance,
                                        : nullptr;
             for (size_t k = 1; k < s.size(); ++k) {
                 if (flags && !flags[std::min<size_t>(k, n - 1)] && !flags[k - 1]) continue;
+                // Most points examined are clear of the head: the cell test, then the distance
+                // alone (the same value the lookup with the gradient gives) rule them out.
+                if (head.beyond(s[k], clearance) || head.sdf(s[k]) >= clearance) continue;
                 Vec3f g;
                 const float d = head.sdf(s[k], &g);
                 if (d >= clearance) continue;
@@ -169,11 +172,8 @@ GroupSelection select_groups(const Style& style, const Head& head, const Roots& 
     return out;
 }
 
-SolveStats solve_stage(const Style& style, const Head& head, const HeadField& head_field,
-                       const Roots& roots, const GroupSelection& groups, Masters& masters,
-                       StageTimes* times) {
-    Stopwatch watch;
-    const HeadFrame frame = head_frame(*head.scalp);
+Box3 solve_bounds(const Style& style, const Head& head, const Roots& roots,
+                  const Masters& masters) {
     // The grid spans everywhere the hair can reach: the head, grown by the longest master.
     float longest = 0.f;
     for (size_t w = 0; w < masters.count(); ++w)
@@ -191,8 +191,22 @@ SolveStats solve_stage(const Style& style, const Head& head, const HeadField& he
              " cm of hair around it) at solve.cell = ", style.solve.cell, " cm: ", nodes,
              " nodes, more than ", kMaxGridNodes,
              "; shorten the hair (maps.length, wisp.length) or raise solve.cell");
-    const StylingField field(style.solve.field, frame, GrowthField(style.growth, *head.scalp),
-                             bounds, style.solve.cell);
+    return bounds;
+}
+
+StylingField styling_field(const Style& style, const Head& head, const Box3& bounds) {
+    return StylingField(style.solve.field, head_frame(*head.scalp),
+                        GrowthField(style.growth, *head.scalp), bounds, style.solve.cell);
+}
+
+SolveStats solve_stage(const Style& style, const Head& head, const HeadField& head_field,
+                       const Roots& roots, const GroupSelection& groups, Masters& masters,
+                       StageTimes* times, const StylingField* kept, const CancelToken& cancel) {
+    Stopwatch watch;
+    const HeadFrame frame = head_frame(*head.scalp);
+    StylingField own;
+    if (!kept) own = styling_field(style, head, solve_bounds(style, head, roots, masters));
+    const StylingField& field = kept ? *kept : own;
     Grid3<float> density(field.grid().origin(), field.grid().cell(), field.grid().dims());
     if (times) times->emplace_back("field", watch.ms());
     watch = Stopwatch();
@@ -220,6 +234,7 @@ SolveStats solve_stage(const Style& style, const Head& head, const HeadField& he
     for (int k = 0; k < n; ++k)
         in.radius_profile[k] =
             deviation_radius(style.wisp.deviation_radius, static_cast<float>(k) / (n - 1)) / r0;
+    in.cancel = &cancel;
     SolveStats stats = solve_masters(masters, in, style.solve, density);
     if (times) times->emplace_back("solve", watch.ms());
     return stats;
@@ -227,14 +242,16 @@ SolveStats solve_stage(const Style& style, const Head& head, const HeadField& he
 
 MembersResult members_stage(const Style& style, const Head& head, const HeadField& head_field,
                             const Roots& roots, const Masters& masters,
-                            std::span<const int32_t> wisp_group, StageTimes* times) {
+                            std::span<const int32_t> wisp_group, StageTimes* times,
+                            std::span<const uint32_t> only, const CancelToken& cancel) {
     Stopwatch watch;
     const auto lap = [&](const char* stage) {
         if (times) times->emplace_back(stage, watch.ms());
         watch = Stopwatch();
     };
     MembersResult r;
-    r.hair = grow_members(style, masters, roots);
+    r.hair = grow_members(style, masters, roots, only, cancel);
+    if (cancel.cancelled()) return r;
     r.hair.group.resize(r.hair.strand_count());
     for (size_t j = 0; j < r.hair.strand_count(); ++j)
         r.hair.group[j] = wisp_group[static_cast<size_t>(r.hair.wisp[j])];
@@ -288,9 +305,9 @@ MembersResult members_stage(const Style& style, const Head& head, const HeadFiel
     return r;
 }
 
-void color_stage(const Style& style, Hair& hair) {
+void color_stage(const Style& style, Hair& hair, std::span<const uint32_t> ids) {
     hair.colors.resize(hair.strand_count());
-    color_strands(style.color, style.seed, hair.wisp, hair.colors);
+    color_strands(style.color, style.seed, hair.wisp, hair.colors, ids);
 }
 
 HairstyleResult generate_hairstyle(const Style& style, const Head& head,

@@ -6,6 +6,7 @@
 #include <span>
 #include <vector>
 
+#include "core/cancel.hpp"
 #include "core/hair.hpp"
 #include "core/timer.hpp"
 #include "groom/generate.hpp"
@@ -63,10 +64,20 @@ struct GroupSelection {
 };
 GroupSelection select_groups(const Style& style, const Head& head, const Roots& roots);
 
-// Styling field, density grid and Algorithm 1 (§3, §4): solves `masters` in place.
+// The box the solver's grids span: the head, grown by the longest master around the roots.
+// Throws wisp::Error naming solve.cell and the lengths when the grids would be too large.
+Box3 solve_bounds(const Style& style, const Head& head, const Roots& roots, const Masters& masters);
+// The styling field Φ of style.solve.field over `bounds` at solve.cell (§3.1).
+StylingField styling_field(const Style& style, const Head& head, const Box3& bounds);
+
+// Styling field, density grid and Algorithm 1 (§3, §4): solves `masters` in place. `field`,
+// when given, is styling_field(style, head, solve_bounds(…)) kept from an earlier solve (the
+// editor keeps it while only κ or τ move). A cancelled solve (SolveStats::cancelled) leaves
+// `masters` partly solved.
 SolveStats solve_stage(const Style& style, const Head& head, const HeadField& head_field,
                        const Roots& roots, const GroupSelection& groups, Masters& masters,
-                       StageTimes* times = nullptr);
+                       StageTimes* times = nullptr, const StylingField* field = nullptr,
+                       const CancelToken& cancel = {});
 
 struct MembersResult {
     Hair hair;  // without colors
@@ -74,12 +85,16 @@ struct MembersResult {
 };
 // Members (§2.1) with their group (wisp_group, #W), the cut plane (§6.2) and the push out
 // of the head.
+// With `only` (ids into roots.members, grow_members), just those strands, in that order
+// (the editor's preview). `cancel` is polled per wisp; a cancelled call returns partial hair.
 MembersResult members_stage(const Style& style, const Head& head, const HeadField& head_field,
                             const Roots& roots, const Masters& masters,
-                            std::span<const int32_t> wisp_group, StageTimes* times = nullptr);
+                            std::span<const int32_t> wisp_group, StageTimes* times = nullptr,
+                            std::span<const uint32_t> only = {}, const CancelToken& cancel = {});
 
-// A color per strand (§5).
-void color_stage(const Style& style, Hair& hair);
+// A color per strand (§5). With `ids` (#strands), strand i takes the colour of strand ids[i]
+// of the whole hair (color_strands).
+void color_stage(const Style& style, Hair& hair, std::span<const uint32_t> ids = {});
 
 // Runs every stage. The head field is built here unless `head_field` is given (callers
 // that solve repeatedly on one head, like the editor and benchmarks, keep it).

@@ -105,12 +105,19 @@ class Solver {
     SolveStats run() {
         const int n = m_.points;
         const size_t w_count = m_.count();
+        const auto cancelled = [&] {
+            stats_.cancelled = in_.cancel && in_.cancel->cancelled();
+            return stats_.cancelled;
+        };
         if (spec_.depth_first) {
-            for (size_t w = 0; w < w_count; ++w)
+            for (size_t w = 0; w < w_count; ++w) {
+                if (cancelled()) return stats_;
                 for (int j = 0; j + 1 < n; ++j)
                     place(w, j, /*per_wisp_queue=*/true);
+            }
         } else {
             for (int j = 0; j + 1 < n; ++j) {
+                if (cancelled()) return stats_;
                 for (size_t w = 0; w < w_count; ++w)
                     place(w, j, false);
                 advance_groups();

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "core/cancel.hpp"
 #include "core/grid.hpp"
 #include "groom/master.hpp"
 #include "groom/roots.hpp"
@@ -52,6 +53,9 @@ struct SolveStats {
     // Per wisp: the arc length from the root (cm) through which a holding constraint
     // (Constraint::hold: a tie, a bun) holds it, the end of the last such segment; 0: none.
     std::vector<float> held_length;
+    // The run was cancelled (SolveInput::cancel) before it finished: the masters are partly
+    // solved and the other figures partial; the caller publishes nothing from it.
+    bool cancelled = false;
 };
 
 // Everything the solver reads.
@@ -62,6 +66,8 @@ struct SolveInput {
     std::vector<int> wisp_strands;      // #W strands carried by each wisp
     std::vector<float> wisp_radius;     // #W root radius of each wisp, cm
     std::vector<float> radius_profile;  // #n r(s_j)/r(0) at each joint
+    // Polled once per layer of joints (breadth-first) or per wisp (depth-first); null: never.
+    const CancelToken* cancel = nullptr;
 };
 
 // Algorithm 1. Masters' outlines are rebuilt joint by joint from their roots; details ride on

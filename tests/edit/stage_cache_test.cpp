@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <string>
+
+#include "edit/wire.hpp"
 
 #include "core/error.hpp"
 #include "groom/style_toml.hpp"
@@ -166,6 +169,124 @@ TEST(StageCache, SetStyleRerunsFromTheFirstDifference) {
     expect_same_hair(r.hair, fresh.hair);
     EXPECT_EQ(r.wisp_group, fresh.wisp_group);
     EXPECT_GT(std::count(r.hair.group.begin(), r.hair.group.end(), 1), 0);
+}
+
+// Stale work is cancelled (issue 16): a newer request bumps the counter while a stage runs
+// (here: as it starts, through the progress callback), the run returns null, publishes
+// nothing from the stage it stopped in, and the next update gives the hair of a fresh
+// generate, byte for byte.
+TEST(StageCache, ACancelledUpdateLeavesTheCacheConsistentAndTheNextOneMatchesGenerate) {
+    const Stage stops[] = {Stage::kRoots, Stage::kMasters, Stage::kSolve, Stage::kMembers,
+                           Stage::kColor};
+    for (const Stage stop : stops) {
+        SCOPED_TRACE(stage_name(stop));
+        StageCache cache(small_style());
+        cache.update();
+        // A change that re-runs every stage from the roots.
+        cache.set("maps.density", "{ procedural = \"crown\", low = 0.5, high = 1 }");
+        std::atomic<uint64_t> newest{1};
+        const CancelToken token(newest, 1);
+        const Runs before = cache.runs();
+        const HairstyleResult* r = cache.update(token, [&](Stage s) {
+            if (s == stop) ++newest;  // a newer request arrives while `stop` runs
+        });
+        EXPECT_EQ(r, nullptr);
+        // The stages before `stop` finished and stay done; `stop` and those after did not run
+        // to the end (a stage is counted when it publishes).
+        EXPECT_EQ(cache.stale(), stop);
+        const Runs after = cache.runs();
+        for (int s = int(Stage::kRoots); s < kStageCount; ++s)
+            EXPECT_EQ(after[s] - before[s], s < int(stop) ? 1 : 0) << stage_name(Stage(s));
+        const HairstyleResult& next = cache.update();
+        EXPECT_EQ(cache.stale(), Stage::kNone);
+        const HairstyleResult fresh = generate_hairstyle(cache.style(), cache.head());
+        expect_same_hair(next.hair, fresh.hair);
+        EXPECT_EQ(next.masters.control, fresh.masters.control);
+    }
+}
+
+// The solver polls the token between layers of joints: a solve cancelled part way is dropped,
+// and the masters the cache hands out are those of a finished solve.
+TEST(StageCache, ACancelledSolveLeavesTheLastSolvedMastersAlone) {
+    StageCache cache(small_style());
+    const std::vector<Vec3f> solved = cache.update_masters().control;
+    cache.set("solve.stiffness", "3");
+    std::atomic<uint64_t> newest{7};
+    EXPECT_EQ(cache.update_masters(CancelToken(newest, 6)), nullptr);  // already overtaken
+    EXPECT_EQ(cache.stale(), Stage::kSolve);
+    const Masters* m = cache.update_masters(CancelToken(newest, 7));
+    ASSERT_NE(m, nullptr);
+    EXPECT_NE(m->control, solved);
+    EXPECT_EQ(cache.stale(), Stage::kMembers);
+}
+
+// While a value moves the editor shows a subset: strand i of the preview is strand
+// strand_order[i] of the full hair, exactly (no cut here, so the colours match too), and the
+// full update that follows re-runs only the members and the colour.
+TEST(StageCache, PreviewIsTheShuffledSubsetOfTheFullHair) {
+    StageCache cache(small_style());
+    cache.update();
+    cache.set("solve.stiffness", "0.3");
+    const Hair* preview = cache.update_preview(500);
+    ASSERT_NE(preview, nullptr);
+    ASSERT_EQ(preview->strand_count(), 500u);
+    EXPECT_EQ(cache.stale(), Stage::kMembers);
+    const Runs before = cache.runs();
+    const Hair& full = cache.update().hair;
+    EXPECT_EQ(delta(before, cache.runs()), (Runs{0, 0, 0, 0, 1, 1}));
+    expect_same_hair(full, generate_hairstyle(cache.style(), cache.head()).hair);
+    const std::vector<uint32_t> order = strand_order(full.strand_count());
+    for (size_t i = 0; i < 500; ++i) {
+        const auto a = preview->strand(i), b = full.strand(order[i]);
+        ASSERT_EQ(a.size(), b.size()) << i;
+        EXPECT_TRUE(std::equal(a.begin(), a.end(), b.begin())) << i;
+        EXPECT_EQ(preview->colors[i], full.colors[order[i]]) << i;
+        EXPECT_EQ(preview->wisp[i], full.wisp[order[i]]) << i;
+    }
+    // Up to date: the preview is the full hair.
+    EXPECT_EQ(cache.update_preview(500), &cache.update().hair);
+}
+
+// While κ moves, the masters preview solves every k-th wisp only; it leaves the cache's
+// stages alone, so the update after it solves exactly and equals a fresh generate.
+TEST(StageCache, CoarseMastersPreviewLeavesTheExactSolveToTheUpdate) {
+    Style style = small_style();
+    style.wisps = 1500;  // more than kPreviewWisps: every 3rd wisp
+    StageCache cache(style);
+    cache.update();
+    cache.set("solve.stiffness", "1.5");
+    const Runs before = cache.runs();
+    const Masters* coarse = cache.update_masters_preview();
+    ASSERT_NE(coarse, nullptr);
+    EXPECT_EQ(coarse->count(), 500u);
+    EXPECT_EQ(cache.stale(), Stage::kSolve);
+    EXPECT_EQ(cache.runs(), before);
+    const HairstyleResult& r = cache.update();
+    const HairstyleResult fresh = generate_hairstyle(cache.style(), cache.head());
+    expect_same_hair(r.hair, fresh.hair);
+    // The coarse masters are the exact ones' neighbours, not a different hairstyle: wisp i
+    // of the preview (wisp 3i) ends near where the exact solve puts it.
+    double sum = 0;
+    for (size_t i = 0; i < coarse->count(); ++i)
+        sum += (coarse->strand(i).back() - r.masters.strand(3 * i).back()).norm();
+    EXPECT_LT(sum / double(coarse->count()), 3.0);  // cm, over hair 24–30 cm long
+    // Up to date: the preview is the solved masters.
+    EXPECT_EQ(cache.update_masters_preview(), &cache.update_masters());
+}
+
+// κ and τ leave the styling field as it was: it is built once and kept.
+TEST(StageCache, StiffnessKeepsTheStylingField) {
+    StageCache cache(small_style());
+    cache.update();
+    EXPECT_EQ(cache.styling_field_runs(), 1);
+    cache.set("solve.stiffness", "0.9");
+    cache.set("solve.threshold", "0.4");
+    cache.update();
+    EXPECT_EQ(cache.styling_field_runs(), 1);
+    cache.set("growth.part", "\"left\"");
+    const HairstyleResult& r = cache.update();
+    EXPECT_EQ(cache.styling_field_runs(), 2);
+    expect_same_hair(r.hair, generate_hairstyle(cache.style(), cache.head()).hair);
 }
 
 }  // namespace

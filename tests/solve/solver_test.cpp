@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 
 #include "core/parallel.hpp"
@@ -328,6 +329,53 @@ TEST(HeadField, InsideOfAnOpenMeshIsInside) {
     EXPECT_LT(field.sdf(Vec3f(0, 2, 0)), -3.f);    // the head
     EXPECT_GT(field.sdf(Vec3f(0, -42, 0)), 1.f);   // below the cut
     EXPECT_GT(field.sdf(Vec3f(30, 0, 0)), 3.f);    // beside the head
+}
+
+TEST(HeadField, BeyondNeverClaimsAPointCloserThanItsDistance) {
+    // beyond(p, d) spares the lookup only where the lookup would give ≥ d: over random points
+    // around the head at the distances the solver (head margin) and the push out of the head
+    // (clearance) ask about, it never claims a closer point, and it spares most far ones.
+    const HeadField& field = builtin_field();
+    const Box3 box = builtin().mesh->bounds();
+    Rng rng(16);
+    size_t far = 0, claimed = 0;
+    for (int t = 0; t < 200000; ++t) {
+        Vec3f p;
+        for (int a = 0; a < 3; ++a)
+            p[a] = rng.uniform(box.lo[a] - 3.f, box.hi[a] + 3.f);
+        const float d = rng.uniform() < 0.5f ? 0.25f : 0.3f;
+        const float sdf = field.sdf(p);
+        const bool beyond = field.beyond(p, d);
+        if (beyond) {
+            ASSERT_GE(sdf, d) << p.transpose();
+        }
+        const bool clear = sdf >= d + 3.5f * field.grid().cell();
+        far += clear;
+        claimed += beyond && clear;
+    }
+    EXPECT_GT(far, 1000u);
+    EXPECT_GT(claimed, 0.8 * double(far));  // most points a few cells out are spared
+}
+
+TEST(Solver, ACancelledSolveStopsAtOnceAndSaysSo) {
+    Style style = small_style();
+    const Roots roots = grow_roots(style, builtin());
+    Masters masters = synthesize_masters(style, builtin(), roots);
+    const std::vector<Vec3f> before = masters.outline;
+    const std::atomic<uint64_t> newest{2};
+    const CancelToken overtaken(newest, 1);
+    const SolveStats stats =
+        solve_stage(style, builtin(), builtin_field(), roots,
+                    select_groups(style, builtin(), roots), masters, nullptr, nullptr, overtaken);
+    EXPECT_TRUE(stats.cancelled);
+    EXPECT_EQ(stats.joints, 0u);
+    EXPECT_EQ(masters.outline, before);
+    // Not overtaken: it runs to the end.
+    const SolveStats done = solve_stage(style, builtin(), builtin_field(), roots,
+                                        select_groups(style, builtin(), roots), masters, nullptr,
+                                        nullptr, CancelToken(newest, 2));
+    EXPECT_FALSE(done.cancelled);
+    EXPECT_EQ(done.joints, masters.count() * (masters.points - 1));
 }
 
 TEST(Cut, PlaneShortensAndRemoves) {
