@@ -26,7 +26,7 @@ function edited() {
   autosaveTimer = setTimeout(async () => {
     const result = await postJson("/api/autosave", {});
     document.getElementById("saved").textContent = result.ok
-      ? `autosaved ${new Date().toLocaleTimeString()}` : "";
+      ? `autosaved ${new Date().toTimeString().slice(0, 5)}` : "";
     if (!result.ok) say(result.body.error);
   }, 1500);
 }
@@ -141,13 +141,20 @@ window.addEventListener("keydown", (e) => {
 });
 
 // Painting: the toolbar over the view drives the brush (paint.js).
+let previewing = false;
 const painter = new Painter(viewport, {
   valueOf: (path) => values[path],
   onSent: (path, value, final) => {
     values[path] = value;
     panels.setValues({ [path]: value });
     panels.showError(path, "");
-    refreshHair(final);
+    // While the stroke runs, one preview at a time: a brush sends maps faster than the
+    // hair can come back.
+    if (final) refreshHair(true);
+    else if (!previewing) {
+      previewing = true;
+      refreshHair(false).finally(() => (previewing = false));
+    }
     if (final) edited();
   },
   onStroke: (path, before, after) => {

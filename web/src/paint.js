@@ -70,7 +70,7 @@ export class Painter {
       }
       const ring = new THREE.LineLoop(
         new THREE.BufferGeometry().setFromPoints(points),
-        new THREE.LineBasicMaterial({ color: 0xffffff, depthTest: false, transparent: true, opacity: 0.9 }));
+        new THREE.LineBasicMaterial({ color: 0xffffff, transparent: true, opacity: 0.9 }));
       ring.renderOrder = 10;
       ring.visible = false;
       viewport.scene.add(ring);
@@ -219,7 +219,8 @@ export class Painter {
     this.cursors.forEach((ring, k) => {
       ring.visible = k < points.length;
       if (!ring.visible) return;
-      ring.position.copy(points[k]).addScaledVector(normals[k], 0.05);
+      // Just off the surface, depth-tested: the head hides the far side's mirror ring.
+      ring.position.copy(points[k]).addScaledVector(normals[k], 0.15);
       ring.quaternion.setFromUnitVectors(new THREE.Vector3(0, 0, 1), normals[k]);
       ring.scale.setScalar(this.brush.radius);
       ring.material.color.set(this.brush.erase ? 0x7fb2ff : 0xffffff);
