@@ -60,6 +60,8 @@ std::optional<int> run_edit_commands(const EditCommands& args) {
     pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
     EditOptions options;
+    if (!args.style.empty())
+        options.document = std::filesystem::path(args.style).filename().string();
     options.host = args.host;
     options.port = args.port;
     EditServer server(std::move(style), base_dir, options);

@@ -27,15 +27,23 @@ float GrayImage::sample(float u, float v) const {
 
 std::vector<GrayImage> read_image_planes(const std::filesystem::path& path, int channels) {
     const std::string bytes = read_file(path, {kMaxImageFileBytes, "an image file"});
+    return decode_image_planes(bytes, path.string(), channels);
+}
+
+std::vector<GrayImage> decode_image_planes(std::string_view bytes, const std::string& source,
+                                           int channels) {
+    if (bytes.size() > kMaxImageFileBytes)
+        fail(source, ": image of ", bytes.size(), " bytes is over the limit of ",
+             kMaxImageFileBytes);
     int w = 0, h = 0, file_channels = 0;
     const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
     const int len = static_cast<int>(bytes.size());
     if (!stbi_info_from_memory(data, len, &w, &h, &file_channels))
-        fail(path.string(), ": not a readable image (", stbi_failure_reason(), ")");
+        fail(source, ": not a readable image (", stbi_failure_reason(), ")");
     if (w <= 0 || h <= 0 || static_cast<int64_t>(w) * h > (int64_t{1} << 26))
-        fail(path.string(), ": image size ", w, "x", h, " is out of range (at most 64 Mpixel)");
+        fail(source, ": image size ", w, "x", h, " is out of range (at most 64 Mpixel)");
     stbi_us* pixels = stbi_load_16_from_memory(data, len, &w, &h, &file_channels, channels);
-    if (!pixels) fail(path.string(), ": cannot decode image (", stbi_failure_reason(), ")");
+    if (!pixels) fail(source, ": cannot decode image (", stbi_failure_reason(), ")");
     std::vector<GrayImage> planes(static_cast<size_t>(channels));
     const size_t count = static_cast<size_t>(w) * h;
     for (int c = 0; c < channels; ++c) {
@@ -52,6 +60,26 @@ std::vector<GrayImage> read_image_planes(const std::filesystem::path& path, int 
 
 GrayImage read_gray_image(const std::filesystem::path& path) {
     return std::move(read_image_planes(path, 1).front());
+}
+
+std::string encode_gray_png(const GrayImage& image) {
+    if (image.width <= 0 || image.height <= 0 ||
+        image.values.size() != static_cast<size_t>(image.width) * image.height)
+        fail("encode_gray_png: image ", image.width, "x", image.height, " holds ",
+             image.values.size(), " values");
+    std::vector<uint8_t> gray(image.values.size());
+    for (size_t i = 0; i < gray.size(); ++i) {
+        const float v = image.values[i];
+        gray[i] = static_cast<uint8_t>(std::lround((v > 0.f ? std::min(v, 1.f) : 0.f) * 255.f));
+    }
+    std::string bytes;
+    auto sink = [](void* ctx, void* data, int size) {
+        static_cast<std::string*>(ctx)->append(static_cast<const char*>(data), size);
+    };
+    if (!stbi_write_png_to_func(sink, &bytes, image.width, image.height, 1, gray.data(),
+                                image.width))
+        fail("PNG encoding failed");
+    return bytes;
 }
 
 void write_png(const std::filesystem::path& path, const RgbImage& image) {

@@ -2,6 +2,8 @@
 // Images: grayscale maps read from PNG (scalp maps, masks) and RGB images written to PNG.
 #include <cstdint>
 #include <filesystem>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/math.hpp"
@@ -28,6 +30,14 @@ inline constexpr uint64_t kMaxImageFileBytes = uint64_t(256) << 20;
 // stb converts: a gray file read as RGB has three equal planes, a file without alpha reads
 // alpha 1). Throws wisp::Error naming the file if it cannot.
 std::vector<GrayImage> read_image_planes(const std::filesystem::path& path, int channels);
+// The same from the bytes of a file already in memory; `source` names it in errors.
+std::vector<GrayImage> decode_image_planes(std::string_view bytes, const std::string& source,
+                                           int channels);
+
+// An 8-bit grayscale PNG of `image` (each value clamped to [0,1] and rounded to 1/255), the
+// same bytes for the same image. read_gray_image of the file gives back exactly the 8-bit
+// values (v/255), so a map the editor holds and the file it saves give the same hair.
+std::string encode_gray_png(const GrayImage& image);
 
 // An 8-bit RGB image.
 struct RgbImage {

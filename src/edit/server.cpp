@@ -2,8 +2,11 @@
 
 #include <httplib.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <fstream>
 #include <mutex>
@@ -13,11 +16,15 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/image.hpp"
 #include "edit/stage_cache.hpp"
 #include "edit/wire.hpp"
+#include "groom/maps.hpp"
 #include "groom/style_schema.hpp"
 #include "groom/style_toml.hpp"
+#include "io/hair_io.hpp"
 
 namespace wisp {
 namespace detail {
@@ -77,6 +84,109 @@ bool same_token(std::string_view a, std::string_view b) {
     return diff == 0;
 }
 
+// A painted map's side: [kMinMapSide, kMaxMapSide] pixels.
+constexpr int kMinMapSide = 2;
+constexpr int kMaxMapSide = 1024;
+// The side of the image a constant or procedural map is rasterized to for painting.
+constexpr int kPaintSide = 256;
+
+// `name` as a file of the style's folder `dir`: a plain file name (letters, digits, '.', '-',
+// '_', ' '; not hidden, no separators, so nothing outside the folder), at most 128 bytes,
+// ending in one of `extensions`. Throws wisp::Error saying what is wrong.
+std::filesystem::path file_in_folder(const std::filesystem::path& dir, const std::string& name,
+                                     std::initializer_list<std::string_view> extensions) {
+    if (name.empty() || name.size() > 128)
+        fail("must be a file name of 1 to 128 characters, got ", name.size());
+    for (const char c : name)
+        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '_' ||
+              c == ' '))
+            fail("'", excerpt(name),
+                 "': a file name in the style's folder may hold letters, "
+                 "digits, '.', '-', '_' and spaces only (no folders)");
+    if (name.front() == '.' || name.find("..") != std::string::npos)
+        fail("'", excerpt(name), "': must not start with '.' or hold '..'");
+    bool ok = false;
+    std::string list;
+    for (const std::string_view ext : extensions) {
+        ok |= name.size() > ext.size() &&
+              name.compare(name.size() - ext.size(), ext.size(), ext) == 0;
+        list += (list.empty() ? "" : ", ") + std::string(ext);
+    }
+    if (!ok) fail("'", excerpt(name), "': must end in ", list);
+    return dir / name;
+}
+
+// "stem" of "stem.toml".
+std::string stem_of(const std::string& toml_name) {
+    return std::filesystem::path(toml_name).stem().string();
+}
+
+// A finite number from a query parameter, or throws naming it.
+float query_number(const httplib::Request& req, const char* name, float fallback) {
+    if (!req.has_param(name)) return fallback;
+    const std::string s = req.get_param_value(name);
+    char* end = nullptr;
+    const double v = std::strtod(s.c_str(), &end);
+    if (s.empty() || *end || !std::isfinite(v) || std::abs(v) > 1e9)
+        fail("must be a finite number, got '", excerpt(s), "'");
+    return static_cast<float>(v);
+}
+
+// The map of `field` as the painter's [0,1] image with its [low, high] and kind (wire.hpp
+// encode_map): an image map at its own size (up to kMaxMapSide), a procedural map sampled at
+// kPaintSide² through the inverse of the scalp's polar map, a constant filled.
+struct PaintMap {
+    GrayImage t;
+    uint32_t kind = 0;
+    float low = 0, high = 1;
+};
+
+PaintMap paint_map(const ScalarMap& m, const StyleField& field, const Scalp& scalp) {
+    PaintMap out;
+    out.t.width = out.t.height = kPaintSide;
+    out.t.values.assign(size_t(kPaintSide) * kPaintSide, 0.f);
+    if (m.kind == ScalarMap::Kind::kConstant) {
+        out.low = std::min(field.map_low, m.value);
+        out.high = std::max(field.map_high, m.value);
+        const float t = out.high > out.low ? (m.value - out.low) / (out.high - out.low) : 1.f;
+        std::fill(out.t.values.begin(), out.t.values.end(), t);
+        return out;
+    }
+    out.low = m.low;
+    out.high = m.high;
+    if (m.kind == ScalarMap::Kind::kImage) {
+        out.kind = m.pixels ? 3 : 1;
+        GrayImage image = m.pixels ? *m.pixels : read_gray_image(m.image);
+        if (image.width <= kMaxMapSide && image.height <= kMaxMapSide) {
+            out.t = std::move(image);
+            return out;
+        }
+    } else {
+        out.kind = 2;
+    }
+    const MapSampler sampler(m, scalp);
+    const float theta_max = scalp.max_polar_angle();
+    const float radius = (scalp.crown() - scalp.center()).norm();
+    const int n = kPaintSide;
+    for (int j = 0; j < n; ++j) {
+        for (int i = 0; i < n; ++i) {
+            SurfacePoint p;
+            p.uv = {float(i) / float(n - 1), 1.f - float(j) / float(n - 1)};
+            const float du = p.uv.x() - 0.5f, dv = p.uv.y() - 0.5f;
+            const float len = std::hypot(du, dv);
+            const float theta = 2.f * len * theta_max;
+            const Vec3f dir = len > 1e-9f ? Vec3f(-std::sin(theta) * du / len, std::cos(theta),
+                                                  std::sin(theta) * dv / len)
+                                          : Vec3f::UnitY();
+            p.position = scalp.center() + radius * dir;
+            const float v = sampler(p);
+            out.t.values[size_t(j) * n + i] =
+                out.high != out.low ? (v - out.low) / (out.high - out.low) : 1.f;
+        }
+    }
+    return out;
+}
+
 }  // namespace
 
 struct EditServer::Impl {
@@ -90,10 +200,37 @@ struct EditServer::Impl {
     std::atomic<bool> listening_done{false};
     int port = 0;
     std::vector<std::string> hosts;  // allowed Host header values
+    std::string document;            // the style's file name in base_dir (Save's default)
 
     Impl(Style style, std::filesystem::path dir, EditOptions opts)
         : options(std::move(opts)), base_dir(std::move(dir)), cache(std::move(style), base_dir) {
         if (options.token.empty()) options.token = random_token();
+        document = options.document.empty() ? "untitled.toml" : options.document;
+    }
+
+    // The file a painted map of `field` is saved to beside the document `toml_name`.
+    static std::string map_file(const std::string& toml_name, const StyleField& field) {
+        return stem_of(toml_name) + "." + std::string(field_key(field.path)) + ".png";
+    }
+
+    // Writes `style` as `toml_name` in base_dir with its painted maps beside it (each
+    // atomically; the TOML last, so it never names a map not yet written). Returns the style
+    // as written (painted maps renamed to their files) and the files.
+    Style write_document(Style style, const std::string& toml_name,
+                         std::vector<std::string>& files) const {
+        const std::filesystem::path toml = file_in_folder(base_dir, toml_name, {".toml"});
+        for (const StyleField& f : style_schema()) {
+            if (f.type != FieldType::kMap) continue;
+            ScalarMap& m = *std::get<ScalarMap*>(f.ref(style));
+            if (m.kind != ScalarMap::Kind::kImage || !m.pixels) continue;
+            const std::string name = map_file(toml_name, f);
+            m.image = file_in_folder(base_dir, name, {".png"});
+            write_file_atomic(m.image, encode_gray_png(*m.pixels));
+            files.push_back(name);
+        }
+        write_file_atomic(toml, style_to_toml(style, base_dir));
+        files.push_back(toml_name);
+        return style;
     }
 
     bool allowed(const httplib::Request& req, httplib::Response& res) const {
@@ -167,7 +304,8 @@ struct EditServer::Impl {
         });
         server.Get("/api/style", [this](const httplib::Request&, httplib::Response& res) {
             std::lock_guard lock(cache_mutex);
-            send_json(res, {{"values", style_values_json(cache.style())},
+            send_json(res, {{"values", style_values_json(cache.style(), base_dir)},
+                            {"document", document},
                             {"toml", style_to_toml(cache.style(), base_dir)},
                             {"stale", stage_name(cache.stale())}});
         });
@@ -182,9 +320,22 @@ struct EditServer::Impl {
                 const std::string value = json_to_toml_value((*j)["value"], path);
                 ++hair_requests;  // the update running for the old value is stale
                 std::lock_guard lock(cache_mutex);
-                cache.set(path, value, "value");
+                const StyleField* f = find_style_field(path);
+                if (f && f->type == FieldType::kMap) {
+                    // A painted map keeps its pixels while its low and high change: the
+                    // same image name is the same painting, whose file may not exist yet.
+                    Style next = cache.style();
+                    const ScalarMap old = *std::get<ScalarMap*>(f->ref(next));
+                    set_style_field(next, path, value, "value", base_dir);
+                    ScalarMap& m = *std::get<ScalarMap*>(f->ref(next));
+                    if (m.kind == ScalarMap::Kind::kImage && old.pixels && m.image == old.image)
+                        m.pixels = old.pixels;
+                    cache.set_style(std::move(next));
+                } else {
+                    cache.set(path, value, "value");
+                }
                 send_json(res, {{"stale", stage_name(cache.stale())},
-                                {"value", style_values_json(cache.style())[path]}});
+                                {"value", style_values_json(cache.style(), base_dir)[path]}});
             } catch (const Error& e) {
                 send_error(res, 400, e.what(), path);
             }
@@ -250,6 +401,169 @@ struct EditServer::Impl {
                 stages[stage_name(Stage(s))] = {{"runs", cache.runs()[s]},
                                                 {"ms", cache.last_ms()[s]}};
             send_json(res, {{"stale", stage_name(cache.stale())}, {"stages", stages}});
+        });
+
+        // Painting (issue 16 item 3): the map of a field as the painter's image, and a
+        // painted map back as a PNG in scalp UV space.
+        server.Get("/api/scalp", [this](const httplib::Request&, httplib::Response& res) {
+            std::lock_guard lock(cache_mutex);
+            const Scalp& scalp = *cache.head().scalp;
+            const Vec3f c = scalp.center(), crown = scalp.crown();
+            send_json(res, {{"center", {c.x(), c.y(), c.z()}},
+                            {"crown", {crown.x(), crown.y(), crown.z()}},
+                            {"max_polar_angle", scalp.max_polar_angle()}});
+        });
+        server.Get("/api/map", [this](const httplib::Request& req, httplib::Response& res) {
+            const std::string path = req.get_param_value("field");
+            const StyleField* f = find_style_field(path);
+            if (!f || f->type != FieldType::kMap)
+                return send_error(res, 400, "must name a scalp map field (maps.density, …)",
+                                  "field");
+            try {
+                std::lock_guard lock(cache_mutex);
+                Style style = cache.style();
+                const PaintMap m =
+                    paint_map(*std::get<ScalarMap*>(f->ref(style)), *f, *cache.head().scalp);
+                res.set_content(encode_map(m.t, m.kind, m.low, m.high), "application/octet-stream");
+            } catch (const Error& e) {
+                send_error(res, 400, e.what(), path);
+            }
+        });
+        server.Post("/api/map", [this](const httplib::Request& req, httplib::Response& res) {
+            const std::string path = req.get_param_value("field");
+            const StyleField* f = find_style_field(path);
+            if (!f || f->type != FieldType::kMap)
+                return send_error(res, 400, "must name a scalp map field (maps.density, …)",
+                                  "field");
+            GrayImage image;
+            try {
+                image = std::move(decode_image_planes(req.body, "the map", 1).front());
+            } catch (const Error& e) {
+                return send_error(res, 400, e.what(), "body");
+            }
+            if (image.width < kMinMapSide || image.height < kMinMapSide ||
+                image.width > kMaxMapSide || image.height > kMaxMapSide)
+                return send_error(
+                    res, 400,
+                    cat("the map is ", image.width, "x", image.height, ": each side must be from ",
+                        kMinMapSide, " to ", kMaxMapSide, " pixels"),
+                    "body");
+            // What Save will write, decoded as `wisp generate` will read it.
+            auto pixels = std::make_shared<const GrayImage>(
+                std::move(decode_image_planes(encode_gray_png(image), "the map", 1).front()));
+            std::lock_guard lock(cache_mutex);
+            Style next = cache.style();
+            const ScalarMap& old = *std::get<ScalarMap*>(f->ref(next));
+            const bool scaled = old.kind != ScalarMap::Kind::kConstant;
+            float low = 0, high = 0;
+            std::string which = "low";
+            try {
+                low = query_number(req, "low", scaled ? old.low : f->map_low);
+                which = "high";
+                high = query_number(req, "high", scaled ? old.high : f->map_high);
+                which = path;
+                nlohmann::json value{
+                    {"image", map_file(document, *f)}, {"low", low}, {"high", high}};
+                set_style_field(next, path, json_to_toml_value(value, path), "map", base_dir);
+            } catch (const Error& e) {
+                return send_error(res, 400, e.what(), which == path ? path : path + "." + which);
+            }
+            std::get<ScalarMap*>(f->ref(next))->pixels = std::move(pixels);
+            cache.set_style(std::move(next));
+            cache.mark_stale(f->stage);
+            send_json(res, {{"stale", stage_name(cache.stale())},
+                            {"value", style_values_json(cache.style(), base_dir)[path]}});
+        });
+
+        // The document (issue 16 item 6): Save, Open, autosave and export, all inside the
+        // style's folder.
+        server.Get("/api/files", [this](const httplib::Request&, httplib::Response& res) {
+            std::vector<std::string> names;
+            std::error_code ec;
+            for (const auto& e : std::filesystem::directory_iterator(base_dir, ec)) {
+                const std::string name = e.path().filename().string();
+                if (e.is_regular_file(ec) && e.path().extension() == ".toml" && name[0] != '.')
+                    names.push_back(name);
+                if (names.size() >= 1000) break;
+            }
+            std::sort(names.begin(), names.end());
+            std::lock_guard lock(cache_mutex);
+            send_json(res, {{"document", document}, {"files", names}});
+        });
+        server.Post("/api/save", [this](const httplib::Request& req, httplib::Response& res) {
+            const auto j = body(req, res);
+            if (!j) return;
+            std::lock_guard lock(cache_mutex);
+            std::string name = document;
+            if (j->contains("name")) {
+                if (!(*j)["name"].is_string())
+                    return send_error(res, 400, "must be a file name such as style.toml", "name");
+                name = (*j)["name"];
+            }
+            std::vector<std::string> files;
+            Style saved;
+            try {
+                saved = write_document(cache.style(), name, files);
+            } catch (const Error& e) {
+                return send_error(res, 400, e.what(), "name");
+            }
+            document = name;
+            // The painted maps now live in their files under the new name: the same pixels.
+            cache.set_style(std::move(saved));
+            send_json(res, {{"document", document}, {"files", files}});
+        });
+        server.Post("/api/autosave", [this](const httplib::Request&, httplib::Response& res) {
+            std::lock_guard lock(cache_mutex);
+            std::vector<std::string> files;
+            const std::string name = stem_of(document) + ".autosave.toml";
+            try {
+                write_document(cache.style(), name, files);
+            } catch (const Error& e) {
+                return send_error(res, 400, e.what(), "document");
+            }
+            send_json(res, {{"document", document}, {"files", files}});
+        });
+        server.Post("/api/open", [this](const httplib::Request& req, httplib::Response& res) {
+            const auto j = body(req, res);
+            if (!j) return;
+            if (!j->contains("name") || !(*j)["name"].is_string())
+                return send_error(res, 400, "must be a file name such as style.toml", "name");
+            const std::string name = (*j)["name"];
+            try {
+                Style style = load_style(file_in_folder(base_dir, name, {".toml"}));
+                // A missing or bad map image is reported at Open, not at the next update. The
+                // maps stay files (not pixels): Save leaves them where they are, at their depth.
+                for (const StyleField& f : style_schema())
+                    if (f.type == FieldType::kMap) {
+                        const ScalarMap& m = *std::get<ScalarMap*>(f.ref(style));
+                        if (m.kind == ScalarMap::Kind::kImage) read_gray_image(m.image);
+                    }
+                std::lock_guard lock(cache_mutex);
+                cache.set_style(std::move(style));
+                cache.mark_stale(Stage::kRoots);  // map files may differ under the same names
+                document = name;
+                send_json(res, {{"document", document}, {"stale", stage_name(cache.stale())}});
+            } catch (const Error& e) {
+                send_error(res, 400, e.what(), "name");
+            }
+        });
+        server.Post("/api/export", [this](const httplib::Request& req, httplib::Response& res) {
+            const auto j = body(req, res);
+            if (!j) return;
+            if (!j->contains("name") || !(*j)["name"].is_string())
+                return send_error(res, 400, "must be a file name such as hair.usda", "name");
+            std::filesystem::path file;
+            try {
+                file = file_in_folder(base_dir, (*j)["name"],
+                                      {".usda", ".hair", ".obj", ".ply", ".data", ".npz"});
+            } catch (const Error& e) {
+                return send_error(res, 400, e.what(), "name");
+            }
+            std::lock_guard lock(cache_mutex);
+            const HairstyleResult& r = cache.update();
+            write_hair(file, r.hair);
+            send_json(res,
+                      {{"file", file.filename().string()}, {"strands", r.hair.strand_count()}});
         });
 
         // The front end: embedded files; "/" is index.html.

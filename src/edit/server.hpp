@@ -21,6 +21,22 @@
 //                             of every k-th wisp (StageCache::update_masters_preview)
 //   GET  /api/head            the head mesh (encode_head)
 //   GET  /api/stats           strands, points, stage runs and times
+//   GET  /api/scalp           {"center", "crown", "max_polar_angle"}: the scalp's polar UV map
+//                             (geometry/scalp.hpp), for painting in 3D
+//   GET  /api/map?field=F     the scalp map F (maps.density, …) as the painter's image
+//                             (encode_map); a procedural or constant map rasterized
+//   POST /api/map?field=F&low=L&high=H   body: a PNG (2…1024 pixels a side) in scalp UV
+//                             space: F becomes { image = "DOC.KEY.png", low, high } with these
+//                             pixels (8-bit, as Save writes them) → {"stale", "value"}
+//   GET  /api/files           {"document": name, "files": [the *.toml of the folder]}
+//   POST /api/save            {"name": "x.toml"} (default: the document): the TOML and its
+//                             painted maps (x.density.png, …) into the style's folder,
+//                             atomically; a plain file name only → {"document", "files"}
+//   POST /api/autosave        the same as DOC.autosave.toml (and its maps); the document
+//                             keeps its name
+//   POST /api/open            {"name": "x.toml"}: a style file of the folder, with its maps
+//   POST /api/export          {"name": "x.hair"}: the full hair in any format `wisp` writes
+//                             by extension (.usda .hair .obj .ply .data .npz)
 #include <cstddef>
 #include <filesystem>
 #include <memory>
@@ -35,6 +51,7 @@ struct EditOptions {
     int port = 0;                    // 0: a free port
     std::string token;               // empty: 128 random bits from /dev/urandom, in hex
     size_t max_body = 1 << 20;       // bytes of a request body
+    std::string document;            // the style's file name in base_dir ("untitled.toml")
 };
 
 class EditServer {

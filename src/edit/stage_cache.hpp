@@ -40,6 +40,10 @@ class StageCache {
     // Replaces the whole style (open, preset): the stages from the first field that differs.
     void set_style(Style style);
 
+    // Marks `stage` and those after it stale: a change the style's TOML text does not show
+    // (a painted map's pixels, a map file rewritten under the same name).
+    void mark_stale(Stage stage) { mark(stage); }
+
     // The first stale stage (Stage::kNone when everything is up to date).
     Stage stale() const { return stale_; }
 

@@ -2,6 +2,7 @@
 
 #include <toml++/toml.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -214,6 +215,19 @@ std::string encode_head(const Mesh& mesh, const std::vector<uint8_t>& scalp_face
     return out;
 }
 
+std::string encode_map(const GrayImage& t, uint32_t kind, float low, float high) {
+    std::string out("WISPMAP\0", 8);
+    put_u32(out, 1);
+    put_u32(out, static_cast<uint32_t>(t.width));
+    put_u32(out, static_cast<uint32_t>(t.height));
+    put_u32(out, kind);
+    put_f32(out, low);
+    put_f32(out, high);
+    for (const float v : t.values)
+        out += static_cast<char>(std::lround((v > 0.f ? std::min(v, 1.f) : 0.f) * 255.f));
+    return out;
+}
+
 nlohmann::json toml_value_to_json(const std::string& toml_value) {
     const toml::table t = toml::parse("value = " + toml_value);
     return node_to_json(*t.get("value"));
@@ -258,10 +272,10 @@ nlohmann::json schema_json() {
     return {{"fields", fields}, {"panels", panels}, {"stages", stages}};
 }
 
-nlohmann::json style_values_json(const Style& style) {
+nlohmann::json style_values_json(const Style& style, const std::filesystem::path& base_dir) {
     nlohmann::json values = nlohmann::json::object();
     for (const StyleField& f : style_schema()) {
-        const std::string text = style_field_toml(style, f);
+        const std::string text = style_field_toml(style, f, base_dir);
         values[std::string(f.path)] = text.empty() ? nlohmann::json() : toml_value_to_json(text);
     }
     return values;

@@ -2,6 +2,7 @@
 // What the editor's server sends the browser: strands and the head as little-endian binary
 // arrays, and the style schema as JSON (also `wisp schema`).
 #include <cstdint>
+#include <filesystem>
 #include <span>
 #include <string>
 #include <vector>
@@ -43,13 +44,21 @@ std::string encode_masters(const Masters& masters);
 // uint32 triangles[3·#F], uint8 scalp[#F] (1 for scalp faces).
 std::string encode_head(const Mesh& mesh, const std::vector<uint8_t>& scalp_faces);
 
+// A scalp map as the painter edits it: "WISPMAP\0", uint32 version (1), width, height,
+// kind (0 constant, 1 image file, 2 procedural, 3 painted: held in memory until Save),
+// float32 low, high (the map's value is low + t·(high − low)), then uint8 t·255
+// [width·height], row 0 the top row of the image (v = 1), pixel (i, j) at scalp UV
+// (i / (width − 1), 1 − j / (height − 1)) as GrayImage::sample reads it.
+std::string encode_map(const GrayImage& t, uint32_t kind, float low, float high);
+
 // The schema: {"fields": [{path, type, stage, panel, paper, unit, min, max, min_open,
 // choices, doc, default}], "stages": [...], "panels": [...]}. Defaults are the values of
 // Style{} (toml_to_json of style_field_toml).
 nlohmann::json schema_json();
 
-// The style's value of every field, as JSON keyed by path.
-nlohmann::json style_values_json(const Style& style);
+// The style's value of every field, as JSON keyed by path; file paths relative to
+// `base_dir` when they lie under it.
+nlohmann::json style_values_json(const Style& style, const std::filesystem::path& base_dir = {});
 
 // An inline TOML value as JSON, and JSON as an inline TOML value (for set_style_field).
 // Throws wisp::Error naming `field` for JSON TOML cannot hold (null, nesting deeper than 8).

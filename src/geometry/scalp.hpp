@@ -73,6 +73,9 @@ class Scalp {
     SurfacePoint point_on(uint32_t face, const Vec2f& bary) const;
     // Scalp UV of a point on (or near) the scalp.
     Vec2f uv_of(const Vec3f& p) const;
+    // θmax of the polar map (radians): the polar angle that reaches the UV disk's rim. With
+    // center() it inverts uv_of on directions (the editor paints maps through it).
+    float max_polar_angle() const { return max_polar_angle_; }
 
   private:
     const Mesh* mesh_;

@@ -75,7 +75,8 @@ const std::vector<std::string>& procedural_map_names() {
 
 MapSampler::MapSampler(const ScalarMap& map, const Scalp& scalp) : map_(map), scalp_(&scalp) {
     if (map.kind == ScalarMap::Kind::kImage) {
-        image_ = std::make_shared<GrayImage>(read_gray_image(map.image));
+        image_ =
+            map.pixels ? map.pixels : std::make_shared<const GrayImage>(read_gray_image(map.image));
     } else if (map.kind == ScalarMap::Kind::kProcedural) {
         const auto& names = procedural_map_names();
         const auto it = std::find(names.begin(), names.end(), map.procedural);

@@ -39,7 +39,7 @@ class MapSampler {
   private:
     ScalarMap map_;
     const Scalp* scalp_;
-    std::shared_ptr<GrayImage> image_;
+    std::shared_ptr<const GrayImage> image_;
     int procedural_ = -1;
 };
 

@@ -3,9 +3,11 @@
 // empty style is valid. Read from TOML by style_toml.hpp; docs/style.md is the reference.
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "core/image.hpp"
 #include "core/math.hpp"
 #include "geometry/scalp.hpp"
 #include "groom/growth.hpp"
@@ -33,6 +35,9 @@ struct ScalarMap {
     std::filesystem::path image;  // kImage (resolved relative to the style file)
     std::string procedural;       // kProcedural: a name from procedural_map_names()
     float low = 0.f, high = 1.f;  // kImage, kProcedural: value v → low + v·(high-low)
+    // kImage: the image already decoded, used instead of reading `image` (the editor's
+    // painted map, which it writes to `image` on Save). Not part of the TOML text.
+    std::shared_ptr<const GrayImage> pixels;
 };
 
 struct HeadSpec {

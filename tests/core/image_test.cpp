@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -24,6 +25,38 @@ TEST(Image, PngRoundTripAsGray) {
     ASSERT_EQ(g.height, 1);
     EXPECT_NEAR(g.values[0], 1.f, 1e-6f);
     EXPECT_NEAR(g.values[1], 0.f, 1e-6f);
+}
+
+// The editor's painted maps: encode_gray_png quantizes to 8 bits, the same image gives the
+// same bytes, and the bytes decode (from memory or from the file) to exactly k/255.
+TEST(Image, GrayPngIsDeterministicAndDecodesToItsEightBitValues) {
+    GrayImage g;
+    g.width = 7;  // rows not a multiple of 4 bytes
+    g.height = 3;
+    for (int i = 0; i < 21; ++i)
+        g.values.push_back(float(i) / 20.f);
+    g.values[0] = -1.f;  // clamped
+    g.values[1] = 2.f;
+    g.values[2] = std::nanf("");
+    const std::string bytes = encode_gray_png(g);
+    EXPECT_EQ(encode_gray_png(g), bytes);
+    const GrayImage d = decode_image_planes(bytes, "map", 1).front();
+    ASSERT_EQ(d.width, 7);
+    ASSERT_EQ(d.height, 3);
+    EXPECT_EQ(d.values[0], 0.f);
+    EXPECT_EQ(d.values[1], 1.f);
+    EXPECT_EQ(d.values[2], 0.f);
+    for (int i = 3; i < 21; ++i)
+        EXPECT_EQ(d.values[i], float(std::lround(g.values[i] * 255.f)) / 255.f) << i;
+    // What a generate reads from the saved file is what the editor held.
+    const fs::path p = fs::temp_directory_path() / "wisp_image_test_gray.png";
+    write_file_atomic(p, bytes);
+    EXPECT_EQ(read_gray_image(p).values, d.values);
+    fs::remove(p);
+    // Re-encoding the decoded image gives the same file.
+    EXPECT_EQ(encode_gray_png(d), bytes);
+    EXPECT_THROW(decode_image_planes("not an image", "map", 1), Error);
+    EXPECT_THROW(decode_image_planes(bytes.substr(0, 40), "map", 1), Error);
 }
 
 // Inputs the fuzzer found (fuzz/corpus/image/, docs/fuzzing.md): each is read or refused with

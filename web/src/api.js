@@ -58,3 +58,60 @@ export function decodeHead(buffer) {
   const scalp = new Uint8Array(buffer, at, faces);
   return { positions, triangles, scalp };
 }
+
+// POST a binary body (a map's PNG); resolves to { ok, status, body } as postJson does.
+export async function postBinary(path, bytes, type) {
+  const response = await fetch(path, {
+    method: "POST",
+    headers: { "X-Wisp-Token": token, "Content-Type": type },
+    body: bytes,
+  });
+  return { ok: response.ok, status: response.status, body: await response.json() };
+}
+
+// "WISPMAP\0": a scalp map as the painter edits it, t in [0, 1] per pixel (row 0 the top).
+export function decodeMap(buffer) {
+  const magic = new TextDecoder().decode(new Uint8Array(buffer, 0, 7));
+  if (magic !== "WISPMAP") throw new Error("not a map buffer");
+  const [, width, height, kind] = new Uint32Array(buffer, 8, 4);
+  const [low, high] = new Float32Array(buffer, 24, 2);
+  const bytes = new Uint8Array(buffer, 32, width * height);
+  const values = new Float32Array(width * height);
+  for (let i = 0; i < values.length; ++i) values[i] = bytes[i] / 255;
+  return { width, height, kind, low, high, values };
+}
+
+// An 8-bit grayscale PNG of `gray` (#width·height, top row first): filter 0 on every row,
+// zlib through the browser's CompressionStream.
+const crcTable = Array.from({ length: 256 }, (_, n) => {
+  let c = n;
+  for (let k = 0; k < 8; ++k) c = c & 1 ? 0xedb88320 ^ (c >>> 1) : c >>> 1;
+  return c >>> 0;
+});
+function crc32(bytes) {
+  let c = 0xffffffff;
+  for (const b of bytes) c = crcTable[(c ^ b) & 0xff] ^ (c >>> 8);
+  return (c ^ 0xffffffff) >>> 0;
+}
+function chunk(type, data) {
+  const out = new Uint8Array(12 + data.length);
+  const view = new DataView(out.buffer);
+  view.setUint32(0, data.length);
+  out.set(new TextEncoder().encode(type), 4);
+  out.set(data, 8);
+  view.setUint32(8 + data.length, crc32(out.subarray(4, 8 + data.length)));
+  return out;
+}
+export async function encodeGrayPng(gray, width, height) {
+  const raw = new Uint8Array((width + 1) * height);
+  for (let j = 0; j < height; ++j) raw.set(gray.subarray(j * width, (j + 1) * width), j * (width + 1) + 1);
+  const zlib = new Uint8Array(await new Response(
+    new Blob([raw]).stream().pipeThrough(new CompressionStream("deflate"))).arrayBuffer());
+  const header = new Uint8Array(13);
+  const view = new DataView(header.buffer);
+  view.setUint32(0, width);
+  view.setUint32(4, height);
+  header.set([8, 0, 0, 0, 0], 8);  // 8 bits, grayscale, deflate, filter 0, no interlace
+  return new Blob([new Uint8Array([137, 80, 78, 71, 13, 10, 26, 10]), chunk("IHDR", header),
+    chunk("IDAT", zlib), chunk("IEND", new Uint8Array(0))]);
+}

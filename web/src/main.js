@@ -4,6 +4,7 @@
 import "./style.css";
 import { getJson, postJson, getBinary, decodeStrands, decodeHead } from "./api.js";
 import { Panels } from "./panels.js";
+import { Painter } from "./paint.js";
 import { Viewport } from "./viewport.js";
 
 const previewStrands = 20000;
@@ -16,6 +17,18 @@ let generation = 0;
 
 function say(text) {
   status.textContent = text;
+}
+
+// The document: autosaved (DOC.autosave.toml beside it) a moment after each edit.
+let autosaveTimer = null;
+function edited() {
+  clearTimeout(autosaveTimer);
+  autosaveTimer = setTimeout(async () => {
+    const result = await postJson("/api/autosave", {});
+    document.getElementById("saved").textContent = result.ok
+      ? `autosaved ${new Date().toTimeString().slice(0, 5)}` : "";
+    if (!result.ok) say(result.body.error);
+  }, 1500);
 }
 
 async function refreshHair(final) {
@@ -62,6 +75,8 @@ async function setField(path, value, { final = true, record = true } = {}) {
     undo.push({ path, before, after: result.body.value });
     redo.length = 0;
   }
+  if (final) edited();
+  if (mapFields.includes(path)) painter.invalidate(path);
   clearTimeout(timer);
   if (final) refreshHair(true);
   else timer = setTimeout(() => refreshHair(false), 30);
@@ -71,7 +86,9 @@ async function setField(path, value, { final = true, record = true } = {}) {
 // Sliders send while they move; the edit recorded for undo is the one from the value
 // before the drag to the value at release.
 const dragStart = new Map();
-const panels = new Panels(document.getElementById("panels"), await getJson("/api/schema"), (path, value, { final }) => {
+const schema = await getJson("/api/schema");
+const mapFields = schema.fields.filter((f) => f.type === "map").map((f) => f.path);
+const panels = new Panels(document.getElementById("panels"), schema, (path, value, { final }) => {
   if (!dragStart.has(path)) dragStart.set(path, values[path]);
   setField(path, value, { final, record: false }).then((ok) => {
     if (!final) return;
@@ -85,16 +102,23 @@ const panels = new Panels(document.getElementById("panels"), await getJson("/api
 });
 
 async function loadStyle() {
-  values = (await getJson("/api/style")).values;
+  const style = await getJson("/api/style");
+  values = style.values;
   panels.setValues(values);
+  document.getElementById("document").textContent = style.document;
 }
 
 async function step(from, to, key) {
   const edit = from.pop();
   if (!edit) return;
-  if (await setField(edit.path, edit[key], { record: false })) {
-    panels.setValues({ [edit.path]: edit[key] });
+  const ok = edit.kind === "map"
+    ? await painter.restore(edit.path, edit[key], (p, v) => setField(p, v, { record: false }))
+    : await setField(edit.path, edit[key], { record: false });
+  if (ok) {
+    if (edit.kind !== "map") panels.setValues({ [edit.path]: edit[key] });
     to.push(edit);
+  } else {
+    from.push(edit);
   }
 }
 document.getElementById("undo").onclick = () => step(undo, redo, "before");
@@ -103,8 +127,114 @@ window.addEventListener("keydown", (e) => {
   if ((e.ctrlKey || e.metaKey) && e.key.toLowerCase() === "z") {
     e.preventDefault();
     e.shiftKey ? step(redo, undo, "after") : step(undo, redo, "before");
+  } else if ((e.ctrlKey || e.metaKey) && e.key.toLowerCase() === "s") {
+    e.preventDefault();
+    save();
+  } else if (!e.ctrlKey && !e.metaKey && !e.altKey && !(e.target instanceof HTMLInputElement) &&
+             !(e.target instanceof HTMLSelectElement)) {
+    const k = e.key.toLowerCase();
+    if (k === "p") setPainting(!painter.active);
+    else if (painter.active && k === "e") brushInput("brush-erase", (el) => (el.checked = !el.checked));
+    else if (painter.active && (k === "[" || k === "]"))
+      brushInput("brush-radius", (el) => (el.value = Number(el.value) * (k === "]" ? 1.2 : 1 / 1.2)));
   }
 });
+
+// Painting: the toolbar over the view drives the brush (paint.js).
+let previewing = false;
+const painter = new Painter(viewport, {
+  valueOf: (path) => values[path],
+  onSent: (path, value, final) => {
+    values[path] = value;
+    panels.setValues({ [path]: value });
+    panels.showError(path, "");
+    // While the stroke runs, one preview at a time: a brush sends maps faster than the
+    // hair can come back.
+    if (final) refreshHair(true);
+    else if (!previewing) {
+      previewing = true;
+      refreshHair(false).finally(() => (previewing = false));
+    }
+    if (final) edited();
+  },
+  onStroke: (path, before, after) => {
+    undo.push({ kind: "map", path, before, after });
+    redo.length = 0;
+  },
+  onError: (message) => say(message),
+  onLoaded: () => brushChanged(),
+});
+const fieldSelect = document.getElementById("paint-field");
+for (const path of mapFields) fieldSelect.append(new Option(path.replace("maps.", ""), path));
+fieldSelect.onchange = () => painter.load(fieldSelect.value);
+function brushInput(id, change) {
+  const el = document.getElementById(id);
+  change(el);
+  el.dispatchEvent(new Event("input"));
+}
+function brushChanged() {
+  const b = painter.brush;
+  b.radius = Number(document.getElementById("brush-radius").value);
+  b.strength = Number(document.getElementById("brush-strength").value);
+  b.value = Number(document.getElementById("brush-value").value);
+  b.falloff = document.getElementById("brush-falloff").value;
+  b.mirror = document.getElementById("brush-mirror").checked;
+  b.erase = document.getElementById("brush-erase").checked;
+  const field = schema.fields.find((f) => f.path === painter.field);
+  const unit = field?.unit ? ` ${field.unit}` : "";
+  const m = painter.map;
+  const scaled = (t) => (m ? m.low + t * (m.high - m.low) : t);
+  const fmt = (v) => (Math.abs(v) >= 10 ? v.toFixed(0) : v.toFixed(2));
+  document.getElementById("brush-radius-text").textContent = `${b.radius.toFixed(1)} cm`;
+  document.getElementById("brush-strength-text").textContent = b.strength.toFixed(2);
+  document.getElementById("brush-value-text").textContent = fmt(scaled(b.value)) + unit;
+  document.getElementById("ramp-low").textContent = fmt(scaled(0)) + unit;
+  document.getElementById("ramp-high").textContent = fmt(scaled(1)) + unit;
+}
+for (const id of ["brush-radius", "brush-strength", "brush-value", "brush-falloff", "brush-mirror", "brush-erase"]) {
+  document.getElementById(id).addEventListener("input", brushChanged);
+  document.getElementById(id).addEventListener("change", brushChanged);
+}
+async function setPainting(on) {
+  document.getElementById("paint").classList.toggle("on", on);
+  document.getElementById("paint-tools").hidden = !on;
+  document.getElementById("view").classList.toggle("painting", on);
+  await painter.setActive(on);
+}
+document.getElementById("paint").onclick = () => setPainting(!painter.active);
+
+// Save, Save as, Open: files of the style's folder only (the server checks the names).
+async function save(name) {
+  const result = await postJson("/api/save", name ? { name } : {});
+  if (!result.ok) return say(result.body.error);
+  say("");
+  document.getElementById("saved").textContent = `saved ${result.body.files.join(", ")}`;
+  await loadStyle();
+}
+document.getElementById("save").onclick = () => save();
+document.getElementById("save-as").onclick = () => {
+  const name = prompt("Save as (a .toml file in the style's folder)", document.getElementById("document").textContent);
+  if (name) save(name);
+};
+const open = document.getElementById("open");
+open.onfocus = open.onmousedown = async () => {
+  const { files } = await getJson("/api/files");
+  const have = [...open.options].slice(1).map((o) => o.value).join("|");
+  if (have === files.join("|")) return;
+  open.length = 1;
+  for (const f of files) open.append(new Option(f, f));
+};
+open.onchange = async () => {
+  const name = open.value;
+  open.value = "";
+  if (!name) return;
+  const result = await postJson("/api/open", { name });
+  if (!result.ok) return say(result.body.error);
+  undo.length = redo.length = 0;
+  await loadStyle();
+  painter.invalidate();
+  refreshHair(true);
+};
 
 const presets = document.getElementById("preset");
 presets.append(new Option("—", ""));
@@ -114,13 +244,18 @@ presets.onchange = async () => {
   await postJson("/api/preset", { name: presets.value });
   undo.length = redo.length = 0;
   await loadStyle();
+  painter.invalidate();
   refreshHair(true);
+  edited();
 };
 document.getElementById("show-head").onchange = (e) => viewport.showHead(e.target.checked);
 document.getElementById("show-masters").onchange = () => refreshHair(true);
 
-viewport.setHead(decodeHead(await getBinary("/api/head")));
+const head = decodeHead(await getBinary("/api/head"));
+viewport.setHead(head);
+painter.setScalp(await getJson("/api/scalp"), head);
 await loadStyle();
 say("generating…");
 await refreshHair(true);
-document.body.dataset.ready = "1";  // for the browser tests
+window.wispEditor = { viewport, painter };  // for the browser tests
+document.body.dataset.ready = "1";

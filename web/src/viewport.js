@@ -21,6 +21,7 @@ const hairVertex = /* glsl */ `
 // Kajiya–Kay: diffuse sin(T, L), specular sin(T, H)^p, with a tinted secondary highlight.
 const hairFragment = /* glsl */ `
   uniform vec3 lightDir;
+  uniform float opacity;
   varying vec3 vTangent;
   varying vec3 vColor;
   varying vec3 vView;
@@ -35,7 +36,7 @@ const hairFragment = /* glsl */ `
     float spec = pow(sinth, 80.0) * 0.12;
     float spec2 = pow(sinth, 20.0) * 0.3;
     vec3 c = vColor * (0.25 + 0.85 * diffuse) + vec3(spec) + vColor * spec2;
-    gl_FragColor = vec4(c, 1.0);
+    gl_FragColor = vec4(c, opacity);
     #include <colorspace_fragment>
   }
 `;
@@ -61,7 +62,7 @@ export class Viewport {
     this.hairMaterial = new THREE.ShaderMaterial({
       vertexShader: hairVertex,
       fragmentShader: hairFragment,
-      uniforms: { lightDir: { value: this.lightDir } },
+      uniforms: { lightDir: { value: this.lightDir }, opacity: { value: 1 } },
     });
     this.hair = null;
     this.head = null;
@@ -96,6 +97,16 @@ export class Viewport {
     // Frame the head and its hair: the top of the mesh holds the head.
     this.controls.target.set(0, box.max.y - 14, 0);
     this.controls.update();
+    this.render();
+  }
+
+  // Fades the hair (painting shows the map on the scalp through it).
+  setHairOpacity(opacity) {
+    const m = this.hairMaterial;
+    m.uniforms.opacity.value = opacity;
+    m.transparent = opacity < 1;
+    m.depthWrite = opacity >= 1;
+    m.needsUpdate = true;
     this.render();
   }
 

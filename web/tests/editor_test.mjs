@@ -5,7 +5,8 @@
 //   node web/tests/editor_test.mjs WISP_EXE OUT_DIR
 import { chromium } from "playwright-core";
 import { spawn } from "node:child_process";
-import { mkdirSync } from "node:fs";
+import { mkdirSync, mkdtempSync, rmSync } from "node:fs";
+import os from "node:os";
 import path from "node:path";
 
 const [wisp, outDir = "."] = process.argv.slice(2);
@@ -18,7 +19,10 @@ function fail(message) {
   throw new Error(message);
 }
 
-const server = spawn(wisp, ["edit", "--preset", "short"], { stdio: ["ignore", "pipe", "inherit"] });
+// In a folder of its own: the editor autosaves into the style's folder (the current one).
+const folder = mkdtempSync(path.join(os.tmpdir(), "wisp-editor-"));
+const server = spawn(path.resolve(wisp), ["edit", "--preset", "short"],
+  { cwd: folder, stdio: ["ignore", "pipe", "inherit"] });
 const url = await new Promise((resolve, reject) => {
   let out = "";
   server.stdout.on("data", (d) => {
@@ -103,4 +107,5 @@ try {
 } finally {
   if (browser) await browser.close();
   server.kill("SIGINT");
+  rmSync(folder, { recursive: true, force: true });
 }
