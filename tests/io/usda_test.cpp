@@ -4,6 +4,9 @@
 
 #include <unistd.h>
 #include <algorithm>
+#include <bit>
+#include <charconv>
+#include <random>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -671,6 +674,90 @@ TEST(Usda, BigArraysKeepLineNumbers) {
     const UsdaLayer ok = parse_usda(text + "    ]\n}\n", "ok.usda");
     ASSERT_EQ(ok.curves[0].points.size(), 200000u);
     EXPECT_EQ(ok.curves[0].points[123456], Vec3f(1.5f, -2.f, 3e-3f));
+}
+
+// The reader parses the decimals writers give without from_chars (a shortcut through
+// double); every float it reads must be the one from_chars reads from the same text. Random
+// bit patterns over the magnitudes of hair (1e-7 to 1e7), written shortest and at every
+// precision 1..9, as tuples (points) and as scalars (widths).
+TEST(Usda, FastNumberParsingMatchesFromChars) {
+    std::mt19937 rng(15);
+    std::vector<std::string> texts;
+    while (texts.size() < 300000) {
+        const float v = std::bit_cast<float>(static_cast<uint32_t>(rng()));
+        if (!std::isfinite(v) || std::abs(v) > 1e7f || (v != 0 && std::abs(v) < 1e-7f)) continue;
+        char buf[64];
+        const int precision = static_cast<int>(texts.size() % 10);  // 0: shortest
+        const auto r = precision == 0
+                           ? std::to_chars(buf, buf + sizeof buf, v)
+                           : std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general,
+                                           precision);
+        texts.emplace_back(buf, r.ptr);
+    }
+    texts.insert(texts.end(), {"0", "-0", "0.5", "-.5", "1.", "123456789012345", "0.1e1",
+                               "1.5E-3", "999999999999999e-12", "16777217", "0.000000000001"});
+    while (texts.size() % 3)
+        texts.emplace_back("1");
+    std::string points, widths;
+    for (size_t i = 0; i < texts.size(); i += 3)
+        points += "(" + texts[i] + ", " + texts[i + 1] + ", " + texts[i + 2] + "),\n";
+    for (const std::string& t : texts)
+        widths += t + ", ";
+    const UsdaLayer layer =
+        parse_usda("#usda 1.0\ndef BasisCurves \"C\" {\n point3f[] points = [" + points +
+                       "]\n float[] widths = [" + widths + "]\n}\n",
+                   "fast.usda");
+    const UsdCurves& c = layer.curves.at(0);
+    ASSERT_EQ(c.points.size() * 3, texts.size());
+    ASSERT_EQ(c.widths.size(), texts.size());
+    size_t wrong = 0;
+    for (size_t i = 0; i < texts.size(); ++i) {
+        float expected;
+        std::from_chars(texts[i].data(), texts[i].data() + texts[i].size(), expected);
+        const float got = c.points[i / 3][static_cast<int>(i % 3)];
+        if (std::bit_cast<uint32_t>(got) != std::bit_cast<uint32_t>(expected) ||
+            std::bit_cast<uint32_t>(c.widths[i]) != std::bit_cast<uint32_t>(expected)) {
+            if (++wrong < 10) ADD_FAILURE() << texts[i] << " read as " << got << " / " << c.widths[i];
+        }
+    }
+    EXPECT_EQ(wrong, 0u);
+}
+
+// Int arrays take the parallel fast path too, and arrays wisp does not read (the groom_*
+// primvars) are skipped without tokens; a malformed one still fails at its place.
+TEST(Usda, FastIntArraysAndSkippedArrays) {
+    std::string counts, ids;
+    for (int i = 0; i < 100000; ++i) {
+        counts += "2, ";
+        ids += std::to_string(i % 977) + ", ";
+    }
+    std::string pts;
+    for (int i = 0; i < 200000; ++i)
+        pts += "(0, " + std::to_string(i) + ", 0), ";
+    std::string skipped;
+    for (int i = 0; i < 100000; ++i)
+        skipped += "(0.25, 0.75),\n";
+    const std::string head = "#usda 1.0\ndef BasisCurves \"C\" {\n int[] curveVertexCounts = [" +
+                             counts + "]\n point3f[] points = [" + pts +
+                             "]\n int[] primvars:wisp_id = [" + ids +
+                             "]\n float2[] primvars:groom_root_uv = [" + skipped + "]\n";
+    const UsdaLayer layer = parse_usda(head + " float extra = 1\n}\n", "ints.usda");
+    const UsdCurves& c = layer.curves.at(0);
+    ASSERT_EQ(c.counts.size(), 100000u);
+    EXPECT_TRUE(std::all_of(c.counts.begin(), c.counts.end(), [](int n) { return n == 2; }));
+    ASSERT_EQ(c.wisp_id.size(), 100000u);
+    EXPECT_EQ(c.wisp_id[99999], 99999 % 977);
+    EXPECT_EQ(c.points[123457], Vec3f(0, 123457, 0));
+    // After the skipped array (lines 6 .. 100006), line numbers are still right.
+    expect_error([&] { parse_usda(head + " $\n}\n", "ints.usda"); }, "ints.usda:100007:2:");
+    // A bad int inside a big int array is reported by the token path at its place.
+    std::string bad = head;
+    bad.replace(bad.find("2, 2, ") + 3, 1, "2.5");
+    expect_error([&] { parse_usda(bad + "}\n", "bad.usda"); }, "bad.usda:3:");
+    // An unbalanced tuple inside a skipped array is not skipped by the shortcut.
+    std::string unbalanced = head;
+    unbalanced.replace(unbalanced.find("(0.25, 0.75),\n(0.25"), 1, "");
+    EXPECT_THROW(parse_usda(unbalanced + "}\n", "unbalanced.usda"), Error);
 }
 
 TEST(Usda, TruncatedFilesFail) {
