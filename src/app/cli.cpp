@@ -151,6 +151,7 @@ struct ExportArgs {
     size_t strands = 0;   // --export-strands; 0: all
     double fraction = 0;  // --export-fraction; 0: all
     int resample = 0;     // --resample; 0: the format's own
+    int precision = 0;    // --precision; 0: shortest exact
 
     void add_to(CLI::App* cmd) {
         cmd->add_option("--export-strands", strands,
@@ -163,6 +164,11 @@ struct ExportArgs {
                         ".npz and .data: points per strand, evenly spaced along each strand "
                         "(default: .npz 32, .data 100 as USC-HairSalon has them)")
             ->check(CLI::Range(2, 4096));
+        cmd->add_option("--precision", precision,
+                        ".usda: significant digits of the strands' numbers, 1-9, for a smaller "
+                        "file (each value within half a unit of its last digit); default: the "
+                        "shortest form that reads back exactly")
+            ->check(CLI::Range(1, kMaxUsdaPrecision));
     }
     void check() const {
         if (strands && fraction > 0)
@@ -401,6 +407,7 @@ int run_generate(const GenerateArgs& args) {
     HairWriteOptions options;
     options.obj_segments = args.obj_segments;
     options.usda_z_up = args.up == "z";
+    options.usda_precision = args.exports.precision;
     options.resample_points = args.exports.resample;
     options.camera = export_camera(result.hair, *head.mesh);
     const Hair guides =
@@ -1028,6 +1035,7 @@ int run_cli(int argc, char** argv) {
             HairWriteOptions options;
             options.obj_segments = convert_segments;
             options.usda_z_up = convert_up == "z";
+            options.usda_precision = convert_exports.precision;
             options.resample_points = convert_exports.resample;
             // Only scenes have a camera; framing it builds the head, a tenth of a second.
             if (format == HairFormat::kRib || format == HairFormat::kPbrt)

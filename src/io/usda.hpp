@@ -116,7 +116,15 @@ struct UsdaWriteOptions {
     // scalp faces (`head_scalp`, indices into head->faces) as a GeomSubset "scalp". Null: none.
     const Mesh* head = nullptr;
     std::span<const uint32_t> head_scalp;
+    // Significant digits of the strands' floats (points, widths, colors, root UVs), 1 … 9,
+    // trading exactness for size; 0 (the default): the shortest form that reads back
+    // bit-exact. A value v is then written as the nearest decimal of `precision` digits,
+    // within half a unit of its last digit (|error| <= 0.5·10^(1−precision)·|v|, rounded to
+    // float); the extent, written exact, is grown to hold every rounded point.
+    int precision = 0;
 };
+// The largest UsdaWriteOptions::precision (9 digits always read back exactly).
+inline constexpr int kMaxUsdaPrecision = 9;
 
 // The usda layer described above. Throws for a strand of fewer than 2 points (a pinned
 // cubic curve needs 2).

@@ -35,21 +35,34 @@ void append_vec(std::string& out, const Vec3f& v) {
 // characters ("-1.1754944e-38"), so a run of k values needs at most 17·k bytes.
 constexpr size_t kMaxFloatChars = 16;
 
-char* put_float(char* p, float v) {
-    return std::to_chars(p, p + kMaxFloatChars, v).ptr;
+// precision 0: the shortest exact form; else that many significant digits (%g's form,
+// "-1.23456789e-38" at most: 15 characters).
+char* put_float(char* p, float v, int precision = 0) {
+    return precision == 0
+               ? std::to_chars(p, p + kMaxFloatChars, v).ptr
+               : std::to_chars(p, p + kMaxFloatChars, v, std::chars_format::general, precision).ptr;
 }
 
-char* put_vec(char* p, const Vec3f& v) {
+char* put_vec(char* p, const Vec3f& v, int precision = 0) {
     *p++ = '(';
-    p = put_float(p, v.x());
+    p = put_float(p, v.x(), precision);
     *p++ = ',';
     *p++ = ' ';
-    p = put_float(p, v.y());
+    p = put_float(p, v.y(), precision);
     *p++ = ',';
     *p++ = ' ';
-    p = put_float(p, v.z());
+    p = put_float(p, v.z(), precision);
     *p++ = ')';
     return p;
+}
+
+// The float a reader gets back from v written at `precision` digits.
+float written_value(float v, int precision) {
+    char buf[kMaxFloatChars];
+    char* end = put_float(buf, v, precision);
+    float back = v;
+    std::from_chars(buf, end, back);
+    return back;
 }
 
 // put_float through a small direct-mapped cache of values already formatted: for arrays
@@ -62,15 +75,20 @@ struct FloatTextCache {
         char text[kMaxFloatChars];
     };
     std::array<Slot, kSlots> slots;
+    int precision = 0;  // of the texts held
 
-    char* put(char* p, float v) {
+    char* put(char* p, float v, int digits) {
+        if (digits != precision) {
+            slots = {};
+            precision = digits;
+        }
         const uint32_t bits = std::bit_cast<uint32_t>(v);
         Slot& slot = slots[(bits * 2654435761u) >> 26];
         if (slot.size > 0 && slot.bits == bits) {
             std::memcpy(p, slot.text, slot.size);
             return p + slot.size;
         }
-        char* end = put_float(p, v);
+        char* end = put_float(p, v, precision);
         slot.bits = bits;
         slot.size = static_cast<uint8_t>(end - p);
         std::memcpy(slot.text, p, slot.size);
@@ -94,6 +112,7 @@ struct Out {
     std::string buf;
     std::ostream* stream = nullptr;
     std::vector<std::string> parts;
+    int precision = 0;  // UsdaWriteOptions::precision of the strands' floats
 
     void flush(bool force = false) {
         if (!stream || (!force && buf.size() < (8u << 20))) return;
@@ -161,7 +180,7 @@ void points_array(Out& out, const Hair& hair, const char* indent, bool z_up = fa
         const uint32_t a = hair.offsets[s], b = hair.offsets[s + 1];
         append_raw(o, (b - a) * (3 * kMaxFloatChars + 8) + 1, [&](char* p) {
             for (uint32_t i = a; i < b; ++i) {
-                p = put_vec(p, to_layer(hair.points[i], z_up));
+                p = put_vec(p, to_layer(hair.points[i], z_up), out.precision);
                 if (i + 1 < hair.point_count()) {
                     *p++ = ',';
                     *p++ = ' ';
@@ -173,7 +192,10 @@ void points_array(Out& out, const Hair& hair, const char* indent, bool z_up = fa
     });
 }
 
-Box3 extent_of(const Hair& hair, bool z_up = false) {
+// The bounds of the points in the layer's axes grown by the largest half width. With a
+// precision, each bound also takes in what it reads back as when rounded: rounding is
+// monotonic, so every rounded point then lies inside (the extent itself is written exact).
+Box3 extent_of(const Hair& hair, bool z_up = false, int precision = 0) {
     Box3 b = hair.bounds();
     if (z_up && !b.empty()) {
         const Box3 y = b;
@@ -189,6 +211,11 @@ Box3 extent_of(const Hair& hair, bool z_up = false) {
     } else {
         b.lo = b.hi = Vec3f::Zero();
     }
+    if (precision > 0)
+        for (int k = 0; k < 3; ++k) {
+            b.lo[k] = std::min(b.lo[k], written_value(b.lo[k], precision));
+            b.hi[k] = std::max(b.hi[k], written_value(b.hi[k], precision));
+        }
     return b;
 }
 
@@ -276,9 +303,12 @@ void groom_primvars(Out& o, const Hair& hair, bool with_guides, size_t first_id,
         o.buf += "        float2[] primvars:groom_root_uv = [";
         for (size_t i = 0; i < S; ++i) {
             o.buf += i ? ", (" : "(";
-            append_number(o.buf, hair.root_uv[i].x());
-            o.buf += ", ";
-            append_number(o.buf, hair.root_uv[i].y());
+            append_raw(o.buf, 2 * kMaxFloatChars + 2, [&](char* p) {
+                p = put_float(p, hair.root_uv[i].x(), o.precision);
+                *p++ = ',';
+                *p++ = ' ';
+                return put_float(p, hair.root_uv[i].y(), o.precision);
+            });
             o.buf += ')';
             if ((i & 65535) == 65535) o.flush();
         }
@@ -312,7 +342,8 @@ void color_primvar(Out& o, const Hair& hair, const char* declaration) {
     const size_t S = hair.strand_count();
     format_strands(o, hair, 0, [&](size_t s, std::string& t) {
         t += "            ";
-        append_raw(t, 3 * kMaxFloatChars + 8, [&](char* p) { return put_vec(p, hair.colors[s]); });
+        append_raw(t, 3 * kMaxFloatChars + 8,
+                   [&](char* p) { return put_vec(p, hair.colors[s], o.precision); });
         t += s + 1 < S ? ",\n" : "\n";
     });
     out += "        ] (\n            interpolation = \"uniform\"\n        )\n";
@@ -332,7 +363,7 @@ void end_curves(Out& o, const Hair& hair, bool with_guides = false, size_t first
             // this thread copies its text.
             thread_local FloatTextCache cache;
             for (uint32_t i = a; i < b; ++i) {
-                p = cache.put(p, hair.width_at(i));
+                p = cache.put(p, hair.width_at(i), o.precision);
                 if (i + 1 < hair.point_count()) {
                     *p++ = ',';
                     *p++ = ' ';
@@ -427,7 +458,7 @@ void head_prim(Out& o, const Mesh& mesh, std::span<const uint32_t> scalp, bool z
 
 void curves_body(Out& out, const Hair& hair, bool z_up) {
     out.buf += "        float3[] extent = ";
-    append_extent(out.buf, extent_of(hair, z_up));
+    append_extent(out.buf, extent_of(hair, z_up, out.precision));
     out.buf += "\n        point3f[] points = [\n";
     points_array(out, hair, "            ", z_up);
     out.buf += "        ]\n";
@@ -454,6 +485,9 @@ void write_single(Out& out, const Hair& hair, const UsdaWriteOptions& options) {
 }
 
 void check_options(const Hair& hair, const UsdaWriteOptions& options, const std::string& name) {
+    if (options.precision < 0 || options.precision > kMaxUsdaPrecision)
+        fail(name, ": precision ", options.precision, " is not 0 (exact) or 1 … ",
+             kMaxUsdaPrecision, " significant digits");
     if (options.guides) {
         check_strands(*options.guides, name + " guides");
         if (hair.wisp.empty() && hair.strand_count())
@@ -555,6 +589,7 @@ std::string encode_usda(const Hair& hair, const std::string& name,
     check_strands(hair, name);
     check_options(hair, options, name);
     Out out;
+    out.precision = options.precision;
     out.buf.reserve(hair.point_count() * 48 + hair.strand_count() * 96 + 1024);
     write_single(out, hair, options);
     return std::move(out.buf);
@@ -567,6 +602,7 @@ void write_usda(const std::filesystem::path& path, const Hair& hair,
     write_file_atomic(path, [&](std::ostream& os) {
         Out out;
         out.stream = &os;
+        out.precision = options.precision;
         write_single(out, hair, options);
     });
 }

@@ -113,6 +113,25 @@ TEST(Cli, HeadAndRoundTrip) {
     EXPECT_EQ(run("info " + back.string()), 0);
 }
 
+TEST(Cli, PrecisionWritesFewerDigits) {
+    Dir d;
+    const fs::path exact = d.path / "e.usda", short3 = d.path / "p.usda", c = d.path / "c.usda";
+    const std::string gen = "generate --preset short --strands 300 --wisps 30 -q ";
+    ASSERT_EQ(run(gen + "-o " + exact.string()), 0);
+    ASSERT_EQ(run(gen + "--precision 3 -o " + short3.string()), 0);
+    ASSERT_EQ(run("convert " + exact.string() + " " + c.string() + " --precision 3"), 0);
+    EXPECT_LT(fs::file_size(short3), fs::file_size(exact) * 3 / 4);
+    const wisp::Hair a = wisp::read_hair(exact), b = wisp::read_hair(short3),
+                     bc = wisp::read_hair(c);
+    ASSERT_EQ(a.points.size(), b.points.size());
+    EXPECT_TRUE(b.points == bc.points);
+    for (size_t i = 0; i < a.points.size(); ++i)
+        EXPECT_LE((a.points[i] - b.points[i]).cwiseAbs().maxCoeff(),
+                  5e-3f * a.points[i].cwiseAbs().maxCoeff() + 1e-6f);
+    EXPECT_EQ(run(gen + "--precision 0 -o " + short3.string()), 2);
+    EXPECT_EQ(run(gen + "--precision 10 -o " + short3.string()), 2);
+}
+
 TEST(Cli, UpZWritesAZUpLayer) {
     Dir d;
     const fs::path y = d.path / "y.usda", z = d.path / "z.usda", zc = d.path / "zc.usda";

@@ -9,6 +9,7 @@
 #include <random>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
@@ -758,6 +759,61 @@ TEST(Usda, FastIntArraysAndSkippedArrays) {
     std::string unbalanced = head;
     unbalanced.replace(unbalanced.find("(0.25, 0.75),\n(0.25"), 1, "");
     EXPECT_THROW(parse_usda(unbalanced + "}\n", "unbalanced.usda"), Error);
+}
+
+// --precision N: every number within half a unit of its N-th significant digit (rounded
+// to float), the file smaller the fewer the digits, the extent still holding every point,
+// 0 the exact default and anything outside 0..9 refused.
+TEST(Usda, PrecisionBoundsTheErrorAndShrinksTheFile) {
+    Hair h = test::random_hair(8, 2000, 12);
+    for (size_t s = 0; s < h.strand_count(); ++s)
+        h.root_uv.emplace_back(float(s) / 2000.f + 1e-4f, 0.333333f);
+    const std::string exact = encode_usda(h);
+    EXPECT_EQ(encode_usda(h, "hair", {.precision = 0}), exact);
+    size_t previous = exact.size();
+    for (int digits : {9, 6, 4, 3}) {
+        const std::string text = encode_usda(h, "hair", {.precision = digits});
+        if (digits < 9) {  // 9 digits are more than the shortest exact form needs
+            EXPECT_LT(text.size(), previous) << digits;
+            previous = text.size();
+        }
+        const UsdaLayer layer = parse_usda(text, "p.usda");
+        const Hair back = hair_from_usda(layer, "p.usda");
+        ASSERT_EQ(back.points.size(), h.points.size());
+        const double rel = 0.5 * std::pow(10.0, 1 - digits);
+        auto close = [&](float got, float want) {
+            return std::abs(double(got) - double(want)) <=
+                   rel * std::abs(double(want)) + 2 * std::numeric_limits<float>::epsilon() *
+                                                      std::abs(double(want));
+        };
+        size_t bad = 0, changed = 0;
+        for (size_t i = 0; i < h.points.size(); ++i)
+            for (int k = 0; k < 3; ++k) {
+                bad += !close(back.points[i][k], h.points[i][k]);
+                changed += back.points[i][k] != h.points[i][k];
+            }
+        for (size_t i = 0; i < h.widths.size(); ++i)
+            bad += !close(back.widths[i], h.widths[i]);
+        EXPECT_EQ(bad, 0u) << digits << " digits";
+        if (digits < 9) EXPECT_GT(changed, 0u) << digits;  // the rounding happened
+        if (digits == 9) EXPECT_EQ(changed, 0u);           // 9 digits always read back exact
+        // The extent (exact) holds every point as read back.
+        const std::smatch m = [&] {
+            std::smatch r;
+            static const std::regex re(R"(float3\[\] extent = \[\(([^,]+), ([^,]+), ([^)]+)\), \(([^,]+), ([^,]+), ([^)]+)\)\])");
+            std::regex_search(text, r, re);
+            return r;
+        }();
+        ASSERT_EQ(m.size(), 7u);
+        for (const Vec3f& p : back.points)
+            for (int k = 0; k < 3; ++k) {
+                EXPECT_LE(std::stof(m[1 + k]), p[k]);
+                EXPECT_GE(std::stof(m[4 + k]), p[k]);
+            }
+    }
+    for (int wrong : {-1, 10})
+        test::expect_error([&] { encode_usda(h, "w.usda", {.precision = wrong}); },
+                           "w.usda: precision " + std::to_string(wrong));
 }
 
 TEST(Usda, TruncatedFilesFail) {
