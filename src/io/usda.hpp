@@ -146,8 +146,13 @@ void write_usda_animation(const std::filesystem::path& path, const std::vector<H
 // then it is a temporary beside the target; destroying the writer unfinished removes it).
 class UsdaAnimationWriter {
   public:
+    // Guides mode (`wisp animate --guides`), with `strands`: the frames are guide strands,
+    // animated as the prim "/hair/guides" (primvars:groom_guide = 1), and `strands` the
+    // render strands at rest, written once as "/hair/strands" with what rebuilds them from
+    // the guides: strand s follows guide strands.wisp[s] (groom_closest_guides, weight 1),
+    // its rest points and root UV (UsdaWriteOptions::guides' layout, GroomAPI on "/hair").
     UsdaAnimationWriter(const std::filesystem::path& path, const Hair& first, double fps,
-                        size_t frames);
+                        size_t frames, const Hair* strands = nullptr);
     ~UsdaAnimationWriter();
     void add(const Hair& frame);
     void finish();
@@ -169,7 +174,9 @@ class UsdaAnimationWriter {
 // SIGINT/SIGTERM/SIGHUP, removes the frames already written.
 class UsdaClipWriter {
   public:
-    UsdaClipWriter(const std::filesystem::path& path, const Hair& first, double fps, size_t frames);
+    // `strands`: guides mode, as UsdaAnimationWriter's (the clips animate "/hair/guides").
+    UsdaClipWriter(const std::filesystem::path& path, const Hair& first, double fps, size_t frames,
+                   const Hair* strands = nullptr);
     ~UsdaClipWriter();
     void add(const Hair& frame);
     void finish();

@@ -6,6 +6,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <optional>
 
 #include <tbb/parallel_pipeline.h>
 #include <tbb/task_arena.h>
@@ -557,7 +558,27 @@ void add_animation_frame(Out& out, const Hair& frame, size_t index) {
     out.buf += "            ],\n";
 }
 
-void end_animation(Out& out, const Hair& first, const std::vector<Box3>& extents) {
+// The render strands at rest, written whole with their guide binding, and the guides prim up
+// to its points (guides mode of the animation writers: the frames are the guides).
+void begin_guides_layer(Out& out, const Hair& strands, const Hair& guides,
+                        const std::string& metadata, const std::string& hair_metadata = {}) {
+    begin_layer(out, strands, metadata, false, true, hair_metadata);
+    curves_body(out, strands, false);
+    end_curves(out, strands, true, 0, static_cast<int64_t>(strands.strand_count()));
+    out.buf += '\n';
+    begin_curves(out, guides, "guides", false);
+}
+
+// Closes the animated prim (`first`'s strands, or with `strands` its guides) and the layer.
+void end_animated_layer(Out& out, const Hair& first, const Hair* strands) {
+    if (!strands) return end_layer(out, first);
+    end_curves(out, first, true, strands->strand_count(), -1);
+    out.buf += "}\n";
+    out.flush(true);
+}
+
+void end_animation(Out& out, const Hair& first, const std::vector<Box3>& extents,
+                   const Hair* strands = nullptr) {
     out.buf += "        }\n        float3[] extent.timeSamples = {\n";
     for (size_t f = 0; f < extents.size(); ++f) {
         out.buf += "            ";
@@ -567,7 +588,7 @@ void end_animation(Out& out, const Hair& first, const std::vector<Box3>& extents
         out.buf += ",\n";
     }
     out.buf += "        }\n";
-    end_layer(out, first);
+    end_animated_layer(out, first, strands);
 }
 
 void write_animation(Out& out, const std::vector<Hair>& frames, double fps) {
@@ -629,23 +650,39 @@ struct UsdaAnimationWriter::Impl {
     AtomicFile file;
     Out out;
     Hair first;  // topology, widths, colors and wisp ids of frame 0
+    std::optional<Hair> strands;  // guides mode: the render strands at rest
     size_t frames, written = 0;
     std::vector<Box3> extents;
     explicit Impl(const std::filesystem::path& path) : file(path) {}
 };
 
+namespace {
+
+// Guides mode: the render strands are bound to the guides by their wisp ids.
+void check_guides_mode(const Hair& strands, const Hair& guides, const std::string& name) {
+    check_strands(strands, name);
+    check_options(strands, UsdaWriteOptions{.guides = &guides}, name);
+}
+
+}  // namespace
+
 UsdaAnimationWriter::UsdaAnimationWriter(const std::filesystem::path& path, const Hair& first,
-                                         double fps, size_t frames)
+                                         double fps, size_t frames, const Hair* strands)
     : path_(path) {
     if (frames == 0) fail(path.string(), ": an animation needs at least one frame");
     if (!(fps > 0) || !std::isfinite(fps))
         fail(path.string(), ": frames per second must be positive, not ", fps);
     check_strands(first, path.string());
+    if (strands) check_guides_mode(*strands, first, path.string());
     impl_ = std::make_unique<Impl>(path);
     impl_->out.stream = &impl_->file.stream();
     impl_->first = first;
+    if (strands) impl_->strands = *strands;
     impl_->frames = frames;
-    begin_layer(impl_->out, first, animation_metadata(frames, fps));
+    if (strands)
+        begin_guides_layer(impl_->out, *strands, first, animation_metadata(frames, fps));
+    else
+        begin_layer(impl_->out, first, animation_metadata(frames, fps));
     impl_->out.buf += "        point3f[] points.timeSamples = {\n";
 }
 
@@ -664,7 +701,7 @@ void UsdaAnimationWriter::finish() {
     Impl& m = *impl_;
     if (m.written != m.frames)
         fail(path_.string(), ": ", m.written, " frames written of ", m.frames, " announced");
-    end_animation(m.out, m.first, m.extents);
+    end_animation(m.out, m.first, m.extents, m.strands ? &*m.strands : nullptr);
     m.file.commit();
 }
 
@@ -685,13 +722,13 @@ std::string clip_prefix(const std::filesystem::path& path) {
 }
 
 void write_clip_frame(const std::filesystem::path& file, const Hair& frame, size_t index,
-                      const std::string& top) {
+                      const std::string& top, const char* prim) {
     AtomicFile f(file);
     Out out;
     out.stream = &f.stream();
     out.buf += cat("#usda 1.0\n(\n    doc = \"wisp animation: frame ", index, ", a value clip of ",
                    top, "\"\n)\n\n");
-    out.buf += "over \"hair\"\n{\n    over BasisCurves \"strands\"\n    {\n";
+    out.buf += cat("over \"hair\"\n{\n    over BasisCurves \"", prim, "\"\n    {\n");
     out.buf += "        float3[] extent.timeSamples = {\n            ";
     append_number(out.buf, index);
     out.buf += ": ";
@@ -707,6 +744,7 @@ void write_clip_frame(const std::filesystem::path& file, const Hair& frame, size
 
 struct UsdaClipWriter::Impl {
     Hair first;
+    std::optional<Hair> strands;  // guides mode: the render strands at rest
     double fps = 24;
     size_t frames = 0, written = 0;
     FileSeries series;
@@ -723,7 +761,7 @@ std::filesystem::path UsdaClipWriter::frame_path(const std::filesystem::path& pa
 }
 
 UsdaClipWriter::UsdaClipWriter(const std::filesystem::path& path, const Hair& first, double fps,
-                               size_t frames)
+                               size_t frames, const Hair* strands)
     : path_(path) {
     const std::string name = path.string();
     if (frames == 0) fail(name, ": an animation needs at least one frame");
@@ -736,8 +774,10 @@ UsdaClipWriter::UsdaClipWriter(const std::filesystem::path& path, const Hair& fi
              ": a value clip animation needs a file name without `@` or control "
              "characters (its frames are named after it)");
     check_strands(first, name);
+    if (strands) check_guides_mode(*strands, first, name);
     impl_ = std::make_unique<Impl>(path, frames);
     impl_->first = first;
+    if (strands) impl_->strands = *strands;
     impl_->fps = fps;
     impl_->frames = frames;
 }
@@ -748,7 +788,8 @@ void UsdaClipWriter::add(const Hair& frame) {
     Impl& m = *impl_;
     check_next_frame(path_, m.first, frame, m.written, m.frames);
     const std::filesystem::path file = m.series.path(m.written);
-    write_clip_frame(file, frame, m.written, path_.filename().string());
+    write_clip_frame(file, frame, m.written, path_.filename().string(),
+                     m.strands ? "guides" : "strands");
     m.series.added(m.written);
     ++m.written;
 }
@@ -761,8 +802,10 @@ void UsdaClipWriter::finish() {
     const std::filesystem::path manifest = path_.parent_path() / (stem + ".manifest.usda");
     write_file_atomic(manifest,
                       "#usda 1.0\n(\n    doc = \"wisp animation: the attributes its value clips "
-                      "animate\"\n)\n\nover \"hair\"\n{\n    over \"strands\"\n    {\n"
-                      "        float3[] extent\n        point3f[] points\n    }\n}\n");
+                      "animate\"\n)\n\nover \"hair\"\n{\n    over \"" +
+                          std::string(m.strands ? "guides" : "strands") +
+                          "\"\n    {\n"
+                          "        float3[] extent\n        point3f[] points\n    }\n}\n");
     try {
         std::string clips = "    clips = {\n        dictionary default = {\n";
         std::string pairs;
@@ -781,10 +824,16 @@ void UsdaClipWriter::finish() {
         write_file_atomic(path_, [&](std::ostream& os) {
             Out out;
             out.stream = &os;
-            begin_layer(out, m.first, animation_metadata(m.frames, m.fps), false, false, clips);
+            const Hair* strands = m.strands ? &*m.strands : nullptr;
+            if (strands)
+                begin_guides_layer(out, *strands, m.first, animation_metadata(m.frames, m.fps),
+                                   clips);
+            else
+                begin_layer(out, m.first, animation_metadata(m.frames, m.fps), false, false,
+                            clips);
             // Declared without a value: a local value would be stronger than the clips.
             out.buf += "        float3[] extent\n        point3f[] points\n";
-            end_layer(out, m.first);
+            end_animated_layer(out, m.first, strands);
         });
     } catch (...) {
         std::error_code ec;
