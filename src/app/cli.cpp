@@ -8,6 +8,8 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <limits>
+#include <map>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -152,6 +154,7 @@ struct ExportArgs {
     size_t strands = 0;   // --export-strands; 0: all
     double fraction = 0;  // --export-fraction; 0: all
     int resample = 0;     // --resample; 0: the format's own
+    int precision = 0;    // --precision; 0: shortest exact
 
     void add_to(CLI::App* cmd) {
         cmd->add_option("--export-strands", strands,
@@ -164,6 +167,11 @@ struct ExportArgs {
                         ".npz and .data: points per strand, evenly spaced along each strand "
                         "(default: .npz 32, .data 100 as USC-HairSalon has them)")
             ->check(CLI::Range(2, 4096));
+        cmd->add_option("--precision", precision,
+                        ".usda: significant digits of the strands' numbers, 1-9, for a smaller "
+                        "file (each value within half a unit of its last digit); default: the "
+                        "shortest form that reads back exactly")
+            ->check(CLI::Range(1, kMaxUsdaPrecision));
     }
     void check() const {
         if (strands && fraction > 0)
@@ -402,6 +410,7 @@ int run_generate(const GenerateArgs& args) {
     HairWriteOptions options;
     options.obj_segments = args.obj_segments;
     options.usda_z_up = args.up == "z";
+    options.usda_precision = args.exports.precision;
     options.resample_points = args.exports.resample;
     options.camera = export_camera(result.hair, *head.mesh);
     const Hair guides =
@@ -489,6 +498,7 @@ struct AnimateArgs {
     int threads = 0, strands = 0, levels = 0, sub_wisps = 0, wisps_per_group = 0, sections = 0;
     bool single_level = false, quiet = false;
     std::string usda = "clips";  // .usda layout: clips (a layer per frame) or single
+    bool guides = false;         // .usda: animate one guide strand per wisp only
     LookArgs look;
 };
 
@@ -529,6 +539,43 @@ int run_program(const std::vector<std::string>& args) {
 bool is_style_file(const std::string& path) {
     const std::string ext = std::filesystem::path(path).extension().string();
     return ext == ".toml" || ext == ".TOML";
+}
+
+// `wisp animate --guides`: one guide per wisp, a render strand moved by the simulation like
+// every strand of its wisp: the wisp's longest strand, the one whose root is nearest the
+// wisp's mean root among those (then the lowest index). Returns the guides' strand indices in
+// wisp-id order and, in `bound`, the strands with wisp ids renumbered to their guide's index.
+std::vector<uint32_t> pick_guides(const Hair& hair, Hair& bound) {
+    if (hair.wisp.size() != hair.strand_count())
+        throw CLI::ValidationError("--guides", "the hair has no wisp ids to pick guides by");
+    std::map<int32_t, std::vector<uint32_t>> wisps;
+    for (size_t s = 0; s < hair.strand_count(); ++s)
+        wisps[hair.wisp[s]].push_back(static_cast<uint32_t>(s));
+    std::vector<uint32_t> guides;
+    bound = hair;
+    for (const auto& [id, members] : wisps) {
+        Vec3d mean = Vec3d::Zero();
+        size_t longest = 0;
+        for (uint32_t s : members) {
+            mean += hair.points[hair.offsets[s]].cast<double>();
+            longest = std::max<size_t>(longest, hair.strand_size(s));
+        }
+        mean /= static_cast<double>(members.size());
+        uint32_t best = members.front();
+        double best_d = std::numeric_limits<double>::infinity();
+        for (uint32_t s : members) {
+            if (hair.strand_size(s) != longest) continue;
+            const double d = (hair.points[hair.offsets[s]].cast<double>() - mean).squaredNorm();
+            if (d < best_d) {
+                best_d = d;
+                best = s;
+            }
+        }
+        for (uint32_t s : members)
+            bound.wisp[s] = static_cast<int32_t>(guides.size());
+        guides.push_back(best);
+    }
+    return guides;
 }
 
 int run_animate(const AnimateArgs& args) {
@@ -622,6 +669,16 @@ int run_animate(const AnimateArgs& args) {
     // Until the run ends well, every file written so far is removed on an error or a signal.
     std::vector<std::unique_ptr<UsdaAnimationWriter>> usda;
     std::vector<std::unique_ptr<UsdaClipWriter>> clips;
+    Hair bound;  // --guides: the render strands at rest, wisp ids renumbered to their guides
+    const std::vector<uint32_t> guide_strands =
+        args.guides ? pick_guides(rest, bound) : std::vector<uint32_t>();
+    const Hair* guided = args.guides ? &bound : nullptr;
+    const Hair rest_guides = args.guides ? select_strands(rest, guide_strands) : Hair();
+    const Hair& first_frame = args.guides ? rest_guides : rest;
+    if (args.guides)
+        for (const std::string& out : args.outputs)
+            if (hair_format_from_path(out) != HairFormat::kUsda)
+                throw CLI::ValidationError("--guides", "writes .usda only, not " + out);
     std::vector<std::string> per_frame;
     std::vector<std::unique_ptr<FileSeries>> series;
     for (const std::string& out : args.outputs) {
@@ -632,9 +689,11 @@ int run_animate(const AnimateArgs& args) {
             series.push_back(std::make_unique<FileSeries>(
                 pattern.substr(0, first), pattern.substr(last), static_cast<int>(last - first)));
         } else if (args.usda == "single") {
-            usda.push_back(std::make_unique<UsdaAnimationWriter>(out, rest, args.fps, args.frames));
+            usda.push_back(std::make_unique<UsdaAnimationWriter>(out, first_frame, args.fps,
+                                                                 args.frames, guided));
         } else {
-            clips.push_back(std::make_unique<UsdaClipWriter>(out, rest, args.fps, args.frames));
+            clips.push_back(std::make_unique<UsdaClipWriter>(out, first_frame, args.fps,
+                                                             args.frames, guided));
         }
     }
     // The frames of an MP4 without --png go to a temporary folder, removed however the run
@@ -663,10 +722,13 @@ int run_animate(const AnimateArgs& args) {
     const AnimationStats stats =
         animate(rest, *head.mesh, frame, motion, spec, style.prototype.kind, settings,
                 [&](int f, const Hair& hair, const FramePose& pose) {
+                    const Hair frame_guides =
+                        args.guides ? select_strands(hair, guide_strands) : Hair();
+                    const Hair& animated = args.guides ? frame_guides : hair;
                     for (auto& writer : usda)
-                        writer->add(hair);
+                        writer->add(animated);
                     for (auto& writer : clips)
-                        writer->add(hair);
+                        writer->add(animated);
                     for (size_t k = 0; k < per_frame.size(); ++k) {
                         write_hair(numbered(per_frame[k], f), hair, write_options);
                         series[k]->added(static_cast<size_t>(f));
@@ -918,6 +980,11 @@ int run_cli(int argc, char** argv) {
                             "Output: .usda (value clips: a layer per frame and a top-level layer, "
                             "or one time-sampled layer, see --usda) or .hair/.obj/.ply (one file "
                             "per frame; #### in the name is the frame number)");
+    animate_cmd->add_flag(
+        "--guides", anim.guides,
+        ".usda: animate one guide strand per wisp only (groom_guide = 1), beside the render "
+        "strands at rest bound to their wisp's guide (groom_closest_guides): what Unreal, "
+        "Houdini or a DCC needs to rebuild the rest, at a fraction of the size");
     animate_cmd->add_option("--png", anim.png, "Render every frame: PNG name with ####");
     animate_cmd->add_option("--mp4", anim.mp4, "Also encode the frames to an MP4 (ffmpeg)");
     animate_cmd->add_option("--view", anim.view, "Camera view for --png/--mp4")
@@ -1031,6 +1098,7 @@ int run_cli(int argc, char** argv) {
             HairWriteOptions options;
             options.obj_segments = convert_segments;
             options.usda_z_up = convert_up == "z";
+            options.usda_precision = convert_exports.precision;
             options.resample_points = convert_exports.resample;
             // Only scenes have a camera; framing it builds the head, a tenth of a second.
             if (format == HairFormat::kRib || format == HairFormat::kPbrt)

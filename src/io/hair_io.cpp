@@ -82,7 +82,8 @@ void write_hair(const std::filesystem::path& path, const Hair& hair,
                               UsdaWriteOptions{.z_up = options.usda_z_up,
                                                .guides = options.usda_guides,
                                                .head = options.usda_head,
-                                               .head_scalp = options.usda_head_scalp});
+                                               .head_scalp = options.usda_head_scalp,
+                                               .precision = options.usda_precision});
         case HairFormat::kHair:
             return write_cyhair(path, hair);
         case HairFormat::kObj:

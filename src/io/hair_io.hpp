@@ -35,6 +35,7 @@ Hair read_hair(const std::filesystem::path& path);
 struct HairWriteOptions {
     bool obj_segments = false;  // .obj: one `l a b` per segment instead of one `l` per strand
     bool usda_z_up = false;     // .usda: Z up, (x, y, z) -> (x, -z, y) (UsdaWriteOptions)
+    int usda_precision = 0;     // .usda: significant digits, 0 = exact (UsdaWriteOptions)
     ExportCamera camera;        // .rib, .pbrt: the scene's camera
     // .usda: guide strands and a head mesh with its scalp faces (UsdaWriteOptions).
     const Hair* usda_guides = nullptr;

@@ -1,5 +1,10 @@
 #include "io/io_util.hpp"
 
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cerrno>
 #include <cstdio>
 #include <memory>
@@ -8,6 +13,40 @@ namespace wisp::io_detail {
 
 std::string read_whole_file(const std::filesystem::path& path, const ReadLimits& limits) {
     return read_file(path, limits);
+}
+
+FileBytes::FileBytes(const std::filesystem::path& path, const ReadLimits& limits) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    struct stat st {};
+    if (fd >= 0 && ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0 &&
+        static_cast<uint64_t>(st.st_size) <= limits.max_bytes) {
+        map_size_ = static_cast<size_t>(st.st_size);
+        map_ = ::mmap(nullptr, map_size_, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
+        if (map_ == MAP_FAILED) map_ = nullptr;
+    }
+    if (fd >= 0) ::close(fd);
+    if (!map_) {
+        // Not mappable, or over the limit: read_file reads it or reports why it cannot.
+        owned_ = read_file(path, limits);
+        view_ = owned_;
+        return;
+    }
+    ::madvise(map_, map_size_, MADV_SEQUENTIAL);
+    view_ = std::string_view(static_cast<const char*>(map_), map_size_);
+    // read_file's check: text holds no NUL byte (a file that does not start with the magic
+    // is left to its parser, which reports its first line).
+    if (limits.text && (limits.magic.empty() || view_.starts_with(limits.magic)))
+        if (const void* nul = std::memchr(view_.data(), '\0', view_.size())) {
+            const auto at = static_cast<const char*>(nul) - view_.data();
+            ::munmap(map_, map_size_);
+            map_ = nullptr;
+            fail(path.string(), ": byte ", at, " is a NUL byte, which ", limits.what,
+                 " (text) never holds");
+        }
+}
+
+FileBytes::~FileBytes() {
+    if (map_) ::munmap(map_, map_size_);
 }
 
 FileReader::FileReader(const std::filesystem::path& path) : name_(path.string()) {

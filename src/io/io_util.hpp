@@ -30,6 +30,27 @@ inline constexpr uint64_t kMaxHairFileBytes = uint64_t(2) << 30;
 // file.
 std::string read_whole_file(const std::filesystem::path& path, const ReadLimits& limits = {});
 
+// A whole file's bytes within `limits`, as read_whole_file gives them, but mapped read-only
+// when the file is a regular, non-empty one: no zero-filled buffer, no copy out of the page
+// cache, its pages mapped in one go (MAP_POPULATE). Anything else (a pipe, /dev/zero, a
+// file the system cannot map) is read whole. The bytes stay valid while the object lives.
+// A file truncated by another process while mapped would fault on the lost pages: wisp reads
+// its own outputs, written atomically (a new file renamed over the old, never truncated).
+class FileBytes {
+  public:
+    FileBytes(const std::filesystem::path& path, const ReadLimits& limits);
+    ~FileBytes();
+    FileBytes(const FileBytes&) = delete;
+    FileBytes& operator=(const FileBytes&) = delete;
+    std::string_view view() const { return view_; }
+
+  private:
+    std::string owned_;
+    void* map_ = nullptr;
+    size_t map_size_ = 0;
+    std::string_view view_;
+};
+
 // Lower-case extension of path, with its dot (".usda"), or "".
 std::string lower_extension(const std::filesystem::path& path);
 

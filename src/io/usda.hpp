@@ -116,7 +116,15 @@ struct UsdaWriteOptions {
     // scalp faces (`head_scalp`, indices into head->faces) as a GeomSubset "scalp". Null: none.
     const Mesh* head = nullptr;
     std::span<const uint32_t> head_scalp;
+    // Significant digits of the strands' floats (points, widths, colors, root UVs), 1 … 9,
+    // trading exactness for size; 0 (the default): the shortest form that reads back
+    // bit-exact. A value v is then written as the nearest decimal of `precision` digits,
+    // within half a unit of its last digit (|error| <= 0.5·10^(1−precision)·|v|, rounded to
+    // float); the extent, written exact, is grown to hold every rounded point.
+    int precision = 0;
 };
+// The largest UsdaWriteOptions::precision (9 digits always read back exactly).
+inline constexpr int kMaxUsdaPrecision = 9;
 
 // The usda layer described above. Throws for a strand of fewer than 2 points (a pinned
 // cubic curve needs 2).
@@ -138,8 +146,13 @@ void write_usda_animation(const std::filesystem::path& path, const std::vector<H
 // then it is a temporary beside the target; destroying the writer unfinished removes it).
 class UsdaAnimationWriter {
   public:
+    // Guides mode (`wisp animate --guides`), with `strands`: the frames are guide strands,
+    // animated as the prim "/hair/guides" (primvars:groom_guide = 1), and `strands` the
+    // render strands at rest, written once as "/hair/strands" with what rebuilds them from
+    // the guides: strand s follows guide strands.wisp[s] (groom_closest_guides, weight 1),
+    // its rest points and root UV (UsdaWriteOptions::guides' layout, GroomAPI on "/hair").
     UsdaAnimationWriter(const std::filesystem::path& path, const Hair& first, double fps,
-                        size_t frames);
+                        size_t frames, const Hair* strands = nullptr);
     ~UsdaAnimationWriter();
     void add(const Hair& frame);
     void finish();
@@ -161,7 +174,9 @@ class UsdaAnimationWriter {
 // SIGINT/SIGTERM/SIGHUP, removes the frames already written.
 class UsdaClipWriter {
   public:
-    UsdaClipWriter(const std::filesystem::path& path, const Hair& first, double fps, size_t frames);
+    // `strands`: guides mode, as UsdaAnimationWriter's (the clips animate "/hair/guides").
+    UsdaClipWriter(const std::filesystem::path& path, const Hair& first, double fps, size_t frames,
+                   const Hair* strands = nullptr);
     ~UsdaClipWriter();
     void add(const Hair& frame);
     void finish();

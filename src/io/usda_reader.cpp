@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <type_traits>
 
 #include "core/error.hpp"
 #include "core/parallel.hpp"
@@ -108,7 +109,14 @@ class Lexer {
     // writers produce), parses it in parallel blocks straight from the text. Returns
     // false with nothing consumed otherwise, or if any block is malformed: the token path
     // then parses it again and reports the exact place.
-    bool float_array_fast(std::vector<float>& out, size_t& elements, int& arity);
+    // T is float (float arrays) or int64_t (int arrays).
+    template <typename T>
+    bool numeric_array_fast(std::vector<T>& out, size_t& elements, int& arity);
+    // At a value to skip, with no token peeked: when it is an array of numbers, tuples,
+    // commas and white space whose parentheses balance (the groom_* primvars wisp does not
+    // read), moves past its `]` and returns true; false with nothing consumed otherwise
+    // (the token path then skips it and reports any error at its place).
+    bool skip_plain_array();
 
     // Where the next token starts, for messages, without lexing it.
     Token position() {
@@ -252,6 +260,65 @@ constexpr auto kPlainArrayChars = [] {
     return ok;
 }();
 
+// The decimal a writer gives (`-0.56645864`, `3e-3`: at most 15 significant digits, scaled
+// by 10^-k with 0 <= k <= 12) as the float nearest to it, without from_chars: m / 10^k in
+// double is correctly rounded, and rounding that double to float gives the float nearest
+// the decimal itself. (Double rounding could only differ if m / 10^k lay within a double's
+// half ulp of a float's midpoint without being one; its distance to a midpoint M·2^e is a
+// nonzero integer over 2^j·10^k, at least 2^-53 relative for M < 2^25 and 5^k < 2^28.)
+// Returns false, consuming nothing, for anything else: the caller then uses from_chars.
+// Consumes what from_chars would: sign, digits, optional `.` and digits, optional exponent.
+inline bool parse_float_fast(const char*& p, const char* e, float& v) {
+    static constexpr double kPow10[] = {1e0, 1e1, 1e2, 1e3, 1e4,  1e5,  1e6,
+                                        1e7, 1e8, 1e9, 1e10, 1e11, 1e12};
+    const char* q = p;
+    const bool negative = q < e && *q == '-';
+    if (negative) ++q;
+    // Leading zeros add no significant digit; m holds at most 15 digits (below 2^53).
+    const char* start = q;
+    while (q < e && *q == '0')
+        ++q;
+    uint64_t m = 0;
+    const char* first = q;
+    while (q < e && digit(*q))
+        m = m * 10 + static_cast<uint64_t>(*q++ - '0');
+    ptrdiff_t significant = q - first;
+    const bool integer_part = q > start;
+    ptrdiff_t fraction = 0;
+    if (q < e && *q == '.') {
+        const char* dot = ++q;
+        if (significant == 0)
+            while (q < e && *q == '0')
+                ++q;
+        const char* f = q;
+        while (q < e && digit(*q))
+            m = m * 10 + static_cast<uint64_t>(*q++ - '0');
+        significant += q - f;
+        fraction = q - dot;
+    }
+    if ((!integer_part && fraction == 0) || significant > 15 || fraction > 64) return false;
+    int exponent = 0;
+    if (q < e && (*q == 'e' || *q == 'E')) {
+        const char* x = q + 1;
+        const bool neg_exp = x < e && *x == '-';
+        if (x < e && (*x == '-' || *x == '+')) ++x;
+        if (x < e && digit(*x)) {
+            while (x < e && digit(*x)) {
+                exponent = exponent * 10 + (*x++ - '0');
+                if (exponent > 1000) return false;
+            }
+            if (neg_exp) exponent = -exponent;
+            q = x;
+        }
+    }
+    const ptrdiff_t k = fraction - exponent;
+    if (k < 0 || k > 12) return false;
+    const float f = static_cast<float>(static_cast<double>(m) / kPow10[k]);
+    v = negative ? -f : f;
+    p = q;
+    return true;
+}
+
 // Numbers already parsed, by their text: arrays of scalars that repeat a few values
 // (widths: a taper along the strand, the same for every strand of a length) skip
 // from_chars on a hit. Direct-mapped on a hash of the text.
@@ -290,6 +357,10 @@ struct NumberTextCache {
         return true;
     }
     static bool from_chars_exact(const char*& p, const char* q, float& v) {
+        if (const char* f = p; parse_float_fast(f, q, v) && f == q) {
+            p = q;
+            return true;
+        }
         const auto r = std::from_chars(p, q, v);
         if (r.ec != std::errc() || r.ptr != q) return false;
         p = q;
@@ -297,9 +368,26 @@ struct NumberTextCache {
     }
 };
 
+// A number at p exactly as the token path would take it: starting with a digit, `-` or
+// `.` (no `+`, `inf`, `nan`: those take the token path) and finite.
+template <typename T>
+bool plain_number(const char*& p, const char* e, T& v) {
+    if (p == e || !(digit(*p) || *p == '-' || *p == '.')) return false;
+    if constexpr (std::is_same_v<T, float>)
+        if (parse_float_fast(p, e, v)) return true;
+    const auto r = std::from_chars(p, e, v);
+    if (r.ec != std::errc()) return false;
+    if constexpr (std::is_floating_point_v<T>)
+        if (!std::isfinite(v)) return false;
+    p = r.ptr;
+    return true;
+}
+
 // Parses `number` or `(number, ...)` elements separated by commas from [p, e) into out;
-// false on anything else.
-bool parse_plain_block(const char* p, const char* e, std::vector<float>& out, size_t& elements,
+// false on anything else (any other character included), so the caller need not check
+// the text first.
+template <typename T>
+bool parse_plain_block(const char* p, const char* e, std::vector<T>& out, size_t& elements,
                        int& arity) {
     auto skip_ws = [&] {
         while (p < e && (*p == ' ' || *p == '\t' || *p == '\r' || *p == '\n'))
@@ -307,17 +395,20 @@ bool parse_plain_block(const char* p, const char* e, std::vector<float>& out, si
     };
     auto number = [&] {
         skip_ws();
-        float v;
-        const auto r = std::from_chars(p, e, v);
-        if (r.ec != std::errc()) return false;
+        T v;
+        if (!plain_number(p, e, v)) return false;
         out.push_back(v);
-        p = r.ptr;
         return true;
     };
     NumberTextCache cache;
     auto scalar = [&] {
-        float v;
-        if (!cache.parse(p, e, v)) return false;
+        T v;
+        if constexpr (std::is_same_v<T, float>) {
+            if (p == e || !(digit(*p) || *p == '-' || *p == '.')) return false;
+            if (!cache.parse(p, e, v) || !std::isfinite(v)) return false;
+        } else if (!plain_number(p, e, v)) {
+            return false;
+        }
         out.push_back(v);
         return true;
     };
@@ -433,6 +524,7 @@ class Parser {
 
     // Skips one value: a single token, or a balanced (...), [...] or {...} group.
     void skip_value() {
+        if (lx_.skip_plain_array()) return;
         Token t = lx_.next();
         if (t.kind == TokKind::kEnd) lx_.error(t, "expected a value, found the end of the file");
         if (t.closes()) lx_.error(t, "expected a value, found ", describe(t));
@@ -584,7 +676,8 @@ class Parser {
             return v;
         }
         if (lx_.accept(']')) return v;
-        if (kind == NumKind::kFloat && lx_.float_array_fast(v.f, v.elements, v.arity)) return v;
+        if (kind == NumKind::kFloat && lx_.numeric_array_fast(v.f, v.elements, v.arity)) return v;
+        if (kind == NumKind::kInt && lx_.numeric_array_fast(v.i, v.elements, v.arity)) return v;
         for (;;) {
             const Token at = lx_.position();
             const int arity = parse_element(v, kind, 0);
@@ -962,14 +1055,13 @@ class Parser {
     UsdaLayer layer_;
 };
 
-bool Lexer::float_array_fast(std::vector<float>& out, size_t& elements, int& arity) {
+template <typename T>
+bool Lexer::numeric_array_fast(std::vector<T>& out, size_t& elements, int& arity) {
     if (has_) return false;
     const size_t close = s_.find(']', pos_);
     if (close == std::string_view::npos) return false;
     const char* b = s_.data() + pos_;
     const char* e = s_.data() + close;
-    for (const char* q = b; q < e; ++q)
-        if (!kPlainArrayChars[static_cast<unsigned char>(*q)]) return false;
     const bool tuples = std::memchr(b, '(', size_t(e - b)) != nullptr;
 
     // Block boundaries just after a top-level comma (after a `)` for tuples).
@@ -987,7 +1079,7 @@ bool Lexer::float_array_fast(std::vector<float>& out, size_t& elements, int& ari
     }
     cuts.push_back(e);
     const size_t blocks = cuts.size() - 1;
-    std::vector<std::vector<float>> values(blocks);
+    std::vector<std::vector<T>> values(blocks);
     std::vector<size_t> counts(blocks);
     std::vector<int> arities(blocks);
     std::vector<char> ok(blocks);
@@ -1022,6 +1114,33 @@ bool Lexer::float_array_fast(std::vector<float>& out, size_t& elements, int& ari
     return true;
 }
 
+bool Lexer::skip_plain_array() {
+    if (has_) return false;
+    skip_space_and_comments();
+    if (pos_ >= s_.size() || s_[pos_] != '[') return false;
+    const size_t close = s_.find(']', pos_);
+    if (close == std::string_view::npos) return false;
+    int depth = 0;
+    size_t lines = 0, last_newline = 0;
+    for (size_t q = pos_ + 1; q < close; ++q) {
+        const char c = s_[q];
+        if (!kPlainArrayChars[static_cast<unsigned char>(c)]) return false;
+        if (c == '(') ++depth;
+        if (c == ')' && --depth < 0) return false;
+        if (c == '\n') {
+            ++lines;
+            last_newline = q;
+        }
+    }
+    if (depth != 0) return false;
+    if (lines) {
+        line_ += lines;
+        line_start_ = last_newline + 1;
+    }
+    pos_ = close + 1;
+    return true;
+}
+
 }  // namespace
 
 UsdaLayer parse_usda(std::string_view text, const std::string& name) {
@@ -1035,9 +1154,9 @@ UsdaLayer parse_usda(std::string_view text, const std::string& name) {
 namespace {
 
 UsdaLayer read_layer_file(const std::filesystem::path& path) {
-    return parse_usda(io_detail::read_whole_file(
-                          path, {io_detail::kMaxHairFileBytes, "a usda file", true, "#usda "}),
-                      path.string());
+    const io_detail::FileBytes bytes(
+        path, {io_detail::kMaxHairFileBytes, "a usda file", true, "#usda "});
+    return parse_usda(bytes.view(), path.string());
 }
 
 // The clip set that applies to prim `path`: the one authored on it or on its nearest

@@ -6,6 +6,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <optional>
 
 #include <tbb/parallel_pipeline.h>
 #include <tbb/task_arena.h>
@@ -35,21 +36,34 @@ void append_vec(std::string& out, const Vec3f& v) {
 // characters ("-1.1754944e-38"), so a run of k values needs at most 17·k bytes.
 constexpr size_t kMaxFloatChars = 16;
 
-char* put_float(char* p, float v) {
-    return std::to_chars(p, p + kMaxFloatChars, v).ptr;
+// precision 0: the shortest exact form; else that many significant digits (%g's form,
+// "-1.23456789e-38" at most: 15 characters).
+char* put_float(char* p, float v, int precision = 0) {
+    return precision == 0
+               ? std::to_chars(p, p + kMaxFloatChars, v).ptr
+               : std::to_chars(p, p + kMaxFloatChars, v, std::chars_format::general, precision).ptr;
 }
 
-char* put_vec(char* p, const Vec3f& v) {
+char* put_vec(char* p, const Vec3f& v, int precision = 0) {
     *p++ = '(';
-    p = put_float(p, v.x());
+    p = put_float(p, v.x(), precision);
     *p++ = ',';
     *p++ = ' ';
-    p = put_float(p, v.y());
+    p = put_float(p, v.y(), precision);
     *p++ = ',';
     *p++ = ' ';
-    p = put_float(p, v.z());
+    p = put_float(p, v.z(), precision);
     *p++ = ')';
     return p;
+}
+
+// The float a reader gets back from v written at `precision` digits.
+float written_value(float v, int precision) {
+    char buf[kMaxFloatChars];
+    char* end = put_float(buf, v, precision);
+    float back = v;
+    std::from_chars(buf, end, back);
+    return back;
 }
 
 // put_float through a small direct-mapped cache of values already formatted: for arrays
@@ -62,15 +76,20 @@ struct FloatTextCache {
         char text[kMaxFloatChars];
     };
     std::array<Slot, kSlots> slots;
+    int precision = 0;  // of the texts held
 
-    char* put(char* p, float v) {
+    char* put(char* p, float v, int digits) {
+        if (digits != precision) {
+            slots = {};
+            precision = digits;
+        }
         const uint32_t bits = std::bit_cast<uint32_t>(v);
         Slot& slot = slots[(bits * 2654435761u) >> 26];
         if (slot.size > 0 && slot.bits == bits) {
             std::memcpy(p, slot.text, slot.size);
             return p + slot.size;
         }
-        char* end = put_float(p, v);
+        char* end = put_float(p, v, precision);
         slot.bits = bits;
         slot.size = static_cast<uint8_t>(end - p);
         std::memcpy(slot.text, p, slot.size);
@@ -94,6 +113,7 @@ struct Out {
     std::string buf;
     std::ostream* stream = nullptr;
     std::vector<std::string> parts;
+    int precision = 0;  // UsdaWriteOptions::precision of the strands' floats
 
     void flush(bool force = false) {
         if (!stream || (!force && buf.size() < (8u << 20))) return;
@@ -161,7 +181,7 @@ void points_array(Out& out, const Hair& hair, const char* indent, bool z_up = fa
         const uint32_t a = hair.offsets[s], b = hair.offsets[s + 1];
         append_raw(o, (b - a) * (3 * kMaxFloatChars + 8) + 1, [&](char* p) {
             for (uint32_t i = a; i < b; ++i) {
-                p = put_vec(p, to_layer(hair.points[i], z_up));
+                p = put_vec(p, to_layer(hair.points[i], z_up), out.precision);
                 if (i + 1 < hair.point_count()) {
                     *p++ = ',';
                     *p++ = ' ';
@@ -173,7 +193,10 @@ void points_array(Out& out, const Hair& hair, const char* indent, bool z_up = fa
     });
 }
 
-Box3 extent_of(const Hair& hair, bool z_up = false) {
+// The bounds of the points in the layer's axes grown by the largest half width. With a
+// precision, each bound also takes in what it reads back as when rounded: rounding is
+// monotonic, so every rounded point then lies inside (the extent itself is written exact).
+Box3 extent_of(const Hair& hair, bool z_up = false, int precision = 0) {
     Box3 b = hair.bounds();
     if (z_up && !b.empty()) {
         const Box3 y = b;
@@ -189,6 +212,11 @@ Box3 extent_of(const Hair& hair, bool z_up = false) {
     } else {
         b.lo = b.hi = Vec3f::Zero();
     }
+    if (precision > 0)
+        for (int k = 0; k < 3; ++k) {
+            b.lo[k] = std::min(b.lo[k], written_value(b.lo[k], precision));
+            b.hi[k] = std::max(b.hi[k], written_value(b.hi[k], precision));
+        }
     return b;
 }
 
@@ -276,9 +304,12 @@ void groom_primvars(Out& o, const Hair& hair, bool with_guides, size_t first_id,
         o.buf += "        float2[] primvars:groom_root_uv = [";
         for (size_t i = 0; i < S; ++i) {
             o.buf += i ? ", (" : "(";
-            append_number(o.buf, hair.root_uv[i].x());
-            o.buf += ", ";
-            append_number(o.buf, hair.root_uv[i].y());
+            append_raw(o.buf, 2 * kMaxFloatChars + 2, [&](char* p) {
+                p = put_float(p, hair.root_uv[i].x(), o.precision);
+                *p++ = ',';
+                *p++ = ' ';
+                return put_float(p, hair.root_uv[i].y(), o.precision);
+            });
             o.buf += ')';
             if ((i & 65535) == 65535) o.flush();
         }
@@ -312,7 +343,8 @@ void color_primvar(Out& o, const Hair& hair, const char* declaration) {
     const size_t S = hair.strand_count();
     format_strands(o, hair, 0, [&](size_t s, std::string& t) {
         t += "            ";
-        append_raw(t, 3 * kMaxFloatChars + 8, [&](char* p) { return put_vec(p, hair.colors[s]); });
+        append_raw(t, 3 * kMaxFloatChars + 8,
+                   [&](char* p) { return put_vec(p, hair.colors[s], o.precision); });
         t += s + 1 < S ? ",\n" : "\n";
     });
     out += "        ] (\n            interpolation = \"uniform\"\n        )\n";
@@ -332,7 +364,7 @@ void end_curves(Out& o, const Hair& hair, bool with_guides = false, size_t first
             // this thread copies its text.
             thread_local FloatTextCache cache;
             for (uint32_t i = a; i < b; ++i) {
-                p = cache.put(p, hair.width_at(i));
+                p = cache.put(p, hair.width_at(i), o.precision);
                 if (i + 1 < hair.point_count()) {
                     *p++ = ',';
                     *p++ = ' ';
@@ -427,7 +459,7 @@ void head_prim(Out& o, const Mesh& mesh, std::span<const uint32_t> scalp, bool z
 
 void curves_body(Out& out, const Hair& hair, bool z_up) {
     out.buf += "        float3[] extent = ";
-    append_extent(out.buf, extent_of(hair, z_up));
+    append_extent(out.buf, extent_of(hair, z_up, out.precision));
     out.buf += "\n        point3f[] points = [\n";
     points_array(out, hair, "            ", z_up);
     out.buf += "        ]\n";
@@ -454,6 +486,9 @@ void write_single(Out& out, const Hair& hair, const UsdaWriteOptions& options) {
 }
 
 void check_options(const Hair& hair, const UsdaWriteOptions& options, const std::string& name) {
+    if (options.precision < 0 || options.precision > kMaxUsdaPrecision)
+        fail(name, ": precision ", options.precision, " is not 0 (exact) or 1 … ",
+             kMaxUsdaPrecision, " significant digits");
     if (options.guides) {
         check_strands(*options.guides, name + " guides");
         if (hair.wisp.empty() && hair.strand_count())
@@ -523,7 +558,27 @@ void add_animation_frame(Out& out, const Hair& frame, size_t index) {
     out.buf += "            ],\n";
 }
 
-void end_animation(Out& out, const Hair& first, const std::vector<Box3>& extents) {
+// The render strands at rest, written whole with their guide binding, and the guides prim up
+// to its points (guides mode of the animation writers: the frames are the guides).
+void begin_guides_layer(Out& out, const Hair& strands, const Hair& guides,
+                        const std::string& metadata, const std::string& hair_metadata = {}) {
+    begin_layer(out, strands, metadata, false, true, hair_metadata);
+    curves_body(out, strands, false);
+    end_curves(out, strands, true, 0, static_cast<int64_t>(strands.strand_count()));
+    out.buf += '\n';
+    begin_curves(out, guides, "guides", false);
+}
+
+// Closes the animated prim (`first`'s strands, or with `strands` its guides) and the layer.
+void end_animated_layer(Out& out, const Hair& first, const Hair* strands) {
+    if (!strands) return end_layer(out, first);
+    end_curves(out, first, true, strands->strand_count(), -1);
+    out.buf += "}\n";
+    out.flush(true);
+}
+
+void end_animation(Out& out, const Hair& first, const std::vector<Box3>& extents,
+                   const Hair* strands = nullptr) {
     out.buf += "        }\n        float3[] extent.timeSamples = {\n";
     for (size_t f = 0; f < extents.size(); ++f) {
         out.buf += "            ";
@@ -533,7 +588,7 @@ void end_animation(Out& out, const Hair& first, const std::vector<Box3>& extents
         out.buf += ",\n";
     }
     out.buf += "        }\n";
-    end_layer(out, first);
+    end_animated_layer(out, first, strands);
 }
 
 void write_animation(Out& out, const std::vector<Hair>& frames, double fps) {
@@ -555,6 +610,7 @@ std::string encode_usda(const Hair& hair, const std::string& name,
     check_strands(hair, name);
     check_options(hair, options, name);
     Out out;
+    out.precision = options.precision;
     out.buf.reserve(hair.point_count() * 48 + hair.strand_count() * 96 + 1024);
     write_single(out, hair, options);
     return std::move(out.buf);
@@ -567,6 +623,7 @@ void write_usda(const std::filesystem::path& path, const Hair& hair,
     write_file_atomic(path, [&](std::ostream& os) {
         Out out;
         out.stream = &os;
+        out.precision = options.precision;
         write_single(out, hair, options);
     });
 }
@@ -593,23 +650,39 @@ struct UsdaAnimationWriter::Impl {
     AtomicFile file;
     Out out;
     Hair first;  // topology, widths, colors and wisp ids of frame 0
+    std::optional<Hair> strands;  // guides mode: the render strands at rest
     size_t frames, written = 0;
     std::vector<Box3> extents;
     explicit Impl(const std::filesystem::path& path) : file(path) {}
 };
 
+namespace {
+
+// Guides mode: the render strands are bound to the guides by their wisp ids.
+void check_guides_mode(const Hair& strands, const Hair& guides, const std::string& name) {
+    check_strands(strands, name);
+    check_options(strands, UsdaWriteOptions{.guides = &guides}, name);
+}
+
+}  // namespace
+
 UsdaAnimationWriter::UsdaAnimationWriter(const std::filesystem::path& path, const Hair& first,
-                                         double fps, size_t frames)
+                                         double fps, size_t frames, const Hair* strands)
     : path_(path) {
     if (frames == 0) fail(path.string(), ": an animation needs at least one frame");
     if (!(fps > 0) || !std::isfinite(fps))
         fail(path.string(), ": frames per second must be positive, not ", fps);
     check_strands(first, path.string());
+    if (strands) check_guides_mode(*strands, first, path.string());
     impl_ = std::make_unique<Impl>(path);
     impl_->out.stream = &impl_->file.stream();
     impl_->first = first;
+    if (strands) impl_->strands = *strands;
     impl_->frames = frames;
-    begin_layer(impl_->out, first, animation_metadata(frames, fps));
+    if (strands)
+        begin_guides_layer(impl_->out, *strands, first, animation_metadata(frames, fps));
+    else
+        begin_layer(impl_->out, first, animation_metadata(frames, fps));
     impl_->out.buf += "        point3f[] points.timeSamples = {\n";
 }
 
@@ -628,7 +701,7 @@ void UsdaAnimationWriter::finish() {
     Impl& m = *impl_;
     if (m.written != m.frames)
         fail(path_.string(), ": ", m.written, " frames written of ", m.frames, " announced");
-    end_animation(m.out, m.first, m.extents);
+    end_animation(m.out, m.first, m.extents, m.strands ? &*m.strands : nullptr);
     m.file.commit();
 }
 
@@ -649,13 +722,13 @@ std::string clip_prefix(const std::filesystem::path& path) {
 }
 
 void write_clip_frame(const std::filesystem::path& file, const Hair& frame, size_t index,
-                      const std::string& top) {
+                      const std::string& top, const char* prim) {
     AtomicFile f(file);
     Out out;
     out.stream = &f.stream();
     out.buf += cat("#usda 1.0\n(\n    doc = \"wisp animation: frame ", index, ", a value clip of ",
                    top, "\"\n)\n\n");
-    out.buf += "over \"hair\"\n{\n    over BasisCurves \"strands\"\n    {\n";
+    out.buf += cat("over \"hair\"\n{\n    over BasisCurves \"", prim, "\"\n    {\n");
     out.buf += "        float3[] extent.timeSamples = {\n            ";
     append_number(out.buf, index);
     out.buf += ": ";
@@ -671,6 +744,7 @@ void write_clip_frame(const std::filesystem::path& file, const Hair& frame, size
 
 struct UsdaClipWriter::Impl {
     Hair first;
+    std::optional<Hair> strands;  // guides mode: the render strands at rest
     double fps = 24;
     size_t frames = 0, written = 0;
     FileSeries series;
@@ -687,7 +761,7 @@ std::filesystem::path UsdaClipWriter::frame_path(const std::filesystem::path& pa
 }
 
 UsdaClipWriter::UsdaClipWriter(const std::filesystem::path& path, const Hair& first, double fps,
-                               size_t frames)
+                               size_t frames, const Hair* strands)
     : path_(path) {
     const std::string name = path.string();
     if (frames == 0) fail(name, ": an animation needs at least one frame");
@@ -700,8 +774,10 @@ UsdaClipWriter::UsdaClipWriter(const std::filesystem::path& path, const Hair& fi
              ": a value clip animation needs a file name without `@` or control "
              "characters (its frames are named after it)");
     check_strands(first, name);
+    if (strands) check_guides_mode(*strands, first, name);
     impl_ = std::make_unique<Impl>(path, frames);
     impl_->first = first;
+    if (strands) impl_->strands = *strands;
     impl_->fps = fps;
     impl_->frames = frames;
 }
@@ -712,7 +788,8 @@ void UsdaClipWriter::add(const Hair& frame) {
     Impl& m = *impl_;
     check_next_frame(path_, m.first, frame, m.written, m.frames);
     const std::filesystem::path file = m.series.path(m.written);
-    write_clip_frame(file, frame, m.written, path_.filename().string());
+    write_clip_frame(file, frame, m.written, path_.filename().string(),
+                     m.strands ? "guides" : "strands");
     m.series.added(m.written);
     ++m.written;
 }
@@ -725,8 +802,10 @@ void UsdaClipWriter::finish() {
     const std::filesystem::path manifest = path_.parent_path() / (stem + ".manifest.usda");
     write_file_atomic(manifest,
                       "#usda 1.0\n(\n    doc = \"wisp animation: the attributes its value clips "
-                      "animate\"\n)\n\nover \"hair\"\n{\n    over \"strands\"\n    {\n"
-                      "        float3[] extent\n        point3f[] points\n    }\n}\n");
+                      "animate\"\n)\n\nover \"hair\"\n{\n    over \"" +
+                          std::string(m.strands ? "guides" : "strands") +
+                          "\"\n    {\n"
+                          "        float3[] extent\n        point3f[] points\n    }\n}\n");
     try {
         std::string clips = "    clips = {\n        dictionary default = {\n";
         std::string pairs;
@@ -745,10 +824,16 @@ void UsdaClipWriter::finish() {
         write_file_atomic(path_, [&](std::ostream& os) {
             Out out;
             out.stream = &os;
-            begin_layer(out, m.first, animation_metadata(m.frames, m.fps), false, false, clips);
+            const Hair* strands = m.strands ? &*m.strands : nullptr;
+            if (strands)
+                begin_guides_layer(out, *strands, m.first, animation_metadata(m.frames, m.fps),
+                                   clips);
+            else
+                begin_layer(out, m.first, animation_metadata(m.frames, m.fps), false, false,
+                            clips);
             // Declared without a value: a local value would be stronger than the clips.
             out.buf += "        float3[] extent\n        point3f[] points\n";
-            end_layer(out, m.first);
+            end_animated_layer(out, m.first, strands);
         });
     } catch (...) {
         std::error_code ec;

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "io/hair_io.hpp"
+#include "io/usda.hpp"
 
 namespace {
 
@@ -111,6 +112,25 @@ TEST(Cli, HeadAndRoundTrip) {
     ASSERT_EQ(run("convert " + hair.string() + " " + usda.string()), 0);
     ASSERT_EQ(run("convert " + usda.string() + " " + back.string()), 0);
     EXPECT_EQ(run("info " + back.string()), 0);
+}
+
+TEST(Cli, PrecisionWritesFewerDigits) {
+    Dir d;
+    const fs::path exact = d.path / "e.usda", short3 = d.path / "p.usda", c = d.path / "c.usda";
+    const std::string gen = "generate --preset short --strands 300 --wisps 30 -q ";
+    ASSERT_EQ(run(gen + "-o " + exact.string()), 0);
+    ASSERT_EQ(run(gen + "--precision 3 -o " + short3.string()), 0);
+    ASSERT_EQ(run("convert " + exact.string() + " " + c.string() + " --precision 3"), 0);
+    EXPECT_LT(fs::file_size(short3), fs::file_size(exact) * 3 / 4);
+    const wisp::Hair a = wisp::read_hair(exact), b = wisp::read_hair(short3),
+                     bc = wisp::read_hair(c);
+    ASSERT_EQ(a.points.size(), b.points.size());
+    EXPECT_TRUE(b.points == bc.points);
+    for (size_t i = 0; i < a.points.size(); ++i)
+        EXPECT_LE((a.points[i] - b.points[i]).cwiseAbs().maxCoeff(),
+                  5e-3f * a.points[i].cwiseAbs().maxCoeff() + 1e-6f);
+    EXPECT_EQ(run(gen + "--precision 0 -o " + short3.string()), 2);
+    EXPECT_EQ(run(gen + "--precision 10 -o " + short3.string()), 2);
 }
 
 TEST(Cli, UpZWritesAZUpLayer) {
@@ -229,6 +249,68 @@ TEST(Cli, AnimateWritesFramesDeterministically) {
     EXPECT_EQ(
         run("animate " + hair + " --frames 2 --tie 0,0,-12,-1 -o " + (d.path / "t.usda").string()),
         2);
+}
+
+// --guides: each frame holds one guide per wisp, the very strand the full animation moves
+// (the same simulation), beside the render strands at rest bound to their guides; both as
+// value clips and as one time-sampled layer.
+TEST(Cli, AnimateGuidesWritesTheGuidesOnly) {
+    Dir d;
+    const fs::path style = d.path / "s.toml";
+    write(style,
+          "[roots]\nwisps = 40\nstrands = 600\npoints_per_strand = 10\n"
+          "[maps]\nlength = 25\n[dynamics]\nsections = 5\n");
+    const std::string common = "animate " + style.string() + " --motion shake --frames 3 -q ";
+    const fs::path full = d.path / "full.usda", g = d.path / "g.usda", gs = d.path / "gs.usda";
+    ASSERT_EQ(run(common + "-o " + full.string()), 0);
+    ASSERT_EQ(run(common + "--guides -o " + g.string()), 0);
+    ASSERT_EQ(run(common + "--guides --usda single -o " + gs.string()), 0);
+    EXPECT_EQ(run(common + "--guides -o " + (d.path / "x.hair").string()), 2);
+
+    // The frame layers animate /hair/guides only, and are far smaller.
+    const std::string frame2 = slurp(d.path / "g.0002.usda");
+    EXPECT_NE(frame2.find("over BasisCurves \"guides\""), std::string::npos);
+    EXPECT_EQ(frame2.find("\"strands\""), std::string::npos);
+    EXPECT_LT(fs::file_size(d.path / "g.0002.usda") * 5, fs::file_size(d.path / "full.0002.usda"));
+    // Guide k of frame 2 is a strand of its wisp in the full animation's frame 2.
+    // A clip holds points only: the topology is the top layer's.
+    const wisp::UsdaLayer guide_layer = wisp::read_usda_layer(d.path / "g.0002.usda");
+    ASSERT_EQ(guide_layer.curves.size(), 1u);
+    wisp::Hair full2 = wisp::read_hair(full);
+    full2.points = wisp::read_usda_layer(d.path / "full.0002.usda").curves.at(0).points;
+    const std::vector<wisp::Vec3f>& gp = guide_layer.curves[0].points;
+    // The top layer: render strands at rest (600, read back as the strands) and the guides,
+    // flagged and bound (closest guides).
+    const wisp::UsdaLayer top = wisp::read_usda_layer(g);
+    ASSERT_EQ(top.curves.size(), 2u);
+    EXPECT_EQ(top.curves[0].path, "/hair/strands");
+    EXPECT_EQ(top.curves[1].path, "/hair/guides");
+    EXPECT_TRUE(top.curves[1].guide);
+    const size_t W = top.curves[1].counts.size();
+    EXPECT_EQ(W, 40u);
+    const std::string text = slurp(g);
+    EXPECT_NE(text.find("primvars:groom_closest_guides"), std::string::npos);
+    EXPECT_NE(text.find("prepend apiSchemas = [\"GroomAPI\"]"), std::string::npos);
+    EXPECT_EQ(wisp::read_hair(g).strand_count(), 600u);
+    size_t at = 0, found = 0;
+    for (size_t k = 0; k < W; ++k) {
+        const size_t n = static_cast<size_t>(top.curves[1].counts[k]);
+        for (size_t s = 0; s < full2.strand_count(); ++s)
+            if (full2.strand_size(s) == n &&
+                std::equal(gp.begin() + long(at), gp.begin() + long(at + n),
+                           full2.points.begin() + full2.offsets[s])) {
+                ++found;
+                break;
+            }
+        at += n;
+    }
+    EXPECT_EQ(at, gp.size());
+    EXPECT_EQ(found, W);
+    // The single layer holds the same guides as time samples.
+    const std::string single = slurp(gs);
+    EXPECT_NE(single.find("def BasisCurves \"guides\""), std::string::npos);
+    EXPECT_NE(single.find("point3f[] points.timeSamples"), std::string::npos);
+    EXPECT_EQ(wisp::read_hair(gs).points, wisp::read_hair(g).points);
 }
 
 TEST(Cli, AnimateRejectsBadInput) {

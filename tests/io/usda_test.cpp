@@ -4,8 +4,12 @@
 
 #include <unistd.h>
 #include <algorithm>
+#include <bit>
+#include <charconv>
+#include <random>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
@@ -671,6 +675,145 @@ TEST(Usda, BigArraysKeepLineNumbers) {
     const UsdaLayer ok = parse_usda(text + "    ]\n}\n", "ok.usda");
     ASSERT_EQ(ok.curves[0].points.size(), 200000u);
     EXPECT_EQ(ok.curves[0].points[123456], Vec3f(1.5f, -2.f, 3e-3f));
+}
+
+// The reader parses the decimals writers give without from_chars (a shortcut through
+// double); every float it reads must be the one from_chars reads from the same text. Random
+// bit patterns over the magnitudes of hair (1e-7 to 1e7), written shortest and at every
+// precision 1..9, as tuples (points) and as scalars (widths).
+TEST(Usda, FastNumberParsingMatchesFromChars) {
+    std::mt19937 rng(15);
+    std::vector<std::string> texts;
+    while (texts.size() < 300000) {
+        const float v = std::bit_cast<float>(static_cast<uint32_t>(rng()));
+        if (!std::isfinite(v) || std::abs(v) > 1e7f || (v != 0 && std::abs(v) < 1e-7f)) continue;
+        char buf[64];
+        const int precision = static_cast<int>(texts.size() % 10);  // 0: shortest
+        const auto r = precision == 0
+                           ? std::to_chars(buf, buf + sizeof buf, v)
+                           : std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general,
+                                           precision);
+        texts.emplace_back(buf, r.ptr);
+    }
+    texts.insert(texts.end(), {"0", "-0", "0.5", "-.5", "1.", "123456789012345", "0.1e1",
+                               "1.5E-3", "999999999999999e-12", "16777217", "0.000000000001"});
+    while (texts.size() % 3)
+        texts.emplace_back("1");
+    std::string points, widths;
+    for (size_t i = 0; i < texts.size(); i += 3)
+        points += "(" + texts[i] + ", " + texts[i + 1] + ", " + texts[i + 2] + "),\n";
+    for (const std::string& t : texts)
+        widths += t + ", ";
+    const UsdaLayer layer =
+        parse_usda("#usda 1.0\ndef BasisCurves \"C\" {\n point3f[] points = [" + points +
+                       "]\n float[] widths = [" + widths + "]\n}\n",
+                   "fast.usda");
+    const UsdCurves& c = layer.curves.at(0);
+    ASSERT_EQ(c.points.size() * 3, texts.size());
+    ASSERT_EQ(c.widths.size(), texts.size());
+    size_t wrong = 0;
+    for (size_t i = 0; i < texts.size(); ++i) {
+        float expected;
+        std::from_chars(texts[i].data(), texts[i].data() + texts[i].size(), expected);
+        const float got = c.points[i / 3][static_cast<int>(i % 3)];
+        if (std::bit_cast<uint32_t>(got) != std::bit_cast<uint32_t>(expected) ||
+            std::bit_cast<uint32_t>(c.widths[i]) != std::bit_cast<uint32_t>(expected)) {
+            if (++wrong < 10) ADD_FAILURE() << texts[i] << " read as " << got << " / " << c.widths[i];
+        }
+    }
+    EXPECT_EQ(wrong, 0u);
+}
+
+// Int arrays take the parallel fast path too, and arrays wisp does not read (the groom_*
+// primvars) are skipped without tokens; a malformed one still fails at its place.
+TEST(Usda, FastIntArraysAndSkippedArrays) {
+    std::string counts, ids;
+    for (int i = 0; i < 100000; ++i) {
+        counts += "2, ";
+        ids += std::to_string(i % 977) + ", ";
+    }
+    std::string pts;
+    for (int i = 0; i < 200000; ++i)
+        pts += "(0, " + std::to_string(i) + ", 0), ";
+    std::string skipped;
+    for (int i = 0; i < 100000; ++i)
+        skipped += "(0.25, 0.75),\n";
+    const std::string head = "#usda 1.0\ndef BasisCurves \"C\" {\n int[] curveVertexCounts = [" +
+                             counts + "]\n point3f[] points = [" + pts +
+                             "]\n int[] primvars:wisp_id = [" + ids +
+                             "]\n float2[] primvars:groom_root_uv = [" + skipped + "]\n";
+    const UsdaLayer layer = parse_usda(head + " float extra = 1\n}\n", "ints.usda");
+    const UsdCurves& c = layer.curves.at(0);
+    ASSERT_EQ(c.counts.size(), 100000u);
+    EXPECT_TRUE(std::all_of(c.counts.begin(), c.counts.end(), [](int n) { return n == 2; }));
+    ASSERT_EQ(c.wisp_id.size(), 100000u);
+    EXPECT_EQ(c.wisp_id[99999], 99999 % 977);
+    EXPECT_EQ(c.points[123457], Vec3f(0, 123457, 0));
+    // After the skipped array (lines 6 .. 100006), line numbers are still right.
+    expect_error([&] { parse_usda(head + " $\n}\n", "ints.usda"); }, "ints.usda:100007:2:");
+    // A bad int inside a big int array is reported by the token path at its place.
+    std::string bad = head;
+    bad.replace(bad.find("2, 2, ") + 3, 1, "2.5");
+    expect_error([&] { parse_usda(bad + "}\n", "bad.usda"); }, "bad.usda:3:");
+    // An unbalanced tuple inside a skipped array is not skipped by the shortcut.
+    std::string unbalanced = head;
+    unbalanced.replace(unbalanced.find("(0.25, 0.75),\n(0.25"), 1, "");
+    EXPECT_THROW(parse_usda(unbalanced + "}\n", "unbalanced.usda"), Error);
+}
+
+// --precision N: every number within half a unit of its N-th significant digit (rounded
+// to float), the file smaller the fewer the digits, the extent still holding every point,
+// 0 the exact default and anything outside 0..9 refused.
+TEST(Usda, PrecisionBoundsTheErrorAndShrinksTheFile) {
+    Hair h = test::random_hair(8, 2000, 12);
+    for (size_t s = 0; s < h.strand_count(); ++s)
+        h.root_uv.emplace_back(float(s) / 2000.f + 1e-4f, 0.333333f);
+    const std::string exact = encode_usda(h);
+    EXPECT_EQ(encode_usda(h, "hair", {.precision = 0}), exact);
+    size_t previous = exact.size();
+    for (int digits : {9, 6, 4, 3}) {
+        const std::string text = encode_usda(h, "hair", {.precision = digits});
+        if (digits < 9) {  // 9 digits are more than the shortest exact form needs
+            EXPECT_LT(text.size(), previous) << digits;
+            previous = text.size();
+        }
+        const UsdaLayer layer = parse_usda(text, "p.usda");
+        const Hair back = hair_from_usda(layer, "p.usda");
+        ASSERT_EQ(back.points.size(), h.points.size());
+        const double rel = 0.5 * std::pow(10.0, 1 - digits);
+        auto close = [&](float got, float want) {
+            return std::abs(double(got) - double(want)) <=
+                   rel * std::abs(double(want)) + 2 * std::numeric_limits<float>::epsilon() *
+                                                      std::abs(double(want));
+        };
+        size_t bad = 0, changed = 0;
+        for (size_t i = 0; i < h.points.size(); ++i)
+            for (int k = 0; k < 3; ++k) {
+                bad += !close(back.points[i][k], h.points[i][k]);
+                changed += back.points[i][k] != h.points[i][k];
+            }
+        for (size_t i = 0; i < h.widths.size(); ++i)
+            bad += !close(back.widths[i], h.widths[i]);
+        EXPECT_EQ(bad, 0u) << digits << " digits";
+        if (digits < 9) EXPECT_GT(changed, 0u) << digits;  // the rounding happened
+        if (digits == 9) EXPECT_EQ(changed, 0u);           // 9 digits always read back exact
+        // The extent (exact) holds every point as read back.
+        const std::smatch m = [&] {
+            std::smatch r;
+            static const std::regex re(R"(float3\[\] extent = \[\(([^,]+), ([^,]+), ([^)]+)\), \(([^,]+), ([^,]+), ([^)]+)\)\])");
+            std::regex_search(text, r, re);
+            return r;
+        }();
+        ASSERT_EQ(m.size(), 7u);
+        for (const Vec3f& p : back.points)
+            for (int k = 0; k < 3; ++k) {
+                EXPECT_LE(std::stof(m[1 + k]), p[k]);
+                EXPECT_GE(std::stof(m[4 + k]), p[k]);
+            }
+    }
+    for (int wrong : {-1, 10})
+        test::expect_error([&] { encode_usda(h, "w.usda", {.precision = wrong}); },
+                           "w.usda: precision " + std::to_string(wrong));
 }
 
 TEST(Usda, TruncatedFilesFail) {
