@@ -54,14 +54,24 @@ GrayImage read_gray_image(const std::filesystem::path& path) {
     return std::move(read_image_planes(path, 1).front());
 }
 
-void write_png(const std::filesystem::path& path, const RgbImage& image) {
+std::string encode_png(const RgbImage& image) {
     std::string bytes;
     auto sink = [](void* ctx, void* data, int size) {
         static_cast<std::string*>(ctx)->append(static_cast<const char*>(data), size);
     };
     if (!stbi_write_png_to_func(sink, &bytes, image.width, image.height, 3, image.rgb.data(),
                                 image.width * 3))
+        fail("PNG encoding of a ", image.width, "×", image.height, " image failed");
+    return bytes;
+}
+
+void write_png(const std::filesystem::path& path, const RgbImage& image) {
+    std::string bytes;
+    try {
+        bytes = encode_png(image);
+    } catch (const Error&) {
         fail(path.string(), ": PNG encoding failed");
+    }
     write_file_atomic(path, bytes);
 }
 

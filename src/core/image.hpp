@@ -2,6 +2,7 @@
 // Images: grayscale maps read from PNG (scalp maps, masks) and RGB images written to PNG.
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "core/math.hpp"
@@ -34,6 +35,10 @@ struct RgbImage {
     int width = 0, height = 0;
     std::vector<uint8_t> rgb;  // #width·height·3, row-major, top row first
 };
+
+// The PNG file's bytes of an image (for Python's _repr_png_); throws wisp::Error if encoding
+// fails.
+std::string encode_png(const RgbImage& image);
 
 // Writes a PNG atomically; throws wisp::Error if it cannot.
 void write_png(const std::filesystem::path& path, const RgbImage& image);
