@@ -10,7 +10,9 @@
 #include "core/hair.hpp"
 #include "core/parallel.hpp"
 #include "groom/style_toml.hpp"
+#include "geometry/builtin_head.hpp"
 #include "io/hair_io.hpp"
+#include "render/export_view.hpp"
 
 namespace wisp::python {
 namespace {
@@ -382,20 +384,34 @@ wisp_ids N integers (-1: none), or None)")
              "Raises wisp.Error if the arrays disagree in size or hold non-finite values")
         .def(
             "write",
-            [](const Hair& h, const std::string& path, bool obj_segments, bool z_up, int resample) {
+            [](py::object self, const std::string& path, bool obj_segments, bool z_up, int resample,
+               HeadPtr head) {
+                const Hair& h = self.cast<const Hair&>();
                 if (resample < 0)
                     throw py::value_error(cat("resample: expected >= 0 points, got ", resample));
                 HairWriteOptions options;
                 options.obj_segments = obj_segments;
                 options.usda_z_up = z_up;
                 options.resample_points = resample;
-                hair_format_from_path(path);  // an unknown extension before the GIL is let go
-                run_released(0, [&] { write_hair(path, h, options); return 0; });
+                // An unknown extension before the GIL is let go.
+                const HairFormat format = hair_format_from_path(path);
+                // Scenes frame the hair on its head as the CLI does: the head given, the one
+                // the hair was generated on, or the built-in one (as `wisp convert`).
+                if (!head && py::hasattr(self, "head") && py::isinstance<Head>(self.attr("head")))
+                    head = self.attr("head").cast<HeadPtr>();
+                run_released(0, [&] {
+                    if (format == HairFormat::kRib || format == HairFormat::kPbrt)
+                        options.camera =
+                            export_camera(h, head ? *head->mesh : builtin_head_mesh());
+                    write_hair(path, h, options);
+                    return 0;
+                });
             },
             py::arg("path"), py::kw_only(), py::arg("obj_segments") = false,
-            py::arg("z_up") = false, py::arg("resample") = 0,
+            py::arg("z_up") = false, py::arg("resample") = 0, py::arg("head") = HeadPtr(),
             "Writes the hair in the format of path's extension (.usda .hair .obj .ply .data .rib "
-            ".pbrt .npz), atomically, as `wisp generate -o` does")
+            ".pbrt .npz), atomically, as `wisp generate -o` does; .rib and .pbrt scenes are framed "
+            "on head (default: the hair's own head, else the built-in one)")
         .def("__repr__", [](const Hair& h) {
             return cat("<wisp.Hair ", h.strand_count(), " strands, ", h.point_count(), " points>");
         });

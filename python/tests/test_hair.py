@@ -124,10 +124,13 @@ def test_files_byte_identical_to_cli(exe, tmp_path, ext, head):
     style = small_style(800, 40)
     toml = tmp_path / "s.toml"
     toml.write_text(style.to_toml())
-    cli = tmp_path / f"cli.{ext}"
+    # The same file name in two folders: scenes (.rib, .pbrt) name their picture after it.
+    (tmp_path / "cli").mkdir()
+    (tmp_path / "py").mkdir()
+    cli = tmp_path / "cli" / f"hair.{ext}"
     run_cli(exe, "generate", toml, "-o", cli, "--seed", 11, "--threads", 1, "--quiet")
     hair = wisp.generate(wisp.Style.from_toml(toml), seed=11, threads=2)
-    mine = tmp_path / f"py.{ext}"
+    mine = tmp_path / "py" / f"hair.{ext}"
     hair.write(str(mine))
     assert mine.read_bytes() == cli.read_bytes()
 
