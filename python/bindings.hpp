@@ -4,8 +4,8 @@
 // (py_hair.cpp), the renderer (py_render.cpp), the pipeline stages, generate and animate
 // (py_stages.cpp). The Python package (wisp/__init__.py) builds the user-facing API on them.
 #include <pybind11/numpy.h>
-#include <pybind11/stl.h>
 #include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
 #include <tbb/task_arena.h>
 
 #include <filesystem>
@@ -67,7 +67,8 @@ py::array view(const py::handle& owner, const T* data, std::vector<py::ssize_t> 
     alignas(16) static const unsigned char empty[16] = {};
     const void* ptr = data ? static_cast<const void*>(data) : empty;
     py::array a(py::dtype::of<T>(), std::move(shape), {}, ptr, owner);
-    if (!writeable) py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+    if (!writeable)
+        py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
     return a;
 }
 

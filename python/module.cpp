@@ -11,8 +11,8 @@ void require_file(const std::filesystem::path& path, const char* what) {
     std::error_code ec;
     if (std::filesystem::is_regular_file(path, ec)) return;
     const std::string message =
-        cat(what, " '", path.string(), "': ",
-            std::filesystem::exists(path, ec) ? "not a regular file" : "no such file");
+        cat(what, " '", path.string(),
+            "': ", std::filesystem::exists(path, ec) ? "not a regular file" : "no such file");
     PyErr_SetString(PyExc_FileNotFoundError, message.c_str());
     throw py::error_already_set();
 }

@@ -9,8 +9,8 @@
 #include "core/error.hpp"
 #include "core/hair.hpp"
 #include "core/parallel.hpp"
-#include "groom/style_toml.hpp"
 #include "geometry/builtin_head.hpp"
+#include "groom/style_toml.hpp"
 #include "io/hair_io.hpp"
 #include "render/export_view.hpp"
 
@@ -30,7 +30,9 @@ std::string shape_text(const py::array& a) {
     return s + (a.ndim() == 1 ? ",)" : ")");
 }
 
-std::string dtype_text(const py::array& a) { return py::str(a.dtype()).cast<std::string>(); }
+std::string dtype_text(const py::array& a) {
+    return py::str(a.dtype()).cast<std::string>();
+}
 
 py::array as_array(const py::object& o, const std::string& name) {
     if (o.is_none()) throw py::type_error(name + ": expected an array, got None");
@@ -47,8 +49,9 @@ py::array_t<float, py::array::c_style> float_array(const py::object& o, const st
                                                    ssize rows, ssize cols, const char* shape) {
     py::array a = as_array(o, name);
     if (a.dtype().kind() != 'f')
-        throw py::type_error(cat(name, ": expected a floating-point array (float32 or float64), got dtype ",
-                                 dtype_text(a)));
+        throw py::type_error(
+            cat(name, ": expected a floating-point array (float32 or float64), got dtype ",
+                dtype_text(a)));
     const bool ok = cols ? a.ndim() == 2 && a.shape(1) == cols && (rows < 0 || a.shape(0) == rows)
                          : a.ndim() == 1 && (rows < 0 || a.shape(0) == rows);
     if (!ok) throw py::value_error(cat(name, ": expected shape ", shape, ", got ", shape_text(a)));
@@ -73,7 +76,8 @@ std::vector<int64_t> int_array(const py::object& o, const std::string& name, ssi
         auto u = py::array_t<uint64_t, py::array::c_style | py::array::forcecast>::ensure(a);
         for (ssize i = 0; i < u.size(); ++i)
             if (u.data()[i] > uint64_t(std::numeric_limits<int64_t>::max()))
-                throw py::value_error(cat(name, ": value ", i, " (", u.data()[i], ") is too large"));
+                throw py::value_error(
+                    cat(name, ": value ", i, " (", u.data()[i], ") is too large"));
     }
     auto v = py::array_t<int64_t, py::array::c_style | py::array::forcecast>::ensure(a);
     return {v.data(), v.data() + v.size()};
@@ -86,7 +90,8 @@ Hair from_arrays(const py::object& points, const py::object& offsets, const py::
     const ssize P = p.shape(0);
     const std::vector<int64_t> o = int_array(offsets, "offsets", -1, "(N + 1,)");
     if (o.empty()) throw py::value_error("offsets: expected N + 1 >= 1 values, got none");
-    if (o.front() != 0) throw py::value_error(cat("offsets: offsets[0] must be 0, got ", o.front()));
+    if (o.front() != 0)
+        throw py::value_error(cat("offsets: offsets[0] must be 0, got ", o.front()));
     for (size_t i = 1; i < o.size(); ++i)
         if (o[i] < o[i - 1])
             throw py::value_error(cat("offsets: not monotone: offsets[", i, "] = ", o[i],
@@ -164,11 +169,13 @@ py::array resampled(const Hair& hair, long long n, int threads) {
 }  // namespace
 
 void bind_hair(py::module_& m) {
-    py::class_<Head, HeadPtr>(m, "Head", R"(A head: its mesh (cm, head space: Y up, +Z forward) and scalp.
+    py::class_<Head, HeadPtr>(m, "Head",
+                              R"(A head: its mesh (cm, head space: Y up, +Z forward) and scalp.
 
 Build one with Head.builtin() or Head.from_obj(path, scale=, scalp=).)")
         .def_static(
-            "builtin", [] { return std::make_shared<Head>(run_released(0, [] { return load_head({}); })); },
+            "builtin",
+            [] { return std::make_shared<Head>(run_released(0, [] { return load_head({}); })); },
             "The built-in procedural head and shoulders (docs/style.md [head])")
         .def_static(
             "from_obj",
@@ -177,12 +184,14 @@ Build one with Head.builtin() or Head.from_obj(path, scale=, scalp=).)")
                 // The head's fields set through the style schema: its checks and messages.
                 Style style;
                 set_style_field(style, "head.obj",
-                                toml_quote(std::filesystem::absolute(path).string()), "Head.from_obj");
+                                toml_quote(std::filesystem::absolute(path).string()),
+                                "Head.from_obj");
                 set_style_field(style, "head.scale", inline_toml(scale, "scale"), "Head.from_obj");
                 if (py::isinstance<py::str>(scalp)) {
                     const std::string s = scalp.cast<std::string>();
                     if (s == "hairline")
-                        set_style_field(style, "head.scalp.method", "\"hairline\"", "Head.from_obj");
+                        set_style_field(style, "head.scalp.method", "\"hairline\"",
+                                        "Head.from_obj");
                     else
                         set_style_field(style, "head.scalp.group", toml_quote(s), "Head.from_obj");
                 } else if (py::isinstance<py::dict>(scalp)) {
@@ -191,8 +200,9 @@ Build one with Head.builtin() or Head.from_obj(path, scale=, scalp=).)")
                         set_style_field(style, key, inline_toml(v, key), "Head.from_obj");
                     }
                 } else if (!scalp.is_none()) {
-                    throw py::type_error("scalp: expected a face group name, \"hairline\" or a dict of "
-                                         "[head.scalp] fields");
+                    throw py::type_error(
+                        "scalp: expected a face group name, \"hairline\" or a dict of "
+                        "[head.scalp] fields");
                 }
                 return std::make_shared<Head>(
                     run_released(0, [&] { return load_head(style.head); }));
@@ -204,7 +214,8 @@ Build one with Head.builtin() or Head.from_obj(path, scale=, scalp=).)")
         .def_static(
             "from_style",
             [](const PyStyle& s) {
-                return std::make_shared<Head>(run_released(0, [&] { return load_head(s.style.head); }));
+                return std::make_shared<Head>(
+                    run_released(0, [&] { return load_head(s.style.head); }));
             },
             "The head a style's [head] section names")
         .def_property_readonly("source", [](const Head& h) { return h.source; })
@@ -239,8 +250,8 @@ Build one with Head.builtin() or Head.from_obj(path, scale=, scalp=).)")
                 return view(self, faces.data(), {static_cast<ssize>(faces.size())}, false);
             },
             "#S uint32 indices into faces of the scalp's triangles, sorted")
-        .def_property_readonly("scalp_area", [](const Head& h) { return h.scalp->area(); },
-                               "the scalp's area, cm²")
+        .def_property_readonly(
+            "scalp_area", [](const Head& h) { return h.scalp->area(); }, "the scalp's area, cm²")
         .def(
             "scalp_uv",
             [](const Head& h, const py::object& points) {
@@ -256,11 +267,15 @@ Build one with Head.builtin() or Head.from_obj(path, scale=, scalp=).)")
             py::arg("points"),
             "Scalp UV (N×2 float32) of points (N×3, cm) on or near the scalp: the crown at (0.5, "
             "0.5), the lowest hairline on the circle of radius 0.5 about it")
-        .def("write_obj",
-             [](const Head& h, const std::string& path) {
-                 run_released(0, [&] { write_obj_mesh(path, *h.mesh); return 0; });
-             },
-             py::arg("path"), "Writes the mesh as OBJ, the scalp in face group `scalp`")
+        .def(
+            "write_obj",
+            [](const Head& h, const std::string& path) {
+                run_released(0, [&] {
+                    write_obj_mesh(path, *h.mesh);
+                    return 0;
+                });
+            },
+            py::arg("path"), "Writes the mesh as OBJ, the scalp in face group `scalp`")
         .def("__repr__", [](const Head& h) {
             return cat("<wisp.Head ", h.source, ": ", h.mesh->vertices.size(), " vertices, ",
                        h.mesh->faces.size(), " faces, scalp ", static_cast<int>(h.scalp->area()),
@@ -305,7 +320,8 @@ wisp_ids N integers (-1: none), or None)")
             [](py::object self) -> py::object {
                 Hair& h = self.cast<Hair&>();
                 if (h.colors.empty()) return py::none();
-                return view(self, h.colors.data()->data(), {static_cast<ssize>(h.colors.size()), 3});
+                return view(self, h.colors.data()->data(),
+                            {static_cast<ssize>(h.colors.size()), 3});
             },
             "N×3 float32 linear RGB in [0, 1] per strand, or None (imported hair without colours)")
         .def_property_readonly(
@@ -329,7 +345,8 @@ wisp_ids N integers (-1: none), or None)")
             [](py::object self) -> py::object {
                 Hair& h = self.cast<Hair&>();
                 if (h.root_uv.empty()) return py::none();
-                return view(self, h.root_uv.data()->data(), {static_cast<ssize>(h.root_uv.size()), 2});
+                return view(self, h.root_uv.data()->data(),
+                            {static_cast<ssize>(h.root_uv.size()), 2});
             },
             "N×2 float32 scalp UV of each root, or None")
         .def_property_readonly(
@@ -368,20 +385,23 @@ wisp_ids N integers (-1: none), or None)")
             py::arg("n"), py::arg("threads") = py::none(),
             "Every strand at n points evenly spaced in arc length along its curve, root and tip "
             "exact: N×n×3 float32, cm (a new array)")
-        .def("bounds",
-             [](const Hair& h) {
-                 const Box3 b = h.bounds();
-                 py::array_t<float> out({ssize(2), ssize(3)});
-                 for (int k = 0; k < 3; ++k) {
-                     out.mutable_at(0, k) = b.lo[k];
-                     out.mutable_at(1, k) = b.hi[k];
-                 }
-                 return out;
-             },
-             "[[min x, y, z], [max x, y, z]], cm")
-        .def("copy", [](const Hair& h) { return Hair(h); }, "A deep copy")
-        .def("validate", [](const Hair& h) { h.validate("Hair"); },
-             "Raises wisp.Error if the arrays disagree in size or hold non-finite values")
+        .def(
+            "bounds",
+            [](const Hair& h) {
+                const Box3 b = h.bounds();
+                py::array_t<float> out({ssize(2), ssize(3)});
+                for (int k = 0; k < 3; ++k) {
+                    out.mutable_at(0, k) = b.lo[k];
+                    out.mutable_at(1, k) = b.hi[k];
+                }
+                return out;
+            },
+            "[[min x, y, z], [max x, y, z]], cm")
+        .def(
+            "copy", [](const Hair& h) { return Hair(h); }, "A deep copy")
+        .def(
+            "validate", [](const Hair& h) { h.validate("Hair"); },
+            "Raises wisp.Error if the arrays disagree in size or hold non-finite values")
         .def(
             "write",
             [](py::object self, const std::string& path, bool obj_segments, bool z_up, int resample,
@@ -401,8 +421,7 @@ wisp_ids N integers (-1: none), or None)")
                     head = self.attr("head").cast<HeadPtr>();
                 run_released(0, [&] {
                     if (format == HairFormat::kRib || format == HairFormat::kPbrt)
-                        options.camera =
-                            export_camera(h, head ? *head->mesh : builtin_head_mesh());
+                        options.camera = export_camera(h, head ? *head->mesh : builtin_head_mesh());
                     write_hair(path, h, options);
                     return 0;
                 });
@@ -426,8 +445,9 @@ wisp_ids N integers (-1: none), or None)")
         py::arg("path"), "Reads a hair file (.usda .hair .obj .ply .data), as `wisp convert` does");
     m.def("hair_formats", [] {
         py::list out;
-        for (HairFormat f : {HairFormat::kUsda, HairFormat::kHair, HairFormat::kObj, HairFormat::kPly,
-                             HairFormat::kData, HairFormat::kRib, HairFormat::kPbrt, HairFormat::kNpz})
+        for (HairFormat f :
+             {HairFormat::kUsda, HairFormat::kHair, HairFormat::kObj, HairFormat::kPly,
+              HairFormat::kData, HairFormat::kRib, HairFormat::kPbrt, HairFormat::kNpz})
             out.append(hair_format_name(f));
         return out;
     });

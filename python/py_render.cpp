@@ -19,7 +19,8 @@ Vec3f vec3(const py::handle& v, const char* name) {
         throw py::type_error(cat(name, ": expected three numbers (x, y, z)"));
     }
     if (xs.size() != 3 || !std::isfinite(xs[0]) || !std::isfinite(xs[1]) || !std::isfinite(xs[2]))
-        throw py::value_error(cat(name, ": expected three finite numbers, got ", xs.size(), " values"));
+        throw py::value_error(
+            cat(name, ": expected three finite numbers, got ", xs.size(), " values"));
     return Vec3f(xs[0], xs[1], xs[2]);
 }
 
@@ -30,14 +31,16 @@ double number(const py::handle& v, const char* name, double lo, double hi) {
     } catch (const py::cast_error&) {
         throw py::type_error(cat(name, ": expected a number"));
     }
-    if (!(x >= lo && x <= hi)) throw py::value_error(cat(name, ": expected ", lo, " to ", hi, ", got ", x));
+    if (!(x >= lo && x <= hi))
+        throw py::value_error(cat(name, ": expected ", lo, " to ", hi, ", got ", x));
     return x;
 }
 
 // The `wisp render` look options, by the same names (LookArgs in app/cli.cpp).
 RenderOptions render_options(const std::string& view, int width, int height, const py::dict& kw) {
     if (width < 1 || height < 1 || width > 16384 || height > 16384)
-        throw py::value_error(cat("size: expected 1 to 16384 pixels a side, got ", width, "×", height));
+        throw py::value_error(
+            cat("size: expected 1 to 16384 pixels a side, got ", width, "×", height));
     RenderOptions o;
     o.width = width;
     o.height = height;
@@ -55,28 +58,41 @@ RenderOptions render_options(const std::string& view, int width, int height, con
     float specular = -1.f, rim = 1.f;
     for (const auto& [key, value] : kw) {
         const std::string k = key.cast<std::string>();
-        if (k == "eye") eye = vec3(value, "eye");
-        else if (k == "target") target = vec3(value, "target");
-        else if (k == "fov") o.fov_y_degrees = number(value, "fov", 1, 170);
-        else if (k == "background") o.background = vec3(value, "background");
+        if (k == "eye")
+            eye = vec3(value, "eye");
+        else if (k == "target")
+            target = vec3(value, "target");
+        else if (k == "fov")
+            o.fov_y_degrees = number(value, "fov", 1, 170);
+        else if (k == "background")
+            o.background = vec3(value, "background");
         else if (k == "shading") {
             const std::string s = value.cast<std::string>();
             if (s != "hair" && s != "kajiya-kay")
-                throw py::value_error(cat("shading: expected 'hair' or 'kajiya-kay', got '", s, "'"));
-            o.shading = s == "hair" ? RenderOptions::Shading::kHair : RenderOptions::Shading::kKajiyaKay;
-        } else if (k == "specular_exponent") o.specular_exponent = number(value, k.c_str(), 1, 10000);
-        else if (k == "specular") specular = number(value, "specular", 0, 100);
-        else if (k == "rim") rim = number(value, "rim", 0, 100);
-        else if (k == "shadows") o.shadows = value.cast<bool>();
-        else if (k == "width_scale") o.width_scale = number(value, k.c_str(), 0.01, 100);
+                throw py::value_error(
+                    cat("shading: expected 'hair' or 'kajiya-kay', got '", s, "'"));
+            o.shading =
+                s == "hair" ? RenderOptions::Shading::kHair : RenderOptions::Shading::kKajiyaKay;
+        } else if (k == "specular_exponent")
+            o.specular_exponent = number(value, k.c_str(), 1, 10000);
+        else if (k == "specular")
+            specular = number(value, "specular", 0, 100);
+        else if (k == "rim")
+            rim = number(value, "rim", 0, 100);
+        else if (k == "shadows")
+            o.shadows = value.cast<bool>();
+        else if (k == "width_scale")
+            o.width_scale = number(value, k.c_str(), 0.01, 100);
         else
-            throw py::type_error(cat("render: unknown option '", k, "' (eye, target, fov, background, "
-                                     "shading, specular_exponent, specular, rim, shadows, width_scale)"));
+            throw py::type_error(
+                cat("render: unknown option '", k,
+                    "' (eye, target, fov, background, "
+                    "shading, specular_exponent, specular, rim, shadows, width_scale)"));
     }
-    if (eye.has_value() != target.has_value())
-        throw py::value_error("eye and target go together");
+    if (eye.has_value() != target.has_value()) throw py::value_error("eye and target go together");
     if (eye) {
-        if (*eye == *target) throw py::value_error("eye: the camera cannot look at its own position");
+        if (*eye == *target)
+            throw py::value_error("eye: the camera cannot look at its own position");
         o.look_at = LookAt{*eye, *target};
     }
     if (specular >= 0.f) {
@@ -91,8 +107,9 @@ RenderOptions render_options(const std::string& view, int width, int height, con
 py::array image_array(RgbImage image) {
     auto* owned = new RgbImage(std::move(image));
     py::capsule owner(owned, [](void* p) { delete static_cast<RgbImage*>(p); });
-    return py::array_t<uint8_t>({py::ssize_t(owned->height), py::ssize_t(owned->width), py::ssize_t(3)},
-                                owned->rgb.data(), owner);
+    return py::array_t<uint8_t>(
+        {py::ssize_t(owned->height), py::ssize_t(owned->width), py::ssize_t(3)}, owned->rgb.data(),
+        owner);
 }
 
 }  // namespace
@@ -104,9 +121,8 @@ void bind_render(py::module_& m) {
            const py::object& threads, const py::kwargs& kw) {
             const RenderOptions o = render_options(view, width, height, kw);
             const int n = thread_count(threads);
-            return image_array(run_released(n, [&] {
-                return render(hair, head ? head->mesh.get() : nullptr, o);
-            }));
+            return image_array(run_released(
+                n, [&] { return render(hair, head ? head->mesh.get() : nullptr, o); }));
         },
         py::arg("hair"), py::arg("head"), py::arg("view"), py::arg("width"), py::arg("height"),
         py::arg("threads") = py::none());

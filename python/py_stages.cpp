@@ -2,9 +2,9 @@
 // GIL in a task arena of the call's thread count.
 #include "bindings.hpp"
 #include "core/error.hpp"
+#include "dynamics/animate.hpp"
 #include "groom/style_schema.hpp"
 #include "groom/style_toml.hpp"
-#include "dynamics/animate.hpp"
 #include "solve/pipeline.hpp"
 
 namespace wisp::python {
@@ -94,7 +94,8 @@ py::dict animation_stats(const AnimationStats& stats, const Hair& rest, const Mo
     j["steps"] = stats.steps;
     j["steps_per_frame"] = stats.steps_per_frame;
     j["dt_s"] = stats.dt;
-    j["ms_per_step"] = py::dict(py::arg("mean") = stats.step_ms_mean, py::arg("max") = stats.step_ms_max);
+    j["ms_per_step"] =
+        py::dict(py::arg("mean") = stats.step_ms_mean, py::arg("max") = stats.step_ms_max);
     j["skin_ms_per_frame"] = stats.skin_ms_mean;
     j["splits"] = stats.splits;
     j["merges"] = stats.merges;
@@ -143,24 +144,25 @@ void bind_stages(py::module_& m) {
         "generate_model",
         [](const PyStyle& s, const HeadPtr& head_in, const py::object& threads) {
             const HeadPtr head = head_for(s.style, head_in);
-            GenerateResult r = run_released(thread_count(threads), [&] { return generate(s.style, *head); });
+            GenerateResult r =
+                run_released(thread_count(threads), [&] { return generate(s.style, *head); });
             return std::make_shared<Hair>(std::move(r.hair));
         },
         py::arg("style"), py::arg("head"), py::arg("threads") = py::none());
 
     py::class_<Roots, std::shared_ptr<Roots>>(m, "Roots", "The roots stage's output (§2.3)")
-        .def_property_readonly("master_positions",
-                               [](const Roots& r) { return surface_positions(r.masters); },
-                               "W×3 float32 master roots on the scalp, cm")
-        .def_property_readonly("member_positions",
-                               [](const Roots& r) { return surface_positions(r.members); },
-                               "S×3 float32 member roots, cm, grouped by wisp")
+        .def_property_readonly(
+            "master_positions", [](const Roots& r) { return surface_positions(r.masters); },
+            "W×3 float32 master roots on the scalp, cm")
+        .def_property_readonly(
+            "member_positions", [](const Roots& r) { return surface_positions(r.members); },
+            "S×3 float32 member roots, cm, grouped by wisp")
         .def_property_readonly(
             "wisp_offsets",
             [](py::object self) {
                 const Roots& r = self.cast<const Roots&>();
-                return view(self, r.wisp_offsets.data(), {static_cast<ssize>(r.wisp_offsets.size())},
-                            false);
+                return view(self, r.wisp_offsets.data(),
+                            {static_cast<ssize>(r.wisp_offsets.size())}, false);
             },
             "W+1 uint32: wisp w owns member_positions[wisp_offsets[w]:wisp_offsets[w+1]]")
         .def_property_readonly(
@@ -218,13 +220,15 @@ void bind_stages(py::module_& m) {
             if (hair_in) {
                 rest = *hair_in;
             } else {
-                HairstyleResult r = run_released(n, [&] { return generate_hairstyle(style, *head); });
+                HairstyleResult r =
+                    run_released(n, [&] { return generate_hairstyle(style, *head); });
                 rest = std::move(r.hair);
                 settings.wisp_held = std::move(r.solve.held_length);
             }
             const AnimationStats stats = run_released(n, [&] {
-                return animate(rest, *head->mesh, frame, motion, style.dynamics, style.prototype.kind,
-                               settings, [&](int f, const Hair& hair, const FramePose& pose) {
+                return animate(rest, *head->mesh, frame, motion, style.dynamics,
+                               style.prototype.kind, settings,
+                               [&](int f, const Hair& hair, const FramePose& pose) {
                                    py::gil_scoped_acquire gil;
                                    py::array_t<float> points(
                                        {static_cast<ssize>(hair.point_count()), ssize(3)});
@@ -296,7 +300,10 @@ void bind_stages(py::module_& m) {
     m.def(
         "stage_color",
         [](const PyStyle& s, Hair& hair, const py::object& threads) {
-            run_released(thread_count(threads), [&] { color_stage(s.style, hair); return 0; });
+            run_released(thread_count(threads), [&] {
+                color_stage(s.style, hair);
+                return 0;
+            });
         },
         py::arg("style"), py::arg("hair"), py::arg("threads") = py::none());
 }

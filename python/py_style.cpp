@@ -16,21 +16,36 @@ namespace {
 
 const char* type_name(FieldType t) {
     switch (t) {
-        case FieldType::kNumber: return "number";
-        case FieldType::kInteger: return "integer";
-        case FieldType::kSeed: return "seed";
-        case FieldType::kBoolean: return "boolean";
-        case FieldType::kString: return "string";
-        case FieldType::kPath: return "path";
-        case FieldType::kChoice: return "choice";
-        case FieldType::kPoint: return "point";
-        case FieldType::kDirection: return "direction";
-        case FieldType::kMap: return "map";
-        case FieldType::kDistribution: return "distribution";
-        case FieldType::kRadii: return "radii";
-        case FieldType::kPolyline: return "polyline";
-        case FieldType::kFieldTerms: return "field terms";
-        case FieldType::kGroups: return "groups";
+        case FieldType::kNumber:
+            return "number";
+        case FieldType::kInteger:
+            return "integer";
+        case FieldType::kSeed:
+            return "seed";
+        case FieldType::kBoolean:
+            return "boolean";
+        case FieldType::kString:
+            return "string";
+        case FieldType::kPath:
+            return "path";
+        case FieldType::kChoice:
+            return "choice";
+        case FieldType::kPoint:
+            return "point";
+        case FieldType::kDirection:
+            return "direction";
+        case FieldType::kMap:
+            return "map";
+        case FieldType::kDistribution:
+            return "distribution";
+        case FieldType::kRadii:
+            return "radii";
+        case FieldType::kPolyline:
+            return "polyline";
+        case FieldType::kFieldTerms:
+            return "field terms";
+        case FieldType::kGroups:
+            return "groups";
     }
     return "?";
 }
@@ -61,9 +76,8 @@ void to_toml(const py::handle& v, const std::string& where, int depth, std::stri
     if (depth > 16) throw py::value_error(where + ": value nested too deeply");
     const py::module_ builtins = py::module_::import("builtins");
     const bool is_array = py::isinstance<py::array>(v);
-    const bool numpy_bool =
-        !is_array && py::hasattr(v, "dtype") &&
-        py::str(v.attr("dtype").attr("kind")).cast<std::string>() == "b";
+    const bool numpy_bool = !is_array && py::hasattr(v, "dtype") &&
+                            py::str(v.attr("dtype").attr("kind")).cast<std::string>() == "b";
     if (py::isinstance<py::bool_>(v) || numpy_bool) {
         out += PyObject_IsTrue(v.ptr()) == 1 ? "true" : "false";
     } else if (py::isinstance<py::str>(v)) {
@@ -71,7 +85,8 @@ void to_toml(const py::handle& v, const std::string& where, int depth, std::stri
     } else if (py::hasattr(v, "__fspath__")) {
         out += toml_quote(py::module_::import("os").attr("fspath")(v).cast<std::string>());
     } else if (is_array || py::isinstance<py::list>(v) || py::isinstance<py::tuple>(v)) {
-        const py::object seq = is_array ? v.attr("tolist")() : py::reinterpret_borrow<py::object>(v);
+        const py::object seq =
+            is_array ? v.attr("tolist")() : py::reinterpret_borrow<py::object>(v);
         if (!py::isinstance<py::list>(seq) && !py::isinstance<py::tuple>(seq)) {
             to_toml(seq, where, depth + 1, out);  // a 0-d array's item
             return;
@@ -120,8 +135,8 @@ namespace {
 
 py::object field_value(const PyStyle& s, const StyleField& field) {
     if (field.type == FieldType::kGroups)
-        throw py::attribute_error(cat("field '", field.path,
-                                      "': constraint groups are read and set as Style.groups"));
+        throw py::attribute_error(
+            cat("field '", field.path, "': constraint groups are read and set as Style.groups"));
     const std::string text = style_field_toml(s.style, field, s.base_dir);
     if (text.empty()) return py::none();
     const toml::table t = toml::parse("value = " + text);
@@ -191,25 +206,26 @@ void bind_style(py::module_& m) {
                 return PyStyle{load_style(path), std::filesystem::path(path).parent_path()};
             },
             py::arg("path"))
-        .def_static("preset", [](const std::string& name) { return PyStyle{load_preset(name), {}}; })
+        .def_static("preset",
+                    [](const std::string& name) {
+                        return PyStyle{load_preset(name), {}};
+                    })
         .def("to_toml", [](const PyStyle& s) { return style_to_toml(s.style, s.base_dir); })
         .def("copy", [](const PyStyle& s) { return s; })
-        .def("get", [](const PyStyle& s, const std::string& path) {
-            return field_value(s, field_at(path));
-        })
+        .def("get", [](const PyStyle& s,
+                       const std::string& path) { return field_value(s, field_at(path)); })
         .def("set",
              [](PyStyle& s, const std::string& path, const py::object& value) {
                  const StyleField& field = field_at(path);
                  if (field.type == FieldType::kGroups)
                      throw py::attribute_error(
                          cat("field '", path, "': constraint groups are set as Style.groups"));
-                 set_style_field(s.style, path, inline_toml(value, "field '" + path + "'"),
-                                 "Style", s.base_dir);
+                 set_style_field(s.style, path, inline_toml(value, "field '" + path + "'"), "Style",
+                                 s.base_dir);
              })
         .def_property("groups", &groups, &set_groups)
         .def_property_readonly("name", [](const PyStyle& s) { return s.style.name; })
-        .def_property_readonly("base_dir",
-                               [](const PyStyle& s) { return s.base_dir.string(); });
+        .def_property_readonly("base_dir", [](const PyStyle& s) { return s.base_dir.string(); });
 
     m.def("preset_names", &preset_names, "The shipped presets' names, sorted");
     m.def(
