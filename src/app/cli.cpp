@@ -34,6 +34,7 @@
 #include "io/hair_io.hpp"
 #include "io/usda.hpp"
 #include "render/camera.hpp"
+#include "render/export_view.hpp"
 #include "render/render.hpp"
 #include "solve/coverage.hpp"
 #include "solve/pipeline.hpp"
@@ -308,20 +309,6 @@ void render_png(const std::string& path, const Hair& hair, const Mesh& head, con
                       progress.step(done, view);
                   }));
     }
-}
-
-// The camera that .rib and .pbrt scenes get: the renderer's three-quarter view.
-ExportCamera export_camera(const Hair& hair, const Mesh& head) {
-    RenderOptions options;
-    const Camera c = render_camera(hair, &head, options);
-    ExportCamera e;
-    e.eye = c.eye;
-    e.target = c.eye + c.forward;
-    e.up = c.up;
-    e.fov_y_degrees = c.fov_y_degrees;
-    e.width = c.width;
-    e.height = c.height;
-    return e;
 }
 
 Style resolve_style(const std::string& path, const std::string& preset) {

@@ -62,6 +62,21 @@ GrayImage read_gray_image(const std::filesystem::path& path) {
     return std::move(read_image_planes(path, 1).front());
 }
 
+namespace {
+
+// The PNG file's bytes of 8-bit pixels, `channels` per pixel, rows packed.
+std::string png_bytes(int width, int height, int channels, const uint8_t* pixels) {
+    std::string bytes;
+    auto sink = [](void* ctx, void* data, int size) {
+        static_cast<std::string*>(ctx)->append(static_cast<const char*>(data), size);
+    };
+    if (!stbi_write_png_to_func(sink, &bytes, width, height, channels, pixels, width * channels))
+        fail("PNG encoding of a ", width, "×", height, " image failed");
+    return bytes;
+}
+
+}  // namespace
+
 std::string encode_gray_png(const GrayImage& image) {
     if (image.width <= 0 || image.height <= 0 ||
         image.values.size() != static_cast<size_t>(image.width) * image.height)
@@ -72,24 +87,20 @@ std::string encode_gray_png(const GrayImage& image) {
         const float v = image.values[i];
         gray[i] = static_cast<uint8_t>(std::lround((v > 0.f ? std::min(v, 1.f) : 0.f) * 255.f));
     }
-    std::string bytes;
-    auto sink = [](void* ctx, void* data, int size) {
-        static_cast<std::string*>(ctx)->append(static_cast<const char*>(data), size);
-    };
-    if (!stbi_write_png_to_func(sink, &bytes, image.width, image.height, 1, gray.data(),
-                                image.width))
-        fail("PNG encoding failed");
-    return bytes;
+    return png_bytes(image.width, image.height, 1, gray.data());
+}
+
+std::string encode_png(const RgbImage& image) {
+    return png_bytes(image.width, image.height, 3, image.rgb.data());
 }
 
 void write_png(const std::filesystem::path& path, const RgbImage& image) {
     std::string bytes;
-    auto sink = [](void* ctx, void* data, int size) {
-        static_cast<std::string*>(ctx)->append(static_cast<const char*>(data), size);
-    };
-    if (!stbi_write_png_to_func(sink, &bytes, image.width, image.height, 3, image.rgb.data(),
-                                image.width * 3))
+    try {
+        bytes = encode_png(image);
+    } catch (const Error&) {
         fail(path.string(), ": PNG encoding failed");
+    }
     write_file_atomic(path, bytes);
 }
 

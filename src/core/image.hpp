@@ -45,6 +45,10 @@ struct RgbImage {
     std::vector<uint8_t> rgb;  // #width·height·3, row-major, top row first
 };
 
+// The PNG file's bytes of an image (for Python's _repr_png_); throws wisp::Error if encoding
+// fails.
+std::string encode_png(const RgbImage& image);
+
 // Writes a PNG atomically; throws wisp::Error if it cannot.
 void write_png(const std::filesystem::path& path, const RgbImage& image);
 

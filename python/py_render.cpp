@@ -1,0 +1,142 @@
+// wisp.render: the CLI's renderer (render/render.hpp) to an H×W×3 uint8 array that owns the
+// image's memory (no copy), with the options of `wisp render` (--eye, --shading, --rim, ...).
+#include <cmath>
+
+#include "bindings.hpp"
+#include "core/error.hpp"
+#include "core/hair.hpp"
+#include "core/image.hpp"
+#include "render/render.hpp"
+
+namespace wisp::python {
+namespace {
+
+Vec3f vec3(const py::handle& v, const char* name) {
+    std::vector<double> xs;
+    try {
+        xs = v.cast<std::vector<double>>();
+    } catch (const py::cast_error&) {
+        throw py::type_error(cat(name, ": expected three numbers (x, y, z)"));
+    }
+    if (xs.size() != 3 || !std::isfinite(xs[0]) || !std::isfinite(xs[1]) || !std::isfinite(xs[2]))
+        throw py::value_error(
+            cat(name, ": expected three finite numbers, got ", xs.size(), " values"));
+    return Vec3f(xs[0], xs[1], xs[2]);
+}
+
+double number(const py::handle& v, const char* name, double lo, double hi) {
+    double x;
+    try {
+        x = v.cast<double>();
+    } catch (const py::cast_error&) {
+        throw py::type_error(cat(name, ": expected a number"));
+    }
+    if (!(x >= lo && x <= hi))
+        throw py::value_error(cat(name, ": expected ", lo, " to ", hi, ", got ", x));
+    return x;
+}
+
+// The `wisp render` look options, by the same names (LookArgs in app/cli.cpp).
+RenderOptions render_options(const std::string& view, int width, int height, const py::dict& kw) {
+    if (width < 1 || height < 1 || width > 16384 || height > 16384)
+        throw py::value_error(
+            cat("size: expected 1 to 16384 pixels a side, got ", width, "×", height));
+    RenderOptions o;
+    o.width = width;
+    o.height = height;
+    o.view = view;
+    bool view_known = false;
+    for (const std::string& v : view_names())
+        view_known |= v == view;
+    if (!view_known) {
+        std::string names;
+        for (const std::string& v : view_names())
+            names += (names.empty() ? "" : ", ") + v;
+        throw py::value_error(cat("view: unknown view '", view, "' (one of ", names, ")"));
+    }
+    std::optional<Vec3f> eye, target;
+    float specular = -1.f, rim = 1.f;
+    for (const auto& [key, value] : kw) {
+        const std::string k = key.cast<std::string>();
+        if (k == "eye")
+            eye = vec3(value, "eye");
+        else if (k == "target")
+            target = vec3(value, "target");
+        else if (k == "fov")
+            o.fov_y_degrees = number(value, "fov", 1, 170);
+        else if (k == "background")
+            o.background = vec3(value, "background");
+        else if (k == "shading") {
+            const std::string s = value.cast<std::string>();
+            if (s != "hair" && s != "kajiya-kay")
+                throw py::value_error(
+                    cat("shading: expected 'hair' or 'kajiya-kay', got '", s, "'"));
+            o.shading =
+                s == "hair" ? RenderOptions::Shading::kHair : RenderOptions::Shading::kKajiyaKay;
+        } else if (k == "specular_exponent")
+            o.specular_exponent = number(value, k.c_str(), 1, 10000);
+        else if (k == "specular")
+            specular = number(value, "specular", 0, 100);
+        else if (k == "rim")
+            rim = number(value, "rim", 0, 100);
+        else if (k == "shadows")
+            o.shadows = value.cast<bool>();
+        else if (k == "width_scale")
+            o.width_scale = number(value, k.c_str(), 0.01, 100);
+        else
+            throw py::type_error(
+                cat("render: unknown option '", k,
+                    "' (eye, target, fov, background, "
+                    "shading, specular_exponent, specular, rim, shadows, width_scale)"));
+    }
+    if (eye.has_value() != target.has_value()) throw py::value_error("eye and target go together");
+    if (eye) {
+        if (*eye == *target)
+            throw py::value_error("eye: the camera cannot look at its own position");
+        o.look_at = LookAt{*eye, *target};
+    }
+    if (specular >= 0.f) {
+        o.specular_strength = specular;
+        o.hair.primary *= specular;
+        o.hair.secondary *= specular;
+    }
+    o.rim.color *= rim;
+    return o;
+}
+
+py::array image_array(RgbImage image) {
+    auto* owned = new RgbImage(std::move(image));
+    py::capsule owner(owned, [](void* p) { delete static_cast<RgbImage*>(p); });
+    return py::array_t<uint8_t>(
+        {py::ssize_t(owned->height), py::ssize_t(owned->width), py::ssize_t(3)}, owned->rgb.data(),
+        owner);
+}
+
+}  // namespace
+
+void bind_render(py::module_& m) {
+    m.def(
+        "render",
+        [](const Hair& hair, const HeadPtr& head, const std::string& view, int width, int height,
+           const py::object& threads, const py::kwargs& kw) {
+            const RenderOptions o = render_options(view, width, height, kw);
+            const int n = thread_count(threads);
+            return image_array(run_released(
+                n, [&] { return render(hair, head ? head->mesh.get() : nullptr, o); }));
+        },
+        py::arg("hair"), py::arg("head"), py::arg("view"), py::arg("width"), py::arg("height"),
+        py::arg("threads") = py::none());
+    m.def(
+        "encode_png",
+        [](const py::array_t<uint8_t, py::array::c_style | py::array::forcecast>& rgb) {
+            if (rgb.ndim() != 3 || rgb.shape(2) != 3)
+                throw py::value_error("image: expected shape (H, W, 3) uint8");
+            RgbImage image{static_cast<int>(rgb.shape(1)), static_cast<int>(rgb.shape(0)),
+                           std::vector<uint8_t>(rgb.data(), rgb.data() + rgb.size())};
+            return py::bytes(encode_png(image));
+        },
+        py::arg("image"), "PNG bytes of an H×W×3 uint8 image");
+    m.def("view_names", &view_names);
+}
+
+}  // namespace wisp::python

@@ -1,0 +1,151 @@
+"""wisp.Hair: numpy views (no copy), validation of arrays from Python, files."""
+import sys
+
+import numpy as np
+import pytest
+
+import wisp
+from conftest import run_cli, small_style
+
+
+def test_arrays_are_views_of_the_hair(small_hair):
+    h = small_hair
+    p = h.points
+    assert p.dtype == np.float32 and p.shape == (h.point_count, 3)
+    assert p.base is h  # the array's base is the Hair: no copy
+    assert h.points.__array_interface__["data"][0] == p.__array_interface__["data"][0]
+    for name in ("offsets", "colors", "widths", "wisp_ids"):
+        a = getattr(h, name)
+        assert a is not None and a.base is h, name
+    assert h.offsets.dtype == np.uint32 and h.offsets.shape == (len(h) + 1,)
+    assert h.colors.shape == (len(h), 3)
+    assert h.widths.shape == (h.point_count,)
+    assert h.wisp_ids.dtype == np.int32
+
+
+def test_view_keeps_hair_alive(head):
+    hair = wisp.generate(small_style(500, 20), head=head, seed=1)
+    p = hair.points
+    expected = p.copy()
+    del hair
+    assert np.array_equal(p, expected)
+
+
+def test_writes_through_the_view(head):
+    hair = wisp.generate(small_style(500, 20), head=head, seed=1)
+    hair.points[0] = (1, 2, 3)
+    assert tuple(hair.strand(0)[0]) == (1, 2, 3)
+
+
+def test_offsets_are_read_only(small_hair):
+    with pytest.raises(ValueError):
+        small_hair.offsets[0] = 5
+
+
+def test_strand_and_len(small_hair):
+    h = small_hair
+    o = h.offsets
+    assert len(h) == len(o) - 1
+    assert np.array_equal(h.strand(2), h.points[o[2]:o[3]])
+    assert np.array_equal(h.strand(-1), h.points[o[-2]:o[-1]])
+    with pytest.raises(IndexError):
+        h.strand(len(h))
+
+
+def test_resampled(small_hair):
+    r = small_hair.resampled(16)
+    assert r.shape == (len(small_hair), 16, 3) and r.dtype == np.float32
+    # root and tip exact
+    assert np.allclose(r[5, 0], small_hair.strand(5)[0])
+    assert np.allclose(r[5, -1], small_hair.strand(5)[-1])
+    seg = np.linalg.norm(np.diff(r[5], axis=0), axis=1)
+    assert seg.std() < 0.05 * seg.mean() + 1e-4  # equal arc length
+    with pytest.raises(ValueError, match="resampled"):
+        small_hair.resampled(1)
+
+
+def test_from_arrays_round_trip(small_hair, tmp_path):
+    h = small_hair
+    copy = wisp.Hair.from_arrays(h.points, h.offsets.astype(np.int64), colors=h.colors,
+                                 widths=h.widths, wisp_ids=h.wisp_ids)
+    assert np.array_equal(copy.points, h.points)
+    assert np.array_equal(copy.offsets, h.offsets)
+
+
+def pts(n=4):
+    return np.zeros((n, 3), np.float32) + np.arange(n, dtype=np.float32)[:, None]
+
+
+@pytest.mark.parametrize("points, offsets, exc, message", [
+    (np.zeros((4, 2), np.float32), [0, 4], ValueError, r"points: expected shape \(P, 3\)"),
+    (np.zeros((4, 3), np.int32), [0, 4], TypeError, "points: expected a floating-point"),
+    (pts(), [0.0, 4.0], TypeError, "offsets: expected an integer array"),
+    (pts(), [1, 4], ValueError, r"offsets\[0\] must be 0"),
+    (pts(), [0, 3, 2, 4], ValueError, "not monotone"),
+    (pts(), [0, 3], ValueError, "last offset must be the point count 4"),
+    (np.full((4, 3), np.nan, np.float32), [0, 4], ValueError, "points: row 0 is not finite"),
+    (pts(), [[0, 4]], ValueError, r"offsets: expected shape"),
+    (["a", "b"], [0, 2], TypeError, "points: expected a numeric array"),
+])
+def test_from_arrays_rejects(points, offsets, exc, message):
+    with pytest.raises(exc, match=message):
+        wisp.Hair.from_arrays(points, offsets)
+
+
+def test_from_arrays_rejects_bad_attributes():
+    with pytest.raises(ValueError, match=r"colors: expected shape \(N, 3\)"):
+        wisp.Hair.from_arrays(pts(), [0, 4], colors=np.zeros((2, 3)))
+    with pytest.raises(ValueError, match="widths: value 1 is -1"):
+        wisp.Hair.from_arrays(pts(), [0, 4], widths=[0.1, -1, 0.1, 0.1])
+    with pytest.raises(ValueError, match="wisp_ids: value 0 is -7"):
+        wisp.Hair.from_arrays(pts(), [0, 4], wisp_ids=[-7])
+    with pytest.raises(ValueError, match="farther than"):
+        wisp.Hair.from_arrays(pts() * 1e6, [0, 4])
+
+
+def test_missing_file_and_bad_extension(tmp_path):
+    with pytest.raises(FileNotFoundError, match="missing.hair"):
+        wisp.read(tmp_path / "missing.hair" if False else str(tmp_path / "missing.hair"))
+    with pytest.raises(ValueError, match=r"\.usda"):
+        wisp.read(str(tmp_path / "x.txt"))
+    with pytest.raises(ValueError):
+        wisp.Hair.from_arrays(pts(), [0, 4]).write(str(tmp_path / "x.unknown"))
+
+
+def test_corrupt_file_is_error(tmp_path):
+    path = tmp_path / "bad.hair"
+    path.write_bytes(b"HAIR" + b"\xff" * 40)
+    with pytest.raises(wisp.Error, match="bad.hair"):
+        wisp.read(str(path))
+
+
+@pytest.mark.parametrize("ext", ["hair", "usda", "obj", "ply", "npz", "rib", "pbrt", "data"])
+def test_files_byte_identical_to_cli(exe, tmp_path, ext, head):
+    style = small_style(800, 40)
+    toml = tmp_path / "s.toml"
+    toml.write_text(style.to_toml())
+    # The same file name in two folders: scenes (.rib, .pbrt) name their picture after it.
+    (tmp_path / "cli").mkdir()
+    (tmp_path / "py").mkdir()
+    cli = tmp_path / "cli" / f"hair.{ext}"
+    run_cli(exe, "generate", toml, "-o", cli, "--seed", 11, "--threads", 1, "--quiet")
+    hair = wisp.generate(wisp.Style.from_toml(toml), seed=11, threads=2)
+    mine = tmp_path / "py" / f"hair.{ext}"
+    hair.write(str(mine))
+    assert mine.read_bytes() == cli.read_bytes()
+
+
+@pytest.mark.parametrize("ext", ["hair", "usda", "obj", "ply"])
+def test_read_gives_cli_arrays(exe, tmp_path, ext):
+    style = small_style(800, 40)
+    toml = tmp_path / "s.toml"
+    toml.write_text(style.to_toml())
+    cli = tmp_path / f"cli.{ext}"
+    run_cli(exe, "generate", toml, "-o", cli, "--seed", 5, "--quiet")
+    read = wisp.read(str(cli))
+    hair = wisp.generate(wisp.Style.from_toml(toml), seed=5)
+    assert np.array_equal(read.offsets, hair.offsets)
+    assert np.allclose(read.points, hair.points, atol=1e-4)
+    again = tmp_path / f"again.{ext}"
+    read.write(str(again))
+    assert wisp.read(str(again)).point_count == read.point_count
