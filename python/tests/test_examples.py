@@ -43,7 +43,7 @@ def test_dask_dataset(tmp_path):
     files = sorted(tmp_path.glob("sample_*.npz"))
     assert len(files) == 3
     a = np.load(files[0])
-    assert a["points"].shape[1:] == (32, 3)
+    assert a["positions"].shape[1:] == (32, 3)
     # Sample k is a pure function of k: generating sample 1 again gives the same file.
     sys.path.insert(0, str(EXAMPLES))
     try:

@@ -202,7 +202,7 @@ void write_archive(std::ostream& os, const Hair& hair, const NpzWriteOptions& op
                                      {points.data() + s * N, N}, {widths.data() + s * N, N});
             },
             256);
-        add_array(zip, "points.npy", "<f4", {S, N, 3}, points);
+        add_array(zip, "positions.npy", "<f4", {S, N, 3}, points);
         add_array(zip, "widths.npy", "<f4", {S, N}, widths);
     }
     add_array(zip, "control_points.npy", "<f4", {hair.point_count(), 3}, hair.points);

@@ -3,7 +3,7 @@
 // uncompressed (so `numpy.load(path, mmap_mode=...)` style readers and any zip tool read it),
 // little-endian, C order. `numpy.load("hair.npz")` gives:
 //
-//   points          float32 #S×N×3  every strand resampled to N points evenly spaced in arc
+//   positions       float32 #S×N×3  every strand resampled to N points evenly spaced in arc
 //                                   length along wisp's pinned Catmull-Rom curve, root first;
 //                                   centimetres, head space (Y up, +Z forward)
 //   widths          float32 #S×N    diameter at those points, cm

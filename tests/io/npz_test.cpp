@@ -61,14 +61,14 @@ TEST(Npz, ArraysAndShapes) {
     const std::string zip = encode_npz(h, "t.npz", NpzWriteOptions{.points_per_strand = 16});
     const auto files = unzip(zip);
     for (const char* name :
-         {"points.npy", "widths.npy", "control_points.npy", "offsets.npy", "colors.npy",
+         {"positions.npy", "widths.npy", "control_points.npy", "offsets.npy", "colors.npy",
           "wisp_id.npy", "group_id.npy", "root_uv.npy", "root_normal.npy"})
         EXPECT_TRUE(files.count(name)) << name;
     size_t at = 0;
-    EXPECT_EQ(npy_dict(files.at("points.npy"), &at)
+    EXPECT_EQ(npy_dict(files.at("positions.npy"), &at)
                   .find("{'descr': '<f4', 'fortran_order': False, 'shape': (40, 16, 3), }"),
               0u);
-    const std::string& pts = files.at("points.npy");
+    const std::string& pts = files.at("positions.npy");
     npy_dict(pts, &at);
     ASSERT_EQ(pts.size() - at, 40u * 16 * 12);
     for (size_t s = 0; s < h.strand_count(); ++s) {
@@ -144,7 +144,7 @@ TEST(Npz, NumpyLoadsIt) {
         std::ofstream(script.path()) << R"(
 import sys, numpy as np
 f = np.load(sys.argv[1])
-p = f['points']; o = f['offsets']; c = f['control_points']
+p = f['positions']; o = f['offsets']; c = f['control_points']
 assert p.shape == (40, 8, 3) and p.dtype == np.float32, (p.shape, p.dtype)
 assert f['widths'].shape == (40, 8)
 assert o.shape == (41,) and o.dtype == np.int64 and o[0] == 0 and o[-1] == len(c)
