@@ -50,7 +50,8 @@ std::unique_ptr<MotionSession> session(size_t shown = 200) {
 
 std::vector<Vec3f> positions(const MotionFrame& frame) {
     std::vector<Vec3f> out((frame.bytes.size() - 20) / 12);
-    std::memcpy(out.data(), frame.bytes.data() + 20, out.size() * 12);
+    for (size_t i = 0; i < out.size(); ++i)
+        std::memcpy(out[i].data(), frame.bytes.data() + 20 + 12 * i, 12);
     return out;
 }
 
