@@ -24,8 +24,8 @@
 #include "core/timer.hpp"
 #include "dynamics/animate.hpp"
 #include "dynamics/live_motion.hpp"
-#include "edit/wire.hpp"
 #include "dynamics/skin.hpp"
+#include "edit/wire.hpp"
 #include "groom/style_toml.hpp"
 #include "solve/pipeline.hpp"
 
@@ -260,10 +260,10 @@ void BM_LiveFrame20k(benchmark::State& state) {
     Animator animator(setup->hair, *bench_head().mesh, setup->frame, live.motion(),
                       setup->style.dynamics, setup->style.prototype.kind, settings);
     const std::vector<uint32_t> order = strand_order(setup->hair.strand_count());
-    const std::span<const uint32_t> shown(order.data(),
-                                          std::min<size_t>(20000, order.size()));
+    const std::span<const uint32_t> shown(order.data(), std::min<size_t>(20000, order.size()));
     size_t points = 0;
-    for (uint32_t s : shown) points += setup->hair.strand_size(s);
+    for (uint32_t s : shown)
+        points += setup->hair.strand_size(s);
     std::vector<Vec3f> moved(points);
     std::string bytes;
     double step_ms = 0, skin_ms = 0;
@@ -287,7 +287,11 @@ void BM_LiveFrame20k(benchmark::State& state) {
     state.counters["skin_encode_ms"] = skin_ms / frames;
     state.counters["finest_nodes"] = static_cast<double>(animator.stats().finest_nodes);
 }
-BENCHMARK(BM_LiveFrame20k)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime()
+BENCHMARK(BM_LiveFrame20k)
+    ->Arg(1)
+    ->Arg(0)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
     ->Iterations(100);
 
 }  // namespace

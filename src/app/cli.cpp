@@ -8,8 +8,6 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
-#include <limits>
-#include <map>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -18,6 +16,8 @@
 #include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <limits>
+#include <map>
 #include <optional>
 #include <random>
 #include <thread>
@@ -679,8 +679,8 @@ int run_animate(const AnimateArgs& args) {
             usda.push_back(std::make_unique<UsdaAnimationWriter>(out, first_frame, args.fps,
                                                                  args.frames, guided));
         } else {
-            clips.push_back(std::make_unique<UsdaClipWriter>(out, first_frame, args.fps,
-                                                             args.frames, guided));
+            clips.push_back(
+                std::make_unique<UsdaClipWriter>(out, first_frame, args.fps, args.frames, guided));
         }
     }
     // The frames of an MP4 without --png go to a temporary folder, removed however the run
@@ -706,44 +706,43 @@ int run_animate(const AnimateArgs& args) {
     HairWriteOptions write_options;
     Progress progress("frame", args.frames, args.quiet);
 
-    const AnimationStats stats =
-        animate(rest, *head.mesh, frame, motion, spec, style.prototype.kind, settings,
-                [&](int f, const Hair& hair, const FramePose& pose) {
-                    const Hair frame_guides =
-                        args.guides ? select_strands(hair, guide_strands) : Hair();
-                    const Hair& animated = args.guides ? frame_guides : hair;
-                    for (auto& writer : usda)
-                        writer->add(animated);
-                    for (auto& writer : clips)
-                        writer->add(animated);
-                    for (size_t k = 0; k < per_frame.size(); ++k) {
-                        write_hair(numbered(per_frame[k], f), hair, write_options);
-                        series[k]->added(static_cast<size_t>(f));
-                    }
-                    if (!png_pattern.empty()) {
-                        const Mesh body = pose_body(*head.mesh, frame, pose);
-                        // One camera for the clip, following the head's translation so a running
-                        // or jumping character stays in view without the framing jittering. It
-                        // frames frame 0's hair and body turned by every head rotation the clip
-                        // goes through, so a lean or a nod stays in the picture.
-                        const Vec3f centre = pose.head.apply(frame.center);
-                        if (!first_camera) {
-                            const Mesh envelope =
-                                clip_envelope(motion, static_cast<double>(args.frames) / args.fps,
-                                              framing_bounds(hair, &body), centre);
-                            first_camera = render_camera(Hair{}, &envelope, look);
-                            first_centre = centre;
-                        }
-                        RenderOptions o = look;
-                        const Vec3f shift = centre - first_centre;
-                        o.look_at = LookAt{first_camera->eye + shift,
-                                           first_camera->eye + first_camera->forward + shift,
-                                           first_camera->up};
-                        o.fov_y_degrees = first_camera->fov_y_degrees;
-                        write_png(numbered(png_pattern, f), render(hair, &body, o));
-                    }
-                    progress.step(f + 1);
-                });
+    const AnimationStats stats = animate(
+        rest, *head.mesh, frame, motion, spec, style.prototype.kind, settings,
+        [&](int f, const Hair& hair, const FramePose& pose) {
+            const Hair frame_guides = args.guides ? select_strands(hair, guide_strands) : Hair();
+            const Hair& animated = args.guides ? frame_guides : hair;
+            for (auto& writer : usda)
+                writer->add(animated);
+            for (auto& writer : clips)
+                writer->add(animated);
+            for (size_t k = 0; k < per_frame.size(); ++k) {
+                write_hair(numbered(per_frame[k], f), hair, write_options);
+                series[k]->added(static_cast<size_t>(f));
+            }
+            if (!png_pattern.empty()) {
+                const Mesh body = pose_body(*head.mesh, frame, pose);
+                // One camera for the clip, following the head's translation so a running
+                // or jumping character stays in view without the framing jittering. It
+                // frames frame 0's hair and body turned by every head rotation the clip
+                // goes through, so a lean or a nod stays in the picture.
+                const Vec3f centre = pose.head.apply(frame.center);
+                if (!first_camera) {
+                    const Mesh envelope =
+                        clip_envelope(motion, static_cast<double>(args.frames) / args.fps,
+                                      framing_bounds(hair, &body), centre);
+                    first_camera = render_camera(Hair{}, &envelope, look);
+                    first_centre = centre;
+                }
+                RenderOptions o = look;
+                const Vec3f shift = centre - first_centre;
+                o.look_at =
+                    LookAt{first_camera->eye + shift,
+                           first_camera->eye + first_camera->forward + shift, first_camera->up};
+                o.fov_y_degrees = first_camera->fov_y_degrees;
+                write_png(numbered(png_pattern, f), render(hair, &body, o));
+            }
+            progress.step(f + 1);
+        });
     for (auto& writer : usda)
         writer->finish();
     for (auto& writer : clips)

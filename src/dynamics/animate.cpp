@@ -37,9 +37,9 @@ std::vector<Sphere> body_spheres_for(const Mesh& body, const HeadFrame& head, co
     return spheres;
 }
 
-Animator::Animator(const Hair& rest, const Mesh& body, const HeadFrame& head,
-                   const Motion& motion, const DynamicsSpec& spec,
-                   PrototypeSpec::Kind prototype, const AnimateSettings& settings)
+Animator::Animator(const Hair& rest, const Mesh& body, const HeadFrame& head, const Motion& motion,
+                   const DynamicsSpec& spec, PrototypeSpec::Kind prototype,
+                   const AnimateSettings& settings)
     : rest_(rest), frame_stats_(settings.frame_stats) {
     if (!(settings.fps > 0) || !std::isfinite(settings.fps) || settings.fps > 1000)
         fail("animate: fps must be in (0, 1000], got ", settings.fps);

@@ -27,10 +27,11 @@ void check_live_key(const MotionKey& k, const char* what) {
 
 void check_wind(const Vec3f& wind, float gust_amplitude, float gust_frequency) {
     if (!wind.allFinite() || wind.norm() > 1e5f || !std::isfinite(gust_amplitude) ||
-        std::abs(gust_amplitude) > 1e5f || !std::isfinite(gust_frequency) ||
-        gust_frequency < 0 || gust_frequency > 100)
-        fail("live motion: wind must be finite and within 1000 m/s, gust frequency in "
-             "[0, 100] Hz");
+        std::abs(gust_amplitude) > 1e5f || !std::isfinite(gust_frequency) || gust_frequency < 0 ||
+        gust_frequency > 100)
+        fail(
+            "live motion: wind must be finite and within 1000 m/s, gust frequency in "
+            "[0, 100] Hz");
 }
 
 LiveMotion::LiveMotion(const HeadFrame& head, double fps) {
@@ -53,8 +54,7 @@ void LiveMotion::append(double time, const MotionKey& head, const MotionKey& bod
 }
 
 void LiveMotion::drive(int frame, const MotionKey& head, const MotionKey& body) {
-    if (frame != frames_)
-        fail("live motion: frame ", frame, " driven, expected frame ", frames_);
+    if (frame != frames_) fail("live motion: frame ", frame, " driven, expected frame ", frames_);
     check_live_key(head, "head");
     check_live_key(body, "body");
     ++frames_;

@@ -160,7 +160,6 @@ void hold_until(std::vector<MotionKey>& keys, double t) {
 
 constexpr double kGravity = 981;  // cm/s², the presets' jumps are ballistic under it
 
-
 Motion preset_still(const HeadFrame& head) {
     Motion m;
     m.head.pivot = neck_pivot(head);

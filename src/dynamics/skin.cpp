@@ -84,7 +84,8 @@ void skin_strands(const Hierarchy& h, const StrandBinding& b, std::span<const Ve
         if (s + 1 >= offsets.size()) fail("dynamics: strand ", s, " is not in the hair");
         block_start[j / kBlock + 1] += offsets[s + 1] - offsets[s];
     }
-    for (size_t k = 0; k < blocks; ++k) block_start[k + 1] += block_start[k];
+    for (size_t k = 0; k < blocks; ++k)
+        block_start[k + 1] += block_start[k];
     if (block_start[blocks] != points.size())
         fail("dynamics: ", points.size(), " points given for strands holding ",
              block_start[blocks]);
@@ -97,8 +98,7 @@ void skin_strands(const Hierarchy& h, const StrandBinding& b, std::span<const Ve
                 const uint32_t s = strands[j];
                 const uint32_t g = h.strand_gc[s];
                 const Vec3f* x = positions.data() + h.node(g, 0);
-                const Mat3f* m =
-                    rotations.data() + static_cast<size_t>(g - finest) * h.sections;
+                const Mat3f* m = rotations.data() + static_cast<size_t>(g - finest) * h.sections;
                 for (uint32_t i = offsets[s]; i < offsets[s + 1]; ++i)
                     points[at++] = skinned(h, b, x, m, i);
             }

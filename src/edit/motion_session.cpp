@@ -11,21 +11,24 @@ namespace wisp {
 MotionSession::MotionSession(const Hair& rest, const Mesh& body, const HeadFrame& head,
                              const DynamicsSpec& dynamics, PrototypeSpec::Kind prototype,
                              MotionSessionSettings settings)
-    : head_(head), rest_(rest), body_(body), live_(head, settings.fps),
+    : head_(head),
+      rest_(rest),
+      body_(body),
+      live_(head, settings.fps),
       interval_(1.0 / settings.fps) {
     AnimateSettings animate;
     animate.fps = settings.fps;
     animate.single_level = settings.single_level;
     animate.wisp_held = std::move(settings.wisp_held);
     animate.frame_stats = false;
-    animator_ = std::make_unique<Animator>(rest_, body_, head_, live_.motion(), dynamics,
-                                           prototype, animate);
+    animator_ = std::make_unique<Animator>(rest_, body_, head_, live_.motion(), dynamics, prototype,
+                                           animate);
     const std::vector<uint32_t> order = strand_order(rest_.strand_count());
-    shown_.assign(order.begin(),
-                  order.begin() + static_cast<ptrdiff_t>(
-                                      std::min(settings.shown_strands, order.size())));
+    shown_.assign(order.begin(), order.begin() + static_cast<ptrdiff_t>(std::min(
+                                                     settings.shown_strands, order.size())));
     size_t points = 0;
-    for (uint32_t s : shown_) points += rest_.strand_size(s);
+    for (uint32_t s : shown_)
+        points += rest_.strand_size(s);
     moved_.resize(points);
     // Frame 0: the rest pose.
     animator_->advance();
@@ -192,8 +195,8 @@ void MotionSession::advance_locked(std::unique_lock<std::mutex>& lock) {
 
 void MotionSession::run() {
     using Clock = std::chrono::steady_clock;
-    const auto interval = std::chrono::duration_cast<Clock::duration>(
-        std::chrono::duration<double>(interval_));
+    const auto interval =
+        std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(interval_));
     std::unique_lock lock(mutex_);
     auto next = Clock::now();
     while (!stop_) {

@@ -269,7 +269,7 @@ constexpr auto kPlainArrayChars = [] {
 // Returns false, consuming nothing, for anything else: the caller then uses from_chars.
 // Consumes what from_chars would: sign, digits, optional `.` and digits, optional exponent.
 inline bool parse_float_fast(const char*& p, const char* e, float& v) {
-    static constexpr double kPow10[] = {1e0, 1e1, 1e2, 1e3, 1e4,  1e5,  1e6,
+    static constexpr double kPow10[] = {1e0, 1e1, 1e2, 1e3,  1e4,  1e5, 1e6,
                                         1e7, 1e8, 1e9, 1e10, 1e11, 1e12};
     const char* q = p;
     const bool negative = q < e && *q == '-';
@@ -1154,8 +1154,8 @@ UsdaLayer parse_usda(std::string_view text, const std::string& name) {
 namespace {
 
 UsdaLayer read_layer_file(const std::filesystem::path& path) {
-    const io_detail::FileBytes bytes(
-        path, {io_detail::kMaxHairFileBytes, "a usda file", true, "#usda "});
+    const io_detail::FileBytes bytes(path,
+                                     {io_detail::kMaxHairFileBytes, "a usda file", true, "#usda "});
     return parse_usda(bytes.view(), path.string());
 }
 

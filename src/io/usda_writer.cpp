@@ -649,7 +649,7 @@ void write_usda_animation(const std::filesystem::path& path, const std::vector<H
 struct UsdaAnimationWriter::Impl {
     AtomicFile file;
     Out out;
-    Hair first;  // topology, widths, colors and wisp ids of frame 0
+    Hair first;                   // topology, widths, colors and wisp ids of frame 0
     std::optional<Hair> strands;  // guides mode: the render strands at rest
     size_t frames, written = 0;
     std::vector<Box3> extents;
@@ -829,8 +829,7 @@ void UsdaClipWriter::finish() {
                 begin_guides_layer(out, *strands, m.first, animation_metadata(m.frames, m.fps),
                                    clips);
             else
-                begin_layer(out, m.first, animation_metadata(m.frames, m.fps), false, false,
-                            clips);
+                begin_layer(out, m.first, animation_metadata(m.frames, m.fps), false, false, clips);
             // Declared without a value: a local value would be stronger than the clips.
             out.buf += "        float3[] extent\n        point3f[] points\n";
             end_animated_layer(out, m.first, strands);

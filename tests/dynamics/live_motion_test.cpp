@@ -103,13 +103,15 @@ TEST(LiveMotion, RecordingReplaysToTheSameFrames) {
 
     LiveMotion live(g.head, fps);
     const Motion nod = motion_preset("nod", g.head);
-    Animator animator(g.hair, body, g.head, live.motion(), g.style.dynamics,
-                      g.style.prototype.kind, settings);
+    Animator animator(g.hair, body, g.head, live.motion(), g.style.dynamics, g.style.prototype.kind,
+                      settings);
     // The live view's strands: every third one.
     std::vector<uint32_t> shown;
-    for (uint32_t s = 0; s < g.hair.strand_count(); s += 3) shown.push_back(s);
+    for (uint32_t s = 0; s < g.hair.strand_count(); s += 3)
+        shown.push_back(s);
     size_t shown_points = 0;
-    for (uint32_t s : shown) shown_points += g.hair.offsets[s + 1] - g.hair.offsets[s];
+    for (uint32_t s : shown)
+        shown_points += g.hair.offsets[s + 1] - g.hair.offsets[s];
     std::vector<std::vector<Vec3f>> live_frames;
     std::vector<FramePose> poses;
     for (int f = 0; f < settings.frames; ++f) {
@@ -140,20 +142,19 @@ TEST(LiveMotion, RecordingReplaysToTheSameFrames) {
 
     settings.frame_stats = true;
     int compared = 0;
-    animate(g.hair, body, g.head, replay, g.style.dynamics, g.style.prototype.kind, settings,
-            [&](int f, const Hair& moved, const FramePose& pose) {
-                EXPECT_EQ(pose.time, poses[f].time) << f;
-                EXPECT_EQ(pose.head.rotation, poses[f].head.rotation) << f;
-                EXPECT_EQ(pose.head.translation, poses[f].head.translation) << f;
-                size_t at = 0;
-                for (uint32_t s : shown)
-                    for (uint32_t i = moved.offsets[s]; i < moved.offsets[s + 1]; ++i, ++at)
-                        ASSERT_EQ(std::memcmp(&moved.points[i], &live_frames[f][at],
-                                              sizeof(Vec3f)),
-                                  0)
-                            << "frame " << f << ", strand " << s << ", point " << i;
-                ++compared;
-            });
+    animate(
+        g.hair, body, g.head, replay, g.style.dynamics, g.style.prototype.kind, settings,
+        [&](int f, const Hair& moved, const FramePose& pose) {
+            EXPECT_EQ(pose.time, poses[f].time) << f;
+            EXPECT_EQ(pose.head.rotation, poses[f].head.rotation) << f;
+            EXPECT_EQ(pose.head.translation, poses[f].head.translation) << f;
+            size_t at = 0;
+            for (uint32_t s : shown)
+                for (uint32_t i = moved.offsets[s]; i < moved.offsets[s + 1]; ++i, ++at)
+                    ASSERT_EQ(std::memcmp(&moved.points[i], &live_frames[f][at], sizeof(Vec3f)), 0)
+                        << "frame " << f << ", strand " << s << ", point " << i;
+            ++compared;
+        });
     EXPECT_EQ(compared, settings.frames);
     // The hair did move: the drag reached the strands.
     float moved_most = 0;

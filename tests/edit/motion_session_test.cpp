@@ -44,8 +44,8 @@ std::unique_ptr<MotionSession> session(size_t shown = 200) {
     MotionSessionSettings settings;
     settings.shown_strands = shown;
     settings.wisp_held = s.result.solve.held_length;
-    return std::make_unique<MotionSession>(s.result.hair, *s.head.mesh, s.frame,
-                                           s.style.dynamics, s.style.prototype.kind, settings);
+    return std::make_unique<MotionSession>(s.result.hair, *s.head.mesh, s.frame, s.style.dynamics,
+                                           s.style.prototype.kind, settings);
 }
 
 std::vector<Vec3f> positions(const MotionFrame& frame) {
@@ -62,7 +62,8 @@ TEST(MotionSession, StartsPausedAtRestAndStepsOneFrame) {
     EXPECT_EQ(first->index, 0u);
     EXPECT_FALSE(live->frame_after(0u, 50));  // paused: nothing new
     live->drag(Vec3f(0, 40, 0), Vec3f::Zero());
-    for (int i = 0; i < 6; ++i) live->step();
+    for (int i = 0; i < 6; ++i)
+        live->step();
     const auto sixth = live->frame_after(0u, 0);
     ASSERT_TRUE(sixth);
     EXPECT_EQ(sixth->index, 6u);
@@ -112,8 +113,8 @@ TEST(MotionSession, RecordingReplaysTheFramesTheBrowserSaw) {
     settings.fps = 25;
     settings.wisp_held = s.result.solve.held_length;
     size_t compared = 0;
-    animate(s.result.hair, *s.head.mesh, s.frame, replay, s.style.dynamics,
-            s.style.prototype.kind, settings, [&](int f, const Hair& moved, const FramePose&) {
+    animate(s.result.hair, *s.head.mesh, s.frame, replay, s.style.dynamics, s.style.prototype.kind,
+            settings, [&](int f, const Hair& moved, const FramePose&) {
                 for (const MotionFrame& frame : seen) {
                     if (frame.index != static_cast<uint32_t>(f)) continue;
                     const std::vector<Vec3f> got = positions(frame);
@@ -127,8 +128,7 @@ TEST(MotionSession, RecordingReplaysTheFramesTheBrowserSaw) {
                 }
             });
     EXPECT_EQ(compared, seen.size());
-    EXPECT_NE(live->replay_arguments().find("--frames " +
-                                            std::to_string(live->frames_published())),
+    EXPECT_NE(live->replay_arguments().find("--frames " + std::to_string(live->frames_published())),
               std::string::npos);
 }
 
@@ -143,7 +143,8 @@ TEST(MotionSession, AFlungHeadNeverSendsNonFinitePositions) {
     const auto frame = live->frame_after(std::nullopt, 0);
     ASSERT_TRUE(frame);
     EXPECT_EQ(frame->index, 12u);
-    for (const Vec3f& p : positions(*frame)) ASSERT_TRUE(p.allFinite());
+    for (const Vec3f& p : positions(*frame))
+        ASSERT_TRUE(p.allFinite());
     EXPECT_TRUE(live->error().empty()) << live->error();
 }
 

@@ -6,12 +6,12 @@
 #include <algorithm>
 #include <bit>
 #include <charconv>
-#include <random>
 #include <cstdio>
 #include <fstream>
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <regex>
 
 #include "core/parallel.hpp"
@@ -689,14 +689,13 @@ TEST(Usda, FastNumberParsingMatchesFromChars) {
         if (!std::isfinite(v) || std::abs(v) > 1e7f || (v != 0 && std::abs(v) < 1e-7f)) continue;
         char buf[64];
         const int precision = static_cast<int>(texts.size() % 10);  // 0: shortest
-        const auto r = precision == 0
-                           ? std::to_chars(buf, buf + sizeof buf, v)
-                           : std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general,
-                                           precision);
+        const auto r = precision == 0 ? std::to_chars(buf, buf + sizeof buf, v)
+                                      : std::to_chars(buf, buf + sizeof buf, v,
+                                                      std::chars_format::general, precision);
         texts.emplace_back(buf, r.ptr);
     }
-    texts.insert(texts.end(), {"0", "-0", "0.5", "-.5", "1.", "123456789012345", "0.1e1",
-                               "1.5E-3", "999999999999999e-12", "16777217", "0.000000000001"});
+    texts.insert(texts.end(), {"0", "-0", "0.5", "-.5", "1.", "123456789012345", "0.1e1", "1.5E-3",
+                               "999999999999999e-12", "16777217", "0.000000000001"});
     while (texts.size() % 3)
         texts.emplace_back("1");
     std::string points, widths;
@@ -704,10 +703,9 @@ TEST(Usda, FastNumberParsingMatchesFromChars) {
         points += "(" + texts[i] + ", " + texts[i + 1] + ", " + texts[i + 2] + "),\n";
     for (const std::string& t : texts)
         widths += t + ", ";
-    const UsdaLayer layer =
-        parse_usda("#usda 1.0\ndef BasisCurves \"C\" {\n point3f[] points = [" + points +
-                       "]\n float[] widths = [" + widths + "]\n}\n",
-                   "fast.usda");
+    const UsdaLayer layer = parse_usda("#usda 1.0\ndef BasisCurves \"C\" {\n point3f[] points = [" +
+                                           points + "]\n float[] widths = [" + widths + "]\n}\n",
+                                       "fast.usda");
     const UsdCurves& c = layer.curves.at(0);
     ASSERT_EQ(c.points.size() * 3, texts.size());
     ASSERT_EQ(c.widths.size(), texts.size());
@@ -718,7 +716,8 @@ TEST(Usda, FastNumberParsingMatchesFromChars) {
         const float got = c.points[i / 3][static_cast<int>(i % 3)];
         if (std::bit_cast<uint32_t>(got) != std::bit_cast<uint32_t>(expected) ||
             std::bit_cast<uint32_t>(c.widths[i]) != std::bit_cast<uint32_t>(expected)) {
-            if (++wrong < 10) ADD_FAILURE() << texts[i] << " read as " << got << " / " << c.widths[i];
+            if (++wrong < 10)
+                ADD_FAILURE() << texts[i] << " read as " << got << " / " << c.widths[i];
         }
     }
     EXPECT_EQ(wrong, 0u);
@@ -783,8 +782,8 @@ TEST(Usda, PrecisionBoundsTheErrorAndShrinksTheFile) {
         const double rel = 0.5 * std::pow(10.0, 1 - digits);
         auto close = [&](float got, float want) {
             return std::abs(double(got) - double(want)) <=
-                   rel * std::abs(double(want)) + 2 * std::numeric_limits<float>::epsilon() *
-                                                      std::abs(double(want));
+                   rel * std::abs(double(want)) +
+                       2 * std::numeric_limits<float>::epsilon() * std::abs(double(want));
         };
         size_t bad = 0, changed = 0;
         for (size_t i = 0; i < h.points.size(); ++i)
@@ -803,7 +802,8 @@ TEST(Usda, PrecisionBoundsTheErrorAndShrinksTheFile) {
         // The extent (exact) holds every point as read back.
         const std::smatch m = [&] {
             std::smatch r;
-            static const std::regex re(R"(float3\[\] extent = \[\(([^,]+), ([^,]+), ([^)]+)\), \(([^,]+), ([^,]+), ([^)]+)\)\])");
+            static const std::regex re(
+                R"(float3\[\] extent = \[\(([^,]+), ([^,]+), ([^)]+)\), \(([^,]+), ([^,]+), ([^)]+)\)\])");
             std::regex_search(text, r, re);
             return r;
         }();
