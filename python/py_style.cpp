@@ -14,42 +14,6 @@
 namespace wisp::python {
 namespace {
 
-const char* type_name(FieldType t) {
-    switch (t) {
-        case FieldType::kNumber:
-            return "number";
-        case FieldType::kInteger:
-            return "integer";
-        case FieldType::kSeed:
-            return "seed";
-        case FieldType::kBoolean:
-            return "boolean";
-        case FieldType::kString:
-            return "string";
-        case FieldType::kPath:
-            return "path";
-        case FieldType::kChoice:
-            return "choice";
-        case FieldType::kPoint:
-            return "point";
-        case FieldType::kDirection:
-            return "direction";
-        case FieldType::kMap:
-            return "map";
-        case FieldType::kDistribution:
-            return "distribution";
-        case FieldType::kRadii:
-            return "radii";
-        case FieldType::kPolyline:
-            return "polyline";
-        case FieldType::kFieldTerms:
-            return "field terms";
-        case FieldType::kGroups:
-            return "groups";
-    }
-    return "?";
-}
-
 py::object to_python(const toml::node& node) {
     if (const auto* v = node.as_integer()) return py::int_(v->get());
     if (const auto* v = node.as_floating_point()) return py::float_(v->get());
@@ -235,7 +199,7 @@ void bind_style(py::module_& m) {
             for (const StyleField& f : style_schema()) {
                 py::dict d;
                 d["path"] = std::string(f.path);
-                d["type"] = type_name(f.type);
+                d["type"] = field_type_name(f.type);
                 d["stage"] = stage_name(f.stage);
                 d["unit"] = std::string(f.unit);
                 d["paper"] = std::string(f.paper);

@@ -25,42 +25,6 @@ void put_f32(std::string& out, float v) {
     out.append(reinterpret_cast<const char*>(&v), 4);
 }
 
-const char* type_name(FieldType type) {
-    switch (type) {
-        case FieldType::kNumber:
-            return "number";
-        case FieldType::kInteger:
-            return "integer";
-        case FieldType::kSeed:
-            return "seed";
-        case FieldType::kBoolean:
-            return "boolean";
-        case FieldType::kString:
-            return "string";
-        case FieldType::kPath:
-            return "path";
-        case FieldType::kChoice:
-            return "choice";
-        case FieldType::kPoint:
-            return "point";
-        case FieldType::kDirection:
-            return "direction";
-        case FieldType::kMap:
-            return "map";
-        case FieldType::kDistribution:
-            return "distribution";
-        case FieldType::kRadii:
-            return "radii";
-        case FieldType::kPolyline:
-            return "polyline";
-        case FieldType::kFieldTerms:
-            return "field_terms";
-        case FieldType::kGroups:
-            return "groups";
-    }
-    return "?";
-}
-
 nlohmann::json node_to_json(const toml::node& node) {
     if (const auto* s = node.as_string()) return s->get();
     if (const auto* i = node.as_integer()) return i->get();
@@ -246,7 +210,7 @@ nlohmann::json schema_json() {
     for (const StyleField& f : style_schema()) {
         nlohmann::json j;
         j["path"] = f.path;
-        j["type"] = type_name(f.type);
+        j["type"] = field_type_name(f.type);
         j["stage"] = stage_name(f.stage);
         j["panel"] = f.panel;
         j["paper"] = f.paper;

@@ -928,4 +928,40 @@ const std::vector<std::string>& style_sections() {
     return sections().names;
 }
 
+const char* field_type_name(FieldType type) {
+    switch (type) {
+        case FieldType::kNumber:
+            return "number";
+        case FieldType::kInteger:
+            return "integer";
+        case FieldType::kSeed:
+            return "seed";
+        case FieldType::kBoolean:
+            return "boolean";
+        case FieldType::kString:
+            return "string";
+        case FieldType::kPath:
+            return "path";
+        case FieldType::kChoice:
+            return "choice";
+        case FieldType::kPoint:
+            return "point";
+        case FieldType::kDirection:
+            return "direction";
+        case FieldType::kMap:
+            return "map";
+        case FieldType::kDistribution:
+            return "distribution";
+        case FieldType::kRadii:
+            return "radii";
+        case FieldType::kPolyline:
+            return "polyline";
+        case FieldType::kFieldTerms:
+            return "field_terms";
+        case FieldType::kGroups:
+            return "groups";
+    }
+    return "?";
+}
+
 }  // namespace wisp

@@ -96,4 +96,7 @@ const std::vector<std::string>& section_keys(std::string_view section);
 // The sections, "" (the top level) first.
 const std::vector<std::string>& style_sections();
 
+// The type's name in `wisp schema`, the editor and the Python API ("number", "field_terms", …).
+const char* field_type_name(FieldType type);
+
 }  // namespace wisp
