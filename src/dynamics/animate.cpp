@@ -81,6 +81,10 @@ Animator::Animator(const Hair& rest, const Mesh& body, const HeadFrame& head, co
     sim_ = std::make_unique<AwtSimulation>(hierarchy_, std::move(spheres), &motion, params, 0.0);
 }
 
+void Animator::set_dynamics(const DynamicsSpec& spec, PrototypeSpec::Kind prototype) {
+    sim_->set_params(awt_params(spec, prototype, sim_->params().single_level));
+}
+
 void Animator::advance() {
     AwtSimulation& sim = *sim_;
     if (++frame_ > 0)

@@ -84,7 +84,12 @@ class Animator {
     // stats().steps_per_frame steps. Then the nodes are synced for skinning. Throws
     // wisp::Error if the simulation diverges.
     void advance();
-    int frame() const { return frame_; }  // −1 before the first advance()
+    int frame() const { return frame_; }
+    // The style's dynamics changed between frames: what AwtSimulation::set_params applies
+    // from the next step on (the hierarchy, links, dt and voxel stay). Throws wisp::Error on
+    // bad values, nothing changed.
+    void set_dynamics(const DynamicsSpec& spec,
+                      PrototypeSpec::Kind prototype);  // −1 before the first advance()
     FramePose pose() const;
 
     // The render strands at the current frame: all of them into `out` (rest's topology), or

@@ -157,6 +157,18 @@ AwtSimulation::AwtSimulation(const Hierarchy& hierarchy, std::vector<Sphere> sph
     init();
 }
 
+void AwtSimulation::set_params(const AwtParams& params) {
+    AwtParams next = params;
+    next.rigid = params_.rigid;
+    next.single_level = params_.single_level;
+    next.voxel = params_.voxel;
+    next.dt = params_.dt;
+    if (!(next.friction * next.dt < 1))
+        fail("dynamics: friction · dt must be under 1 (§4.2), got ", next.friction, " · ", next.dt);
+    params_ = next;
+    cos_repulsion_ = std::cos(params_.repulsion_angle * kPi / 180.f);
+}
+
 void AwtSimulation::init() {
     if (!(params_.dt > 0) || params_.friction * params_.dt >= 1)
         fail("dynamics: friction · dt must be under 1 (§4.2)");

@@ -110,6 +110,12 @@ class AwtSimulation {
     AwtSimulation& operator=(const AwtSimulation&) = delete;
 
     void step();
+    // The parameters read at every step, changed between steps (the editor's live controls,
+    // issue 17): stiffness, stretch, damping, air_drag, split_threshold, merge_velocity,
+    // friction, repulsion, repulsion_angle, iterations, hair_collisions, body_collisions.
+    // The others (rigid, single_level, voxel, dt) shaped the state and stay as constructed.
+    // Throws wisp::Error when friction·dt ≥ 1 (§4.2), the parameters unchanged.
+    void set_params(const AwtParams& params);
     double time() const { return time_; }
     const Hierarchy& hierarchy() const { return *h_; }
     const AwtParams& params() const { return params_; }

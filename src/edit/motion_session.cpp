@@ -2,11 +2,56 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstring>
 
 #include "core/error.hpp"
 #include "edit/wire.hpp"
 
 namespace wisp {
+
+namespace {
+
+template <class T>
+void put(std::string& out, T value) {
+    char bytes[sizeof(T)];
+    std::memcpy(bytes, &value, sizeof(T));  // the wire is little-endian, as this machine
+    out.append(bytes, sizeof(T));
+}
+
+}  // namespace
+
+void encode_tree(uint32_t frame, const AwtSimulation& sim, std::string& out) {
+    const Hierarchy& h = sim.hierarchy();
+    const std::vector<uint32_t>& active = sim.active();
+    const std::span<const Vec3f> x = sim.positions();
+    const std::vector<uint32_t> per_level = sim.active_per_level();
+    const std::vector<AwtEvent>& events = sim.last_events();
+    out.clear();
+    out.reserve(28 + active.size() * 32 + per_level.size() * 4 + events.size() * 16);
+    out += "WISPTREE";
+    put<uint32_t>(out, 1);
+    put<uint32_t>(out, frame);
+    put<uint32_t>(out, static_cast<uint32_t>(active.size()));
+    put<uint32_t>(out, static_cast<uint32_t>(per_level.size()));
+    put<uint32_t>(out, static_cast<uint32_t>(events.size()));
+    for (const uint32_t n : active)
+        for (int c = 0; c < 3; ++c)
+            put<float>(out, x[n][c]);
+    for (const uint32_t n : active)
+        for (int c = 0; c < 3; ++c)
+            put<float>(out, x[sim.parent(n)][c]);
+    for (const uint32_t n : active)
+        put<float>(out, sim.radius(n));
+    for (const uint32_t n : active)
+        put<uint32_t>(out, h.level[h.gc_of(n)]);
+    for (const uint32_t count : per_level)
+        put<uint32_t>(out, count);
+    for (const AwtEvent& e : events) {
+        for (int c = 0; c < 3; ++c)
+            put<float>(out, x[e.node][c]);
+        put<float>(out, e.kind == AwtEvent::Kind::kSplit ? 0.f : 1.f);
+    }
+}
 
 MotionSession::MotionSession(const Hair& rest, const Mesh& body, const HeadFrame& head,
                              const DynamicsSpec& dynamics, PrototypeSpec::Kind prototype,
@@ -15,7 +60,9 @@ MotionSession::MotionSession(const Hair& rest, const Mesh& body, const HeadFrame
       rest_(rest),
       body_(body),
       live_(head, settings.fps),
-      interval_(1.0 / settings.fps) {
+      interval_(1.0 / settings.fps),
+      prototype_(prototype),
+      single_level_(settings.single_level) {
     AnimateSettings animate;
     animate.fps = settings.fps;
     animate.single_level = settings.single_level;
@@ -23,6 +70,7 @@ MotionSession::MotionSession(const Hair& rest, const Mesh& body, const HeadFrame
     animate.frame_stats = false;
     animator_ = std::make_unique<Animator>(rest_, body_, head_, live_.motion(), dynamics, prototype,
                                            animate);
+    dt_ = animator_->stats().dt;
     const std::vector<uint32_t> order = strand_order(rest_.strand_count());
     shown_.assign(order.begin(), order.begin() + static_cast<ptrdiff_t>(std::min(
                                                      settings.shown_strands, order.size())));
@@ -34,7 +82,9 @@ MotionSession::MotionSession(const Hair& rest, const Mesh& body, const HeadFrame
     animator_->advance();
     animator_->skin(shown_, moved_);
     encode_frame(0, moved_, frame_.bytes);
+    frame_.head = animator_->pose().head;
     active_per_level_ = animator_->simulation().active_per_level();
+    stats_ = animator_->stats();
     thread_ = std::thread([this] { run(); });
 }
 
@@ -102,6 +152,15 @@ void MotionSession::set_wind(const Vec3f& wind, float gust_amplitude, float gust
     pending_wind_ = Wind{wind, gust_amplitude, gust_frequency};
 }
 
+void MotionSession::set_dynamics(const DynamicsSpec& dynamics) {
+    // The checks the thread's set_params would make, here, so a bad value is the caller's.
+    const AwtParams p = awt_params(dynamics, prototype_, single_level_);
+    if (!(p.friction * dt_ < 1))
+        fail("dynamics: friction · dt must be under 1 (§4.2), got ", p.friction, " · ", dt_);
+    std::lock_guard lock(mutex_);
+    pending_dynamics_ = dynamics;
+}
+
 std::optional<MotionFrame> MotionSession::frame_after(std::optional<uint32_t> after,
                                                       int wait_ms) const {
     std::unique_lock lock(mutex_);
@@ -130,6 +189,18 @@ std::vector<uint32_t> MotionSession::active_per_level() const {
 AnimationStats MotionSession::stats() const {
     std::lock_guard lock(mutex_);
     return stats_;
+}
+
+MotionFrame MotionSession::tree() {
+    std::unique_lock lock(mutex_);
+    if (!tree_wanted_) {
+        // The animator is the thread's while it advances; between frames it is idle.
+        changed_.wait(lock, [&] { return !advancing_ || stop_; });
+        tree_wanted_ = true;
+        tree_.index = frame_.index;
+        encode_tree(frame_.index, animator_->simulation(), tree_.bytes);
+    }
+    return tree_;
 }
 
 void MotionSession::write_recording(const std::filesystem::path& path) const {
@@ -164,22 +235,33 @@ void MotionSession::advance_locked(std::unique_lock<std::mutex>& lock) {
     } else {
         live_.hold(f);
     }
+    const bool tree = tree_wanted_;
+    std::optional<DynamicsSpec> dynamics;
+    dynamics.swap(pending_dynamics_);
+    advancing_ = true;
     lock.unlock();
     std::string error;
-    std::string bytes;
+    std::string bytes, tree_bytes;
+    RigidTransform head;
     std::vector<uint32_t> active;
     AnimationStats stats;
     try {
+        if (dynamics) animator_->set_dynamics(*dynamics, prototype_);
         animator_->advance();
         animator_->skin(shown_, moved_);
         bytes.swap(spare_);
         encode_frame(static_cast<uint32_t>(animator_->frame()), moved_, bytes);
         active = animator_->simulation().active_per_level();
         stats = animator_->stats();
+        head = animator_->pose().head;
+        if (tree)
+            encode_tree(static_cast<uint32_t>(animator_->frame()), animator_->simulation(),
+                        tree_bytes);
     } catch (const Error& e) {
         error = e.what();
     }
     lock.lock();
+    advancing_ = false;
     if (!error.empty()) {
         error_ = error;
         playing_ = false;
@@ -187,8 +269,13 @@ void MotionSession::advance_locked(std::unique_lock<std::mutex>& lock) {
         spare_.swap(frame_.bytes);
         frame_.bytes.swap(bytes);
         frame_.index = static_cast<uint32_t>(animator_->frame());
+        frame_.head = head;
         active_per_level_ = std::move(active);
         stats_ = std::move(stats);
+        if (tree) {
+            tree_.index = frame_.index;
+            tree_.bytes.swap(tree_bytes);
+        }
     }
     changed_.notify_all();
 }

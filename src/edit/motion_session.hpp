@@ -35,8 +35,22 @@ struct MotionSessionSettings {
 
 struct MotionFrame {
     uint32_t index = 0;
-    std::string bytes;  // encode_frame
+    std::string bytes;    // encode_frame
+    RigidTransform head;  // head space → world at this frame (the view poses the head mesh)
 };
+
+// The active part of the Adaptive Wisp Tree for the tree view (Bertails et al. Fig. 4):
+//   "WISPTREE"                 8 bytes
+//   uint32 version (1), frame index, active nodes N, levels L, events E
+//   float32 positions[3·N]     cm, world: each active node (k ≥ 1), root to tip
+//   float32 parents[3·N]       cm, world: its AWT parent (a root node for k = 1): segment ends
+//   float32 radius[N]          cm, the node's cross-section radius
+//   uint32 level[N]            0 = coarsest
+//   uint32 per_level[L]        active nodes per level (AwtSimulation::active_per_level)
+//   float32 events[4·E]        the last step's splits and merges: x, y, z (cm, world), kind
+//                              (0 split, 1 merge)
+// little-endian. Call after sim.sync(). Reuses `out`'s memory.
+void encode_tree(uint32_t frame, const AwtSimulation& sim, std::string& out);
 
 class MotionSession {
   public:
@@ -63,6 +77,11 @@ class MotionSession {
     // holds its last pose. Throws wisp::Error for an unknown name.
     void play_preset(const std::string& name);
     void set_wind(const Vec3f& wind, float gust_amplitude = 0, float gust_frequency = 0.5f);
+    // The style's dynamics changed: applied at the next frame boundary (Animator::
+    // set_dynamics: the parameters read at every step; the hierarchy's, links, dt and voxel
+    // stay as the session started). Throws wisp::Error for values the simulation refuses
+    // (friction · dt ≥ 1). Like wind, it is not keyed: a recording replays with the last ones.
+    void set_dynamics(const DynamicsSpec& dynamics);
 
     // The newest published frame if its index is past `after` (or any frame when `after` is
     // empty), waiting up to `wait_ms` for one.
@@ -73,6 +92,12 @@ class MotionSession {
     // Active nodes per level and split/merge counts of the newest frame.
     std::vector<uint32_t> active_per_level() const;
     AnimationStats stats() const;
+
+    // The Adaptive Wisp Tree of the newest frame (encode_tree), for the tree view (Fig. 4).
+    // The first call turns it on: from then on every frame encodes its tree too (a few
+    // hundred to a few thousand active nodes, well under a millisecond). Waits for a frame
+    // being computed to finish.
+    MotionFrame tree();
 
     // The recording so far as a motion file; and the `wisp animate` command line that replays
     // it (frames and fps).
@@ -98,6 +123,10 @@ class MotionSession {
     mutable std::mutex mutex_;
     mutable std::condition_variable changed_;
     bool playing_ = false, stop_ = false;
+    // The thread is inside advance_locked() with the lock released: the animator is its.
+    bool advancing_ = false;
+    bool tree_wanted_ = false;
+    MotionFrame tree_;
     int steps_requested_ = 0;
     // Input for the next frame boundary.
     std::optional<MotionKey> drag_head_, drag_body_;
@@ -108,6 +137,10 @@ class MotionSession {
         float amplitude, frequency;
     };
     std::optional<Wind> pending_wind_;
+    std::optional<DynamicsSpec> pending_dynamics_;
+    PrototypeSpec::Kind prototype_;
+    bool single_level_;
+    double dt_;  // the simulation's step, s
     MotionFrame frame_;
     std::string spare_;  // the frame before, its memory reused for the next
     std::vector<uint32_t> active_per_level_;

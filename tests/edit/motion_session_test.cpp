@@ -132,6 +132,35 @@ TEST(MotionSession, RecordingReplaysTheFramesTheBrowserSaw) {
               std::string::npos);
 }
 
+// A dynamics field set while the session runs applies from the next frame, without a
+// restart: two sessions with the same input agree until the change and differ after it.
+TEST(MotionSession, ADynamicsChangeAppliesFromTheNextFrame) {
+    auto same = session(), changed = session();
+    DynamicsSpec loose = small().style.dynamics;
+    loose.stiffness = 5;
+    loose.damping = 0.5f;
+    loose.split_threshold = 0.02f;
+    for (int i = 1; i <= 8; ++i) {
+        for (MotionSession* m : {same.get(), changed.get()})
+            m->drag(Vec3f(0, 12.f * i, 0), Vec3f::Zero());
+        if (i == 4) changed->set_dynamics(loose);
+        same->step();
+        changed->step();
+        const auto a = same->frame_after(std::nullopt, 0),
+                   b = changed->frame_after(std::nullopt, 0);
+        ASSERT_TRUE(a && b);
+        ASSERT_EQ(a->index, uint32_t(i));
+        if (i < 4)
+            EXPECT_EQ(a->bytes, b->bytes) << "frame " << i;
+        else
+            EXPECT_NE(a->bytes, b->bytes) << "frame " << i;
+    }
+    DynamicsSpec bad = loose;
+    bad.friction = 500;  // friction · dt ≥ 1 (§4.2)
+    EXPECT_THROW(changed->set_dynamics(bad), Error);
+    EXPECT_TRUE(changed->error().empty());
+}
+
 // A head flung back and forth at 100 m/s: the hair stays finite (or the session stops with
 // a message), it never sends NaN.
 TEST(MotionSession, AFlungHeadNeverSendsNonFinitePositions) {
