@@ -19,6 +19,7 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/image.hpp"
+#include "edit/motion_routes.hpp"
 #include "edit/stage_cache.hpp"
 #include "edit/wire.hpp"
 #include "groom/maps.hpp"
@@ -201,11 +202,34 @@ struct EditServer::Impl {
     int port = 0;
     std::vector<std::string> hosts;  // allowed Host header values
     std::string document;            // the style's file name in base_dir (Save's default)
+    MotionRoutes motion;             // the Motion mode's endpoints (motion_routes.hpp)
 
     Impl(Style style, std::filesystem::path dir, EditOptions opts)
-        : options(std::move(opts)), base_dir(std::move(dir)), cache(std::move(style), base_dir) {
+        : options(std::move(opts)),
+          base_dir(std::move(dir)),
+          cache(std::move(style), base_dir),
+          motion(motion_host()) {
         if (options.token.empty()) options.token = random_token();
         document = options.document.empty() ? "untitled.toml" : options.document;
+    }
+
+    MotionHost motion_host() {
+        MotionHost host;
+        host.with_hair = [this](const auto& use) {
+            std::lock_guard lock(cache_mutex);
+            const HairstyleResult& r = cache.update();
+            use(cache.style(), cache.head(), r);
+        };
+        host.write_style = [this](const Style& style, const std::string& name) {
+            std::vector<std::string> files;
+            write_document(style, name, files);
+            return files;
+        };
+        host.file_in_folder = [this](const std::string& name,
+                                     std::initializer_list<std::string_view> extensions) {
+            return file_in_folder(base_dir, name, extensions);
+        };
+        return host;
     }
 
     // The file a painted map of `field` is saved to beside the document `toml_name`.
@@ -565,6 +589,8 @@ struct EditServer::Impl {
             send_json(res,
                       {{"file", file.filename().string()}, {"strands", r.hair.strand_count()}});
         });
+
+        motion.add_to(server);
 
         // The front end: embedded files; "/" is index.html.
         server.Get(R"(/.*)", [](const httplib::Request& req, httplib::Response& res) {

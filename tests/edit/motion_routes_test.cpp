@@ -1,0 +1,277 @@
+// The Motion mode's endpoints (issue 17) on loopback: the security rules, bad values as 400s
+// naming the field, frames that move, the tree, and an export whose files `wisp animate`
+// reads back into the frames the browser saw, byte for byte.
+#include "edit/motion_routes.hpp"
+
+#include <httplib.h>
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "dynamics/animate.hpp"
+#include "edit/server.hpp"
+#include "edit/wire.hpp"
+#include "groom/style_toml.hpp"
+#include "io/hair_io.hpp"
+
+namespace wisp {
+namespace {
+
+std::vector<Vec3f> frame_positions(const std::string& bytes) {
+    EXPECT_EQ(bytes.substr(0, 8), "WISPFRAM");
+    uint32_t points = 0;
+    std::memcpy(&points, bytes.data() + 16, 4);
+    EXPECT_EQ(bytes.size(), 20 + 12 * size_t(points));
+    std::vector<Vec3f> out(points);
+    for (size_t i = 0; i < out.size(); ++i)
+        std::memcpy(out[i].data(), bytes.data() + 20 + 12 * i, 12);
+    return out;
+}
+
+uint32_t frame_index(const std::string& bytes) {
+    uint32_t f = 0;
+    std::memcpy(&f, bytes.data() + 12, 4);
+    return f;
+}
+
+class MotionRoutesTest : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        dir_ = std::filesystem::temp_directory_path() /
+               ("wisp_motion_routes_" + std::to_string(::getpid()));
+        std::filesystem::create_directories(dir_);
+        style_ = load_preset("long-straight");
+        style_.wisps = 40;
+        style_.strands = 400;
+        style_.points_per_strand = 10;
+        server_ = std::make_unique<EditServer>(style_, dir_);
+        server_->start();
+        client_ = std::make_unique<httplib::Client>("127.0.0.1", server_->port());
+        client_->set_read_timeout(60, 0);
+        headers_ = {{"X-Wisp-Token", server_->token()}};
+    }
+    void TearDown() override {
+        server_->stop();
+        std::filesystem::remove_all(dir_);
+    }
+
+    httplib::Result post(const std::string& path, const std::string& body = "{}") {
+        return client_->Post(path, headers_, body, "application/json");
+    }
+    httplib::Result get(const std::string& path) { return client_->Get(path, headers_); }
+    // A 400 whose "field" is `field`.
+    void expect_bad(const std::string& path, const std::string& body, const std::string& field) {
+        const auto r = post(path, body);
+        ASSERT_TRUE(r);
+        EXPECT_EQ(r->status, 400) << path << " " << body << ": " << r->body;
+        const auto j = nlohmann::json::parse(r->body, nullptr, false);
+        EXPECT_EQ(j.value("field", ""), field) << path << " " << body << ": " << r->body;
+        EXPECT_FALSE(j.value("error", "").empty());
+    }
+
+    std::filesystem::path dir_;
+    Style style_;
+    std::unique_ptr<EditServer> server_;
+    std::unique_ptr<httplib::Client> client_;
+    httplib::Headers headers_;
+};
+
+TEST_F(MotionRoutesTest, RefusesWithoutTokenAndBadValuesNameTheirField) {
+    // The token and Host rules hold for the motion routes as for every /api/ path.
+    auto r = client_->Post("/api/motion/start", "{}", "application/json");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 403);
+    r = client_->Post("/api/motion/play",
+                      {{"X-Wisp-Token", server_->token()}, {"Origin", "http://evil.example"}}, "{}",
+                      "application/json");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 403);
+
+    expect_bad("/api/motion/play", "{}", "session");  // not started
+    expect_bad("/api/motion/start", R"({"fps": 0})", "fps");
+    expect_bad("/api/motion/start", R"({"strands": -3})", "strands");
+    expect_bad("/api/motion/start", R"({"single_level": "yes"})", "single_level");
+    expect_bad("/api/motion/start", "[1]", "body");
+    ASSERT_EQ(post("/api/motion/start", R"({"strands": 100})")->status, 200);
+    expect_bad("/api/motion/drag", R"({"rotate": [1, 2]})", "rotate");
+    expect_bad("/api/motion/drag", R"({"rotate": [1, 2, "x"]})", "rotate");
+    expect_bad("/api/motion/drag", R"({"translate": [1e300, 0, 0]})", "translate");
+    expect_bad("/api/motion/drag", "not json", "body");
+    expect_bad("/api/motion/preset", R"({"name": "moonwalk"})", "name");
+    expect_bad("/api/motion/preset", R"({"name": 3})", "name");
+    expect_bad("/api/motion/wind", R"({"strength": -1})", "strength");
+    expect_bad("/api/motion/wind", R"({"strength": 100, "direction": [0, 0, 0]})", "direction");
+    expect_bad("/api/motion/wind", R"({"frequency": 1000})", "frequency");
+    expect_bad("/api/motion/record", R"({"name": "../x.json"})", "name");
+    expect_bad("/api/motion/record", R"({"name": "x.toml"})", "name");
+    expect_bad("/api/motion/export", R"({"name": "/tmp/x.usda"})", "name");
+    expect_bad("/api/motion/export", R"({"name": "x.npz"})", "name");
+    expect_bad("/api/motion/dynamics", R"({"path": "dynamics.levels", "value": 2})",
+               "dynamics.levels");  // shapes the tree: not live
+    expect_bad("/api/motion/dynamics", R"({"path": "dynamics.stiffness", "value": -1})",
+               "dynamics.stiffness");
+    expect_bad("/api/motion/dynamics", R"({"path": "dynamics.friction", "value": 500})",
+               "dynamics.friction");
+    expect_bad("/api/motion/dynamics", R"({"value": 1})", "path");
+    EXPECT_EQ(
+        post("/api/motion/dynamics", R"({"path": "dynamics.stiffness", "value": 400})")->status,
+        200);
+    r = get("/api/motion/frame?after=abc");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 400);
+    r = get("/api/motion/frame?after=0&wait=99999");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 400);
+    // Paused: nothing past frame 0.
+    r = get("/api/motion/frame?after=0&wait=50");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 204);
+    // Still serving, still at rest.
+    const auto state = nlohmann::json::parse(get("/api/motion")->body);
+    EXPECT_EQ(state["frame"], 0);
+    EXPECT_EQ(state["error"], "");
+}
+
+TEST_F(MotionRoutesTest, StepsDragsDrawsTheTreeAndExportsWhatWisAnimateReplays) {
+    auto r = post("/api/motion/start", R"({"strands": 150, "fps": 25})");
+    ASSERT_TRUE(r);
+    ASSERT_EQ(r->status, 200) << r->body;
+    const auto started = nlohmann::json::parse(r->body);
+    EXPECT_EQ(started["shown"], 150);
+    EXPECT_EQ(started["frame"], 0);
+    EXPECT_GE(started["levels"].get<int>(), 2);
+
+    r = get("/api/motion/strands");
+    ASSERT_EQ(r->status, 200);
+    ASSERT_EQ(r->body.substr(0, 8), "WISPHAIR");
+    uint32_t header[4];
+    std::memcpy(header, r->body.data() + 8, sizeof header);
+    EXPECT_EQ(header[1], 150u);
+    EXPECT_EQ(header[2], started["points"].get<uint32_t>());
+
+    std::vector<std::string> seen;
+    r = get("/api/motion/frame");
+    ASSERT_EQ(r->status, 200);
+    seen.push_back(r->body);
+    EXPECT_TRUE(r->has_header("X-Wisp-Head"));
+    const std::vector<Vec3f> rest = frame_positions(r->body);
+    ASSERT_EQ(rest.size(), header[2]);
+
+    // The head turned and moved by "mouse" drags, a frame at a time.
+    ASSERT_EQ(post("/api/motion/wind", R"({"direction": [1, 0, 0], "strength": 50})")->status, 200);
+    for (int i = 1; i <= 6; ++i) {
+        ASSERT_EQ(
+            post("/api/motion/drag",
+                 nlohmann::json{{"rotate", {0, 8 * i, 0}}, {"translate", {0, 0, 0.5 * i}}}.dump())
+                ->status,
+            200);
+        r = post("/api/motion/step");
+        ASSERT_EQ(r->status, 200) << r->body;
+        r = get("/api/motion/frame?after=" + std::to_string(i - 1) + "&wait=1000");
+        ASSERT_EQ(r->status, 200);
+        EXPECT_EQ(frame_index(r->body), uint32_t(i));
+        seen.push_back(r->body);
+    }
+    // The roots moved with the head (the first point of the first strand is a root).
+    EXPECT_GT((frame_positions(seen.back())[0] - rest[0]).norm(), 0.5f);
+
+    // A preset played in real time; the client polls and skips what it is too slow for.
+    ASSERT_EQ(post("/api/motion/preset", R"({"name": "shake"})")->status, 200);
+    ASSERT_EQ(post("/api/motion/play")->status, 200);
+    expect_bad("/api/motion/step", "{}", "playing");
+    uint32_t last = frame_index(seen.back());
+    const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(400);
+    while (std::chrono::steady_clock::now() < end) {
+        r = get("/api/motion/frame?after=" + std::to_string(last) + "&wait=200");
+        ASSERT_TRUE(r);
+        if (r->status != 200) continue;
+        last = frame_index(r->body);
+        seen.push_back(r->body);
+    }
+    ASSERT_EQ(post("/api/motion/pause")->status, 200);
+    EXPECT_GT(seen.size(), 9u);
+    EXPECT_NE(frame_positions(seen.back()), frame_positions(seen[seen.size() - 2]));
+
+    // The tree: active nodes with their parents, levels and per-level counts.
+    r = get("/api/motion/tree");
+    ASSERT_EQ(r->status, 200);
+    ASSERT_EQ(r->body.substr(0, 8), "WISPTREE");
+    uint32_t tree[5];
+    std::memcpy(tree, r->body.data() + 8, sizeof tree);
+    const uint32_t nodes = tree[2], levels = tree[3], events = tree[4];
+    EXPECT_GT(nodes, 0u);
+    EXPECT_EQ(levels, started["levels"].get<uint32_t>());
+    EXPECT_EQ(r->body.size(), 28 + 32 * size_t(nodes) + 4 * levels + 16 * size_t(events));
+    uint32_t counted = 0;
+    for (uint32_t l = 0; l < levels; ++l) {
+        uint32_t c;
+        std::memcpy(&c, r->body.data() + 28 + 32 * size_t(nodes) + 4 * l, 4);
+        counted += c;
+    }
+    EXPECT_EQ(counted, nodes);
+
+    // Export: the style, the recording and the frames of the whole hair.
+    r = post("/api/motion/export", R"({"name": "take.hair"})");
+    ASSERT_EQ(r->status, 200) << r->body;
+    const auto exported = nlohmann::json::parse(r->body);
+    const int frames = exported["frames"];
+    EXPECT_GE(frames, int(last) + 1);
+    EXPECT_NE(exported["command"].get<std::string>().find("--frames " + std::to_string(frames)),
+              std::string::npos);
+    EXPECT_FALSE(exported.contains("warning"));  // the wind was set before frame 1
+    ASSERT_TRUE(std::filesystem::exists(dir_ / "take.style.toml"));
+    ASSERT_TRUE(std::filesystem::exists(dir_ / "take.motion.json"));
+
+    // What `wisp animate take.style.toml --motion take.motion.json --fps 25 --frames N` does.
+    const Style style = load_style(dir_ / "take.style.toml");
+    const Head head = load_head(style.head);
+    const HeadFrame frame = head_frame(*head.scalp);
+    const HairstyleResult generated = generate_hairstyle(style, head);
+    const Motion motion = read_motion(dir_ / "take.motion.json", frame);
+    AnimateSettings settings;
+    settings.frames = frames;
+    settings.fps = 25;
+    settings.wisp_held = generated.solve.held_length;
+    const std::vector<uint32_t> order = strand_order(generated.hair.strand_count());
+    size_t compared = 0;
+    animate(generated.hair, *head.mesh, frame, motion, style.dynamics, style.prototype.kind,
+            settings, [&](int f, const Hair& moved, const FramePose&) {
+                char name[32];
+                std::snprintf(name, sizeof name, "take_%04d.hair", f);
+                const Hair file = read_hair(dir_ / name);
+                ASSERT_EQ(file.points.size(), moved.points.size());
+                ASSERT_EQ(std::memcmp(file.points.data(), moved.points.data(),
+                                      moved.points.size() * sizeof(Vec3f)),
+                          0)
+                    << name;
+                for (const std::string& bytes : seen) {
+                    if (frame_index(bytes) != uint32_t(f)) continue;
+                    const std::vector<Vec3f> got = frame_positions(bytes);
+                    size_t at = 0;
+                    for (size_t i = 0; i < 150; ++i)
+                        for (const Vec3f& p : moved.strand(order[i]))
+                            ASSERT_EQ(std::memcmp(&got[at++], &p, 12), 0)
+                                << "frame " << f << " strand " << order[i];
+                    ++compared;
+                }
+            });
+    EXPECT_EQ(compared, seen.size());
+
+    // Reset: back to the rest pose at frame 0.
+    r = post("/api/motion/reset");
+    ASSERT_EQ(r->status, 200);
+    r = get("/api/motion/frame");
+    EXPECT_EQ(frame_index(r->body), 0u);
+    EXPECT_EQ(frame_positions(r->body), rest);
+    EXPECT_EQ(post("/api/motion/stop")->status, 200);
+    expect_bad("/api/motion/play", "{}", "session");
+}
+
+}  // namespace
+}  // namespace wisp
