@@ -104,9 +104,12 @@ void MotionSession::play() {
 }
 
 void MotionSession::pause() {
-    std::lock_guard lock(mutex_);
+    std::unique_lock lock(mutex_);
     playing_ = false;
     changed_.notify_all();
+    // A frame being computed is published before this returns: paused, the frame count and
+    // the recording stay as they are (an export reads both).
+    changed_.wait(lock, [&] { return !advancing_ || stop_; });
 }
 
 bool MotionSession::playing() const {

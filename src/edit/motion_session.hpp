@@ -64,6 +64,7 @@ class MotionSession {
     MotionSession& operator=(const MotionSession&) = delete;
 
     void play();
+    // Returns once a frame being computed is published: nothing changes while paused.
     void pause();
     bool playing() const;
     // One frame while paused; returns once it is published.

@@ -6,6 +6,7 @@ import { getJson, postJson, getBinary, decodeStrands, decodeHead } from "./api.j
 import { Panels } from "./panels.js";
 import { Painter } from "./paint.js";
 import { Viewport } from "./viewport.js";
+import { MotionMode } from "./motion.js";
 
 const previewStrands = 20000;
 const status = document.getElementById("status");
@@ -77,6 +78,8 @@ async function setField(path, value, { final = true, record = true } = {}) {
   }
   if (final) edited();
   if (mapFields.includes(path)) painter.invalidate(path);
+  // In Motion the view shows the moving hair: a dynamics field goes to the running tree.
+  if (motion.active) return path.startsWith("dynamics.") ? motion.setDynamics(path, result.body.value) : true;
   clearTimeout(timer);
   if (final) refreshHair(true);
   else timer = setTimeout(() => refreshHair(false), 30);
@@ -134,6 +137,8 @@ window.addEventListener("keydown", (e) => {
              !(e.target instanceof HTMLSelectElement)) {
     const k = e.key.toLowerCase();
     if (k === "p") setPainting(!painter.active);
+    else if (k === "m") motion.toggle();
+    else if (motion.active && k === " ") { e.preventDefault(); motion.play(!motion.state?.playing); }
     else if (painter.active && k === "e") brushInput("brush-erase", (el) => (el.checked = !el.checked));
     else if (painter.active && (k === "[" || k === "]"))
       brushInput("brush-radius", (el) => (el.value = Number(el.value) * (k === "]" ? 1.2 : 1 / 1.2)));
@@ -251,11 +256,19 @@ presets.onchange = async () => {
 document.getElementById("show-head").onchange = (e) => viewport.showHead(e.target.checked);
 document.getElementById("show-masters").onchange = () => refreshHair(true);
 
+// Motion (M): the style animated live by the Adaptive Wisp Tree (motion.js).
+const motion = new MotionMode(viewport, {
+  strands: previewStrands,
+  onEnter: () => setPainting(false),
+  onExit: () => refreshHair(true),
+  say,
+});
+
 const head = decodeHead(await getBinary("/api/head"));
 viewport.setHead(head);
 painter.setScalp(await getJson("/api/scalp"), head);
 await loadStyle();
 say("generating…");
 await refreshHair(true);
-window.wispEditor = { viewport, painter };  // for the browser tests
+window.wispEditor = { viewport, painter, motion };  // for the browser tests
 document.body.dataset.ready = "1";
