@@ -37,6 +37,7 @@
 //   POST /api/open            {"name": "x.toml"}: a style file of the folder, with its maps
 //   POST /api/export          {"name": "x.hair"}: the full hair in any format `wisp` writes
 //                             by extension (.usda .hair .obj .ply .data .npz)
+//   /api/motion/…             the Motion mode (issue 17): edit/motion_routes.hpp
 #include <cstddef>
 #include <filesystem>
 #include <memory>
