@@ -99,6 +99,15 @@ constexpr std::string_view kLiveDynamics[] = {
     "dynamics.friction",   "dynamics.repulsion",       "dynamics.repulsion_angle",
     "dynamics.iterations", "dynamics.hair_collisions", "dynamics.body_collisions"};
 
+// 12 numbers: the rotation row by row, then the translation (cm).
+std::string pose_text(const RigidTransform& t) {
+    std::string out;
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c)
+            out += cat(t.rotation(r, c), " ");
+    return out + cat(t.translation.x(), " ", t.translation.y(), " ", t.translation.z());
+}
+
 // What a session starts from: the style and its hair when Motion was switched on.
 struct Start {
     Style style;
@@ -167,8 +176,10 @@ struct MotionRoutes::Impl {
         const AnimationStats stats = m.stats();
         size_t points = 0;
         MotionSessionSettings settings;
+        HeadFrame head_frame;
         {
             std::lock_guard lock(mutex);
+            head_frame = start->frame;
             for (uint32_t s : m.shown())
                 points += start->rest.strand_size(s);
             settings = this->settings;
@@ -181,6 +192,8 @@ struct MotionRoutes::Impl {
                 {"fps", settings.fps},
                 {"single_level", settings.single_level},
                 {"pivot", vec_json(m.head_pivot())},
+                {"head_center", vec_json(head_frame.center)},
+                {"head_radius", head_frame.radius},
                 {"levels", stats.levels},
                 {"finest_nodes", stats.finest_nodes},
                 {"active_per_level", m.active_per_level()},
@@ -464,14 +477,9 @@ struct MotionRoutes::Impl {
                     res.status = 204;
                     return;
                 }
-                // The head's pose, so the view moves the head mesh with the hair.
-                std::string pose;
-                for (int r = 0; r < 3; ++r)
-                    for (int c = 0; c < 3; ++c)
-                        pose += cat(f->head.rotation(r, c), " ");
-                pose += cat(f->head.translation.x(), " ", f->head.translation.y(), " ",
-                            f->head.translation.z());
-                res.set_header("X-Wisp-Head", pose);
+                // The head's and body's poses, so the view poses the mesh with the hair.
+                res.set_header("X-Wisp-Head", pose_text(f->head));
+                res.set_header("X-Wisp-Body", pose_text(f->body));
                 res.set_content(f->bytes, "application/octet-stream");
             }));
         server.Get("/api/motion/tree",

@@ -23,14 +23,15 @@
 //                             body_collisions), applied from the next step; the style
 //                             reader's checks, then the simulation's (friction · dt < 1)
 //   GET  /api/motion          the session's description and state: {"frame", "playing",
-//                             "error", "shown", "points", "fps", "pivot", "levels",
+//                             "error", "shown", "points", "fps", "pivot", "head_center",
+//                             "head_radius", "levels",
 //                             "active_per_level", "splits", "merges", "step_ms", "skin_ms"}
 //   GET  /api/motion/strands  the shown strands at rest (encode_strands: topology, colours)
 //   GET  /api/motion/frame?after=N&wait=MS   the newest frame (encode_frame) if past N,
 //                             waiting up to MS (≤ 1000) ms; 204 when none came. A slow client
 //                             gets the newest and skips the rest: the simulation never waits.
-//                             Header X-Wisp-Head: the head's pose, 12 numbers (rotation row
-//                             by row, translation cm), head space → world
+//                             Headers X-Wisp-Head, X-Wisp-Body: the poses, 12 numbers each
+//                             (rotation row by row, translation cm), head space → world
 //   GET  /api/motion/tree     the newest frame's tree (encode_tree)
 //   POST /api/motion/record   {"name": "take.json"}: the recording as a motion file
 //   POST /api/motion/export   {"name": "take.usda"} (value clips) or "take.hair" (frames

@@ -83,6 +83,7 @@ MotionSession::MotionSession(const Hair& rest, const Mesh& body, const HeadFrame
     animator_->skin(shown_, moved_);
     encode_frame(0, moved_, frame_.bytes);
     frame_.head = animator_->pose().head;
+    frame_.body = animator_->pose().body;
     active_per_level_ = animator_->simulation().active_per_level();
     stats_ = animator_->stats();
     thread_ = std::thread([this] { run(); });
@@ -245,7 +246,7 @@ void MotionSession::advance_locked(std::unique_lock<std::mutex>& lock) {
     lock.unlock();
     std::string error;
     std::string bytes, tree_bytes;
-    RigidTransform head;
+    RigidTransform head, body;
     std::vector<uint32_t> active;
     AnimationStats stats;
     try {
@@ -256,7 +257,9 @@ void MotionSession::advance_locked(std::unique_lock<std::mutex>& lock) {
         encode_frame(static_cast<uint32_t>(animator_->frame()), moved_, bytes);
         active = animator_->simulation().active_per_level();
         stats = animator_->stats();
-        head = animator_->pose().head;
+        const FramePose pose = animator_->pose();
+        head = pose.head;
+        body = pose.body;
         if (tree)
             encode_tree(static_cast<uint32_t>(animator_->frame()), animator_->simulation(),
                         tree_bytes);
@@ -273,6 +276,7 @@ void MotionSession::advance_locked(std::unique_lock<std::mutex>& lock) {
         frame_.bytes.swap(bytes);
         frame_.index = static_cast<uint32_t>(animator_->frame());
         frame_.head = head;
+        frame_.body = body;
         active_per_level_ = std::move(active);
         stats_ = std::move(stats);
         if (tree) {

@@ -35,8 +35,10 @@ struct MotionSessionSettings {
 
 struct MotionFrame {
     uint32_t index = 0;
-    std::string bytes;    // encode_frame
-    RigidTransform head;  // head space → world at this frame (the view poses the head mesh)
+    std::string bytes;  // encode_frame
+    // Head space → world at this frame, of the head and the body (the view poses the mesh as
+    // pose_body does).
+    RigidTransform head, body;
 };
 
 // The active part of the Adaptive Wisp Tree for the tree view (Bertails et al. Fig. 4):

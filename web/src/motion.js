@@ -315,10 +315,7 @@ export class MotionMode {
     this.button.classList.remove("on");
     this.tools.hidden = true;
     this.tree.group.visible = false;
-    if (this.viewport.head) {
-      this.viewport.head.matrixAutoUpdate = true;
-      this.viewport.head.updateMatrix();
-    }
+    this.restMesh();
     await post("/api/motion/stop").catch(() => {});
     this.onExit?.();
   }
@@ -356,7 +353,8 @@ export class MotionMode {
       try {
         const response = await call("GET", `/api/motion/frame?after=${this.last}&wait=500`);
         if (!this.active) break;
-        if (response.status === 200) this.draw(response.headers.get("X-Wisp-Head"), await response.arrayBuffer());
+        if (response.status === 200)
+          this.draw(response.headers.get("X-Wisp-Head"), response.headers.get("X-Wisp-Body"), await response.arrayBuffer());
         else if (!response.ok) throw new Error((await response.json()).error);
         if (this.show !== "strands") await this.drawTree();
         const now = performance.now();
@@ -372,7 +370,7 @@ export class MotionMode {
     }
   }
 
-  draw(head, buffer) {
+  draw(head, body, buffer) {
     const [, frame, points] = new Uint32Array(buffer, 8, 3);
     const positions = new Float32Array(buffer, 20, 3 * points);
     this.last = frame;
@@ -390,14 +388,48 @@ export class MotionMode {
       this.viewport.setHair({ ...this.rest, positions: positions.slice() });
       this.viewport.hair.visible = this.show !== "tree";
     }
-    if (head && this.viewport.head) {
-      const v = head.trim().split(/\s+/).map(Number);
-      const mesh = this.viewport.head;
-      mesh.matrixAutoUpdate = false;
-      mesh.matrix.set(v[0], v[1], v[2], v[9], v[3], v[4], v[5], v[10], v[6], v[7], v[8], v[11], 0, 0, 0, 1);
-      mesh.matrixWorldNeedsUpdate = true;
-    }
+    if (head && body && this.viewport.head) this.poseMesh(head, body);
     this.viewport.render();
+  }
+
+  // The head mesh posed as the server's pose_body does: above the chin with the head, below
+  // the neck's base with the body, blended linearly between.
+  poseMesh(headText, bodyText) {
+    const matrix = (text) => {
+      const v = text.trim().split(/\s+/).map(Number);
+      return new THREE.Matrix4().set(v[0], v[1], v[2], v[9], v[3], v[4], v[5], v[10], v[6], v[7], v[8], v[11], 0, 0, 0, 1);
+    };
+    const geometry = this.viewport.head.geometry;
+    const attribute = geometry.getAttribute("position");
+    if (!this.restHead || this.restHead.length !== attribute.array.length) this.restHead = attribute.array.slice();
+    const h = matrix(headText), b = matrix(bodyText);
+    const c = this.state?.head_center ?? [0, 0, 0], r = this.state?.head_radius ?? 10;
+    const top = c[1] - 0.8 * r, bottom = c[1] - 1.6 * r;
+    const p = new THREE.Vector3(), q = new THREE.Vector3(), rest = this.restHead, out = attribute.array;
+    for (let i = 0; i < rest.length; i += 3) {
+      p.set(rest[i], rest[i + 1], rest[i + 2]);
+      const w = Math.min(1, Math.max(0, (p.y - bottom) / (top - bottom)));
+      q.copy(p).applyMatrix4(b);
+      p.applyMatrix4(h).multiplyScalar(w).addScaledVector(q, 1 - w);
+      out[i] = p.x;
+      out[i + 1] = p.y;
+      out[i + 2] = p.z;
+    }
+    attribute.needsUpdate = true;
+    geometry.computeVertexNormals();
+    geometry.computeBoundingSphere();
+    geometry.computeBoundingBox();
+  }
+
+  // The mesh back at rest (leaving Motion).
+  restMesh() {
+    if (!this.restHead || !this.viewport.head) return;
+    const geometry = this.viewport.head.geometry;
+    geometry.getAttribute("position").array.set(this.restHead);
+    geometry.getAttribute("position").needsUpdate = true;
+    geometry.computeVertexNormals();
+    geometry.computeBoundingSphere();
+    geometry.computeBoundingBox();
   }
 
   tangents(out, positions) {
