@@ -12,6 +12,7 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "dynamics/motion.hpp"
+#include "edit/http_reply.hpp"
 #include "edit/motion_session.hpp"
 #include "edit/wire.hpp"
 #include "groom/style_toml.hpp"
@@ -25,19 +26,6 @@ namespace {
 struct BadField {
     std::string field, error;
 };
-
-void send_json(httplib::Response& res, const nlohmann::json& j, int status = 200) {
-    res.status = status;
-    res.set_content(j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace),
-                    "application/json");
-}
-
-void send_error(httplib::Response& res, int status, const std::string& message,
-                const std::string& field = {}) {
-    nlohmann::json j{{"error", excerpt(message, 1000)}};
-    if (!field.empty()) j["field"] = excerpt(field, 200);
-    send_json(res, j, status);
-}
 
 nlohmann::json body_of(const httplib::Request& req) {
     if (req.body.empty()) return nlohmann::json::object();

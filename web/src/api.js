@@ -2,7 +2,7 @@
 // binary strand and head arrays (src/edit/wire.hpp), all little-endian.
 const token = new URLSearchParams(location.search).get("token") ?? "";
 
-async function request(method, path, body) {
+export async function request(method, path, body) {
   const response = await fetch(path, {
     method,
     headers: { "X-Wisp-Token": token, ...(body ? { "Content-Type": "application/json" } : {}) },

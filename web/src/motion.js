@@ -10,24 +10,14 @@
 // with the mouse turns it about the neck (Shift: moves it); the server keys the drag at its
 // frame boundaries, so a recording replays exactly in `wisp animate`.
 import * as THREE from "three";
-import { decodeStrands } from "./api.js";
+import { decodeStrands, request } from "./api.js";
 import "./motion.css";
 
-const token = new URLSearchParams(location.search).get("token") ?? "";
 const levelColors = [0xe8a33d, 0x4fb3e8, 0x8fdc6a, 0xe86a9b];
 const presets = ["lean", "shake", "nod", "jump", "run"];
 
-async function call(method, path, body) {
-  const response = await fetch(path, {
-    method,
-    headers: { "X-Wisp-Token": token, ...(body ? { "Content-Type": "application/json" } : {}) },
-    body: body ? JSON.stringify(body) : undefined,
-  });
-  return response;
-}
-
 async function post(path, body = {}) {
-  const response = await call("POST", path, body);
+  const response = await request("POST", path, body);
   const json = await response.json();
   if (!response.ok) throw new Error(json.field ? `${json.field}: ${json.error}` : json.error);
   return json;
@@ -260,7 +250,7 @@ export class MotionMode {
   // A dynamics field changed in the panels: the running tree takes the ones it reads at every
   // step from the next one (the fields that shape the tree apply when Motion starts again).
   async setDynamics(path, value) {
-    const response = await call("POST", "/api/motion/dynamics", { path, value });
+    const response = await request("POST", "/api/motion/dynamics", { path, value });
     const body = await response.json();
     this.info(response.ok ? `${path} = ${JSON.stringify(value)} from the next step` : `${path}: ${body.error}`);
     return true;
@@ -289,7 +279,7 @@ export class MotionMode {
     this.say("building the wisp tree…");
     try {
       this.state = await post("/api/motion/start", { strands: this.strands, fps: 25 });
-      const response = await call("GET", "/api/motion/strands");
+      const response = await request("GET", "/api/motion/strands");
       this.rest = decodeStrands(await response.arrayBuffer());
       this.viewport.setHair(this.rest);
     } catch (e) {
@@ -351,7 +341,7 @@ export class MotionMode {
     let stateAt = 0;
     while (this.active) {
       try {
-        const response = await call("GET", `/api/motion/frame?after=${this.last}&wait=500`);
+        const response = await request("GET", `/api/motion/frame?after=${this.last}&wait=500`);
         if (!this.active) break;
         if (response.status === 200)
           this.draw(response.headers.get("X-Wisp-Head"), response.headers.get("X-Wisp-Body"), await response.arrayBuffer());
@@ -360,7 +350,7 @@ export class MotionMode {
         const now = performance.now();
         if (now - stateAt > 250 || response.status !== 200) {
           stateAt = now;
-          this.state = await (await call("GET", "/api/motion")).json();
+          this.state = await (await request("GET", "/api/motion")).json();
           this.hud();
         }
       } catch (e) {
@@ -444,7 +434,7 @@ export class MotionMode {
   }
 
   async drawTree() {
-    const response = await call("GET", "/api/motion/tree");
+    const response = await request("GET", "/api/motion/tree");
     if (!response.ok) return;
     this.lastTree = decodeTree(await response.arrayBuffer());
     this.tree.set(this.lastTree);
