@@ -1,6 +1,7 @@
 #pragma once
-// The editor's JSON replies (server.cpp, motion_routes.cpp): a body, and an error as
-// {"error": message, "field": name} with both quoted safely (excerpt).
+// The editor's JSON replies: a body, and an error as {"error": message, "field": name} with
+// both quoted safely (excerpt). motion_routes.cpp uses these; server.cpp still has its own
+// copy, left there while other branches edit the lines around it (merge it after them).
 #include <httplib.h>
 
 #include <string>

@@ -19,7 +19,6 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/image.hpp"
-#include "edit/http_reply.hpp"
 #include "edit/motion_routes.hpp"
 #include "edit/stage_cache.hpp"
 #include "edit/wire.hpp"
@@ -62,6 +61,19 @@ std::string random_token() {
         hex += "0123456789abcdef"[b & 15];
     }
     return hex;
+}
+
+void send_json(httplib::Response& res, const nlohmann::json& j, int status = 200) {
+    res.status = status;
+    res.set_content(j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace),
+                    "application/json");
+}
+
+void send_error(httplib::Response& res, int status, const std::string& message,
+                const std::string& field = {}) {
+    nlohmann::json j{{"error", excerpt(message, 1000)}};
+    if (!field.empty()) j["field"] = excerpt(field, 200);
+    send_json(res, j, status);
 }
 
 // Constant-time comparison, so the token cannot be found a byte at a time by timing.
