@@ -108,7 +108,8 @@ struct RenderOptions {
 
 struct RenderStats {
     StageTimes stages;          // (pass, ms) in the order above
-    size_t pieces = 0;          // straight strand pieces drawn
+    size_t pieces = 0;          // straight strand pieces
+    size_t hidden_pieces = 0;   // of which hidden by the head (or behind the eye): not drawn
     size_t tile_entries = 0;    // (piece, tile) pairs after binning
     size_t fragments = 0;       // hair fragments composited (after early termination)
     size_t head_triangles = 0;  // front-facing head triangles binned
