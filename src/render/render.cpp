@@ -348,73 +348,81 @@ Vec3f shade_head(const Scene& scene, const HeadGeometry& g, uint32_t face, float
     return light.cwiseProduct(scene.options->skin_color);
 }
 
-// The head's samples for every tile (pass 3, before the strands, so that the strands pass can
-// skip the hair the head hides): per sample the nearest front face and its depth (1/z
-// interpolated), and per 8×8-pixel block of the image the farthest depth that hair must be in
-// front of to show in it (+kHeadBias; +inf where a sample sees no head).
+// The head's samples in one tile: per sample the nearest front face and its depth (1/z
+// interpolated); +inf and -1 where a sample sees no head. sample_depth, sample_face
+// #kTile²·kSamples, sample s of pixel (x, y) of the tile at ((y·kTile + x)·kSamples + s).
+void rasterize_head_tile(const Scene& scene, const HeadGeometry& head,
+                         const Bins<uint32_t>& head_bins, int tile, float* sample_depth,
+                         int32_t* sample_face) {
+    const RenderOptions& o = *scene.options;
+    const int tx = tile % head_bins.tiles_x, ty = tile / head_bins.tiles_x;
+    const int x0 = tx * kTile, y0 = ty * kTile;
+    const int x1 = std::min(x0 + kTile, o.width), y1 = std::min(y0 + kTile, o.height);
+    std::fill_n(sample_depth, kTile * kTile * kSamples, std::numeric_limits<float>::infinity());
+    std::fill_n(sample_face, kTile * kTile * kSamples, -1);
+    if (!scene.head) return;
+    for (uint64_t e = head_bins.offsets[tile]; e < head_bins.offsets[tile + 1]; ++e) {
+        const uint32_t f = head_bins.items[e];
+        const Vec3i& t = scene.head->faces[f];
+        const Vec3f &a = head.screen[t[0]], &b = head.screen[t[1]], &c = head.screen[t[2]];
+        const float area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+        const float inv = 1.f / area;
+        const int bx0 = std::max(x0, floor_to_int(std::min({a.x(), b.x(), c.x()})));
+        const int bx1 = std::min(x1 - 1, floor_to_int(std::max({a.x(), b.x(), c.x()})));
+        const int by0 = std::max(y0, floor_to_int(std::min({a.y(), b.y(), c.y()})));
+        const int by1 = std::min(y1 - 1, floor_to_int(std::max({a.y(), b.y(), c.y()})));
+        const float iza = 1.f / a.z(), izb = 1.f / b.z(), izc = 1.f / c.z();
+        for (int y = by0; y <= by1; ++y)
+            for (int x = bx0; x <= bx1; ++x)
+                for (int s = 0; s < kSamples; ++s) {
+                    const float px = x + kSampleOffsets[s][0], py = y + kSampleOffsets[s][1];
+                    const float wa =
+                        ((b.x() - px) * (c.y() - py) - (b.y() - py) * (c.x() - px)) * inv;
+                    const float wb =
+                        ((c.x() - px) * (a.y() - py) - (c.y() - py) * (a.x() - px)) * inv;
+                    const float wc = 1.f - wa - wb;
+                    if (wa < 0.f || wb < 0.f || wc < 0.f) continue;
+                    const float z = 1.f / (wa * iza + wb * izb + wc * izc);
+                    const size_t k = ((y - y0) * kTile + (x - x0)) * kSamples + s;
+                    if (z < sample_depth[k]) {
+                        sample_depth[k] = z;
+                        sample_face[k] = static_cast<int32_t>(f);
+                    }
+                }
+    }
+}
+
+// Per 8×8-pixel block of the image, the farthest depth that hair must be in front of to show
+// in it: its farthest head sample + kHeadBias, +inf where a sample sees no head (pass 3, before
+// the strands, so that the strands pass can skip the hair the head hides). The tiles
+// rasterize the head again rather than keep every sample (32 MB at 1024², gigabytes at the
+// largest sizes): it costs under 1% of a render.
 constexpr int kBlock = 8;  // pixels
-struct HeadSamples {
-    // depth, face  #tiles·kTile²·kSamples, tile t's at t·kTile²·kSamples, sample s of pixel
-    //              (x, y) of the tile at ((y·kTile + x)·kSamples + s); empty without a head.
-    std::vector<float> depth;
-    std::vector<int32_t> face;
+struct HeadBlocks {
     int blocks_x = 0, blocks_y = 0;
-    std::vector<float> block_far;  // #blocks_y·blocks_x; empty without a head
+    std::vector<float> far;  // #blocks_y·blocks_x; empty without a head
 };
 
-HeadSamples rasterize_head(const Scene& scene, const HeadGeometry& head,
-                           const Bins<uint32_t>& head_bins) {
-    HeadSamples out;
+HeadBlocks head_blocks(const Scene& scene, const HeadGeometry& head,
+                       const Bins<uint32_t>& head_bins) {
+    HeadBlocks out;
     if (!scene.head) return out;
     const RenderOptions& o = *scene.options;
     constexpr float kInf = std::numeric_limits<float>::infinity();
-    constexpr int kTileSamples = kTile * kTile * kSamples;
     constexpr int kTileBlocks = kTile / kBlock;
     const int tiles = head_bins.tiles_x * head_bins.tiles_y;
-    out.depth.resize(static_cast<size_t>(tiles) * kTileSamples);
-    out.face.resize(static_cast<size_t>(tiles) * kTileSamples);
     out.blocks_x = head_bins.tiles_x * kTileBlocks;
     out.blocks_y = head_bins.tiles_y * kTileBlocks;
-    out.block_far.assign(static_cast<size_t>(out.blocks_x) * out.blocks_y, kInf);
+    out.far.assign(static_cast<size_t>(out.blocks_x) * out.blocks_y, kInf);
     parallel_for(static_cast<size_t>(tiles), [&](size_t tile_index) {
         const int tile = static_cast<int>(tile_index);
+        if (head_bins.offsets[tile] == head_bins.offsets[tile + 1]) return;  // no head: +inf
         const int tx = tile % head_bins.tiles_x, ty = tile / head_bins.tiles_x;
         const int x0 = tx * kTile, y0 = ty * kTile;
         const int x1 = std::min(x0 + kTile, o.width), y1 = std::min(y0 + kTile, o.height);
-        float* sample_depth = &out.depth[tile_index * kTileSamples];
-        int32_t* sample_face = &out.face[tile_index * kTileSamples];
-        std::fill_n(sample_depth, kTileSamples, kInf);
-        std::fill_n(sample_face, kTileSamples, -1);
-        for (uint64_t e = head_bins.offsets[tile]; e < head_bins.offsets[tile + 1]; ++e) {
-            const uint32_t f = head_bins.items[e];
-            const Vec3i& t = scene.head->faces[f];
-            const Vec3f &a = head.screen[t[0]], &b = head.screen[t[1]], &c = head.screen[t[2]];
-            const float area =
-                (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
-            const float inv = 1.f / area;
-            const int bx0 = std::max(x0, floor_to_int(std::min({a.x(), b.x(), c.x()})));
-            const int bx1 = std::min(x1 - 1, floor_to_int(std::max({a.x(), b.x(), c.x()})));
-            const int by0 = std::max(y0, floor_to_int(std::min({a.y(), b.y(), c.y()})));
-            const int by1 = std::min(y1 - 1, floor_to_int(std::max({a.y(), b.y(), c.y()})));
-            const float iza = 1.f / a.z(), izb = 1.f / b.z(), izc = 1.f / c.z();
-            for (int y = by0; y <= by1; ++y)
-                for (int x = bx0; x <= bx1; ++x)
-                    for (int s = 0; s < kSamples; ++s) {
-                        const float px = x + kSampleOffsets[s][0], py = y + kSampleOffsets[s][1];
-                        const float wa =
-                            ((b.x() - px) * (c.y() - py) - (b.y() - py) * (c.x() - px)) * inv;
-                        const float wb =
-                            ((c.x() - px) * (a.y() - py) - (c.y() - py) * (a.x() - px)) * inv;
-                        const float wc = 1.f - wa - wb;
-                        if (wa < 0.f || wb < 0.f || wc < 0.f) continue;
-                        const float z = 1.f / (wa * iza + wb * izb + wc * izc);
-                        const size_t k = ((y - y0) * kTile + (x - x0)) * kSamples + s;
-                        if (z < sample_depth[k]) {
-                            sample_depth[k] = z;
-                            sample_face[k] = static_cast<int32_t>(f);
-                        }
-                    }
-        }
+        std::array<float, kTile * kTile * kSamples> sample_depth;
+        std::array<int32_t, kTile * kTile * kSamples> sample_face;
+        rasterize_head_tile(scene, head, head_bins, tile, sample_depth.data(), sample_face.data());
         // Blocks: only their pixels inside the image count.
         for (int by = 0; by < kTileBlocks; ++by)
             for (int bx = 0; bx < kTileBlocks; ++bx) {
@@ -424,8 +432,8 @@ HeadSamples rasterize_head(const Scene& scene, const HeadGeometry& head,
                         for (int s = 0; s < kSamples; ++s)
                             far = std::max(
                                 far, sample_depth[((y - y0) * kTile + (x - x0)) * kSamples + s]);
-                out.block_far[static_cast<size_t>(ty * kTileBlocks + by) * out.blocks_x +
-                              tx * kTileBlocks + bx] = far + kHeadBias;
+                out.far[static_cast<size_t>(ty * kTileBlocks + by) * out.blocks_x +
+                        tx * kTileBlocks + bx] = far + kHeadBias;
             }
     });
     return out;
@@ -436,9 +444,9 @@ HeadSamples rasterize_head(const Scene& scene, const HeadGeometry& head,
 // sample of a pixel adds nothing to it (render_tile's depth test), so the piece's colour is
 // never needed. The depths' minimum is lowered by 10⁻⁵ of itself against rounding in the
 // tiles' interpolation.
-bool hidden_by_head(const HeadSamples& head, const HairVertex& a, const HairVertex& b, int width,
+bool hidden_by_head(const HeadBlocks& head, const HairVertex& a, const HairVertex& b, int width,
                     int height) {
-    if (head.block_far.empty()) return false;
+    if (head.far.empty()) return false;
     const float r = std::max(a.w, b.w) + 1.f;
     const float w = static_cast<float>(width), h = static_cast<float>(height);
     const float lx = std::min(a.x, b.x) - r, hx = std::max(a.x, b.x) + r;
@@ -451,14 +459,14 @@ bool hidden_by_head(const HeadSamples& head, const HairVertex& a, const HairVert
     const float z = std::min(a.z, b.z) * (1.f - 1e-5f);
     for (int by = by0; by <= by1; ++by)
         for (int bx = bx0; bx <= bx1; ++bx)
-            if (z < head.block_far[static_cast<size_t>(by) * head.blocks_x + bx]) return false;
+            if (z < head.far[static_cast<size_t>(by) * head.blocks_x + bx]) return false;
     return true;
 }
 
 // Pass 3: strand pieces. Strands are laid out in scene.strand_order (neighbours on screen
 // next to each other in memory, so that a tile's pieces are gathered from a few runs):
 // strand strand_order[k] owns vertices [first_vertex[k], first_vertex[k + 1]).
-size_t tessellate_strands(const Scene& scene, const HeadSamples& head,
+size_t tessellate_strands(const Scene& scene, const HeadBlocks& head,
                           std::vector<HairVertex>& vertices, std::vector<uint32_t>& first_vertex) {
     const Hair& hair = *scene.hair;
     const RenderOptions& o = *scene.options;
@@ -616,7 +624,7 @@ struct TileCounters {
 };
 
 // Pass 5 for one tile.
-void render_tile(const Scene& scene, const HeadGeometry& head, const HeadSamples& head_samples,
+void render_tile(const Scene& scene, const HeadGeometry& head, const Bins<uint32_t>& head_bins,
                  const std::vector<HairVertex>& vertices, const Bins<uint32_t>& hair_bins, int tile,
                  RgbImage& image, TileCounters& counters) {
     const RenderOptions& o = *scene.options;
@@ -624,20 +632,11 @@ void render_tile(const Scene& scene, const HeadGeometry& head, const HeadSamples
     const int x0 = tx * kTile, y0 = ty * kTile;
     const int x1 = std::min(x0 + kTile, o.width), y1 = std::min(y0 + kTile, o.height);
 
-    // The head's samples (rasterize_head) and, per pixel, the nearest and farthest sample
-    // depths for the hair's quick depth test.
-    constexpr int kTileSamples = kTile * kTile * kSamples;
-    std::array<float, kTileSamples> no_head_depth;
-    std::array<int32_t, kTileSamples> no_head_face;
-    const float* sample_depth = no_head_depth.data();
-    const int32_t* sample_face = no_head_face.data();
-    if (head_samples.depth.empty()) {
-        no_head_depth.fill(std::numeric_limits<float>::infinity());
-        no_head_face.fill(-1);
-    } else {
-        sample_depth = &head_samples.depth[static_cast<size_t>(tile) * kTileSamples];
-        sample_face = &head_samples.face[static_cast<size_t>(tile) * kTileSamples];
-    }
+    // The head's samples and, per pixel, the nearest and farthest sample depths for the hair's
+    // quick depth test.
+    std::array<float, kTile * kTile * kSamples> sample_depth;
+    std::array<int32_t, kTile * kTile * kSamples> sample_face;
+    rasterize_head_tile(scene, head, head_bins, tile, sample_depth.data(), sample_face.data());
     std::array<float, kTile * kTile> near_head, far_head;
     for (int p = 0; p < kTile * kTile; ++p) {
         const float* d = &sample_depth[p * kSamples];
@@ -908,7 +907,7 @@ RgbImage render(const Hair& hair, const Mesh* head, const RenderOptions& o, Rend
     } else {
         head_bins.offsets.assign(tiles + 1, 0);
     }
-    const HeadSamples head_samples = rasterize_head(scene, head_geometry, head_bins);
+    const HeadBlocks head_blocks_far = head_blocks(scene, head_geometry, head_bins);
     lap("head");
 
     std::vector<HairVertex> vertices;
@@ -925,7 +924,7 @@ RgbImage render(const Hair& hair, const Mesh* head, const RenderOptions& o, Rend
             4096);
         scene.strand_order = morton_order(middle);
     }
-    const size_t hidden_pieces = tessellate_strands(scene, head_samples, vertices, first_vertex);
+    const size_t hidden_pieces = tessellate_strands(scene, head_blocks_far, vertices, first_vertex);
     lap("strands");
 
     // A piece joins vertex i to i + 1; a strand's last vertex starts none. Each piece's depth
@@ -977,7 +976,7 @@ RgbImage render(const Hair& hair, const Mesh* head, const RenderOptions& o, Rend
     image.rgb.assign(static_cast<size_t>(o.width) * o.height * 3, 0);
     std::vector<TileCounters> counters(tiles);
     parallel_for(static_cast<size_t>(tiles), [&](size_t t) {
-        render_tile(scene, head_geometry, head_samples, vertices, hair_bins, static_cast<int>(t),
+        render_tile(scene, head_geometry, head_bins, vertices, hair_bins, static_cast<int>(t),
                     image, counters[t]);
     });
     lap("tiles");
