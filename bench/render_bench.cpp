@@ -48,6 +48,7 @@ void run(benchmark::State& state, bool shadows, const char* view, bool rim = tru
         state.counters[stats.stages[i].first + "_ms"] =
             stage_ms[i] / static_cast<double>(state.iterations());
     state.counters["pieces"] = static_cast<double>(stats.pieces);
+    state.counters["hidden_pieces"] = static_cast<double>(stats.hidden_pieces);
     state.counters["fragments"] = static_cast<double>(stats.fragments);
 }
 

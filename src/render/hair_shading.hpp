@@ -154,14 +154,32 @@ struct HairLobeSet {
     }
 };
 
-// Reflectance of a strand with unit tangent t (root to tip) and colour `color` (linear, in
-// [0, 1]) for a unit light from unit direction l seen from unit direction e.
-// The lobes (R, TRT, TT), not the diffuse term, are scaled by lobe_scale.
-inline Vec3f hair_reflectance(const Vec3f& t, const Vec3f& l, const Vec3f& e, const Vec3f& color,
+// The terms of hair_reflectance that depend on the eye and not on the light, computed once
+// per shaded point and shared by every light: the tangent t (unit, root to tip), sin θ_r =
+// t·e, cos θ_r, and e's projection on the plane normal to t (the azimuth's reference) with its
+// squared length.
+struct HairView {
+    Vec3f t;
+    float sin_r, cos_r;
+    Vec3f ep;
+    float ep2;
+    HairView(const Vec3f& tangent, const Vec3f& e)
+        : t(tangent),
+          sin_r(std::clamp(tangent.dot(e), -1.f, 1.f)),
+          cos_r(sin_from_cos(sin_r)),
+          ep(e - sin_r * tangent),
+          ep2(ep.squaredNorm()) {}
+};
+
+// Reflectance of a strand seen as `v` (HairView: tangent t, eye direction e) with colour `color`
+// (linear, in [0, 1]) for a unit light from unit direction l. The lobes (R, TRT, TT), not the
+// diffuse term, are scaled by lobe_scale.
+inline Vec3f hair_reflectance(const HairView& v, const Vec3f& l, const Vec3f& color,
                               const HairLobeSet& k, float lobe_scale = 1.f) {
-    const float sin_i = std::clamp(t.dot(l), -1.f, 1.f), sin_r = std::clamp(t.dot(e), -1.f, 1.f);
+    const Vec3f& t = v.t;
+    const float sin_i = std::clamp(t.dot(l), -1.f, 1.f), sin_r = v.sin_r;
     // The three lobes share cos(θ_i + θ_r) and sin(θ_i + θ_r) (shifted_cone_cosine, inlined).
-    const float cos_i = sin_from_cos(sin_i), cos_r = sin_from_cos(sin_r);
+    const float cos_i = sin_from_cos(sin_i), cos_r = v.cos_r;
     const float cos_sum = cos_i * cos_r - sin_i * sin_r;
     const float sin_sum = sin_i * cos_r + cos_i * sin_r;
     auto cone = [&](const LobeShift& shift) { return cos_sum * shift.c + sin_sum * shift.s; };
@@ -170,9 +188,9 @@ inline Vec3f hair_reflectance(const Vec3f& t, const Vec3f& l, const Vec3f& e, co
     const float tt_cosine = k.k_tt > 0.f ? cone(k.tt) : 0.f;
     float tt = 0.f, diffuse = k.k_d * cos_i;
     if (tt_cosine > k.floor_tt || (k.azimuthal && r + trt > 0.f)) {
-        const Vec3f lp = l - sin_i * t, ep = e - sin_r * t;
-        const float norm2 = lp.squaredNorm() * ep.squaredNorm();
-        const float back = norm2 > 1e-16f ? -lp.dot(ep) / std::sqrt(norm2) : 0.f;  // −cos φ
+        const Vec3f lp = l - sin_i * t;
+        const float norm2 = lp.squaredNorm() * v.ep2;
+        const float back = norm2 > 1e-16f ? -lp.dot(v.ep) / std::sqrt(norm2) : 0.f;  // −cos φ
         // Transmission goes forward: the light and the eye on opposite sides of the strand
         // (azimuth φ = π), spreading over about the lobe's width around it.
         if (back > 0.f && tt_cosine > k.floor_tt)
@@ -186,6 +204,12 @@ inline Vec3f hair_reflectance(const Vec3f& t, const Vec3f& l, const Vec3f& e, co
     if (k.azimuthal) diffuse = 0.f;
     return Vec3f::Constant(lobe_scale * k.k_r * r) +
            (diffuse + lobe_scale * (k.k_trt * trt + k.k_tt * tt)) * color;
+}
+
+// The same for unit tangent t (root to tip) seen from unit direction e.
+inline Vec3f hair_reflectance(const Vec3f& t, const Vec3f& l, const Vec3f& e, const Vec3f& color,
+                              const HairLobeSet& k, float lobe_scale = 1.f) {
+    return hair_reflectance(HairView(t, e), l, color, k, lobe_scale);
 }
 
 }  // namespace wisp

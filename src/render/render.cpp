@@ -44,7 +44,10 @@ struct HairVertex {
     uint32_t rgb;
 };
 
-constexpr uint32_t kLastOfStrand = 1u << 31;  // flag in HairVertex::rgb
+// Flags in HairVertex::rgb, above pack_color's 30 bits: the strand's last vertex, and a piece
+// (from this vertex to the next) that the tiles do not draw.
+constexpr uint32_t kLastOfStrand = 1u << 31;
+constexpr uint32_t kHiddenPiece = 1u << 30;
 
 // Linear colour in [0, 4] as three 10-bit square roots (shaded colours exceed 1 in
 // highlights; the square root spends the bits where the eye needs them).
@@ -237,17 +240,18 @@ Vec3f shade_hair(const Scene& scene, const Vec3f& p, const Vec3f& t, const Vec3f
     const Lights& l = scene.lights;
     const Vec3f e = (scene.camera.eye - p).normalized();
     if (o.shading == RenderOptions::Shading::kHair) {
+        const HairView view(t, e);  // what the three lights share
         Vec3f c = l.ambient.cwiseProduct(color) +
-                  shadow * l.key_color.cwiseProduct(hair_reflectance(t, l.key_dir, e, color, lobes,
+                  shadow * l.key_color.cwiseProduct(hair_reflectance(view, l.key_dir, color, lobes,
                                                                      lobe_shadow(scene, shadow))) +
-                  l.fill_color.cwiseProduct(hair_reflectance(t, l.fill_dir, e, color, lobes));
+                  l.fill_color.cwiseProduct(hair_reflectance(view, l.fill_dir, color, lobes));
         if (l.rim && rim_shadow > kRimInvisible) {
             // Kajiya-Kay's diffuse term and the shifted lobes have no azimuth: they would light
             // a strand's far side, where a back light shines, as brightly as its near side.
             HairLobeSet rim_lobes = lobes;
             rim_lobes.azimuthal = true;
             c += rim_shadow *
-                 l.rim_color.cwiseProduct(hair_reflectance(t, l.rim_dir, e, color, rim_lobes));
+                 l.rim_color.cwiseProduct(hair_reflectance(view, l.rim_dir, color, rim_lobes));
         }
         return c;
     }
@@ -265,139 +269,6 @@ Vec3f shade_hair(const Scene& scene, const Vec3f& p, const Vec3f& t, const Vec3f
     if (l.rim && rim_shadow > kRimInvisible)
         c += rim_shadow * l.rim_color.cwiseProduct(light(l.rim_dir));
     return c;
-}
-
-// Pass 3: strand pieces. Strands are laid out in scene.strand_order (neighbours on screen
-// next to each other in memory, so that a tile's pieces are gathered from a few runs):
-// strand strand_order[k] owns vertices [first_vertex[k], first_vertex[k + 1]).
-void tessellate_strands(const Scene& scene, std::vector<HairVertex>& vertices,
-                        std::vector<uint32_t>& first_vertex) {
-    const Hair& hair = *scene.hair;
-    const RenderOptions& o = *scene.options;
-    const Camera& cam = scene.camera;
-    const size_t strands = hair.strand_count();
-    // Pieces per segment: enough for the pieces to follow the curve within kFlatness pixels
-    // and be at most kMaxPiecePixels long, so that straight or distant hair costs little.
-    // The curve's distance from its chord is bounded by that of its Bézier control points
-    // b1 = p1 + (p2 - p0) / 6 and b2 = p2 - (p3 - p1) / 6 (convex hull); m pieces divide it
-    // by about m².
-    std::vector<uint8_t> pieces(hair.point_count(), 1);
-    std::vector<uint32_t> counts(strands + 1, 0);
-    parallel_for(
-        strands,
-        [&](size_t s) {
-            const std::span<const Vec3f> p = hair.strand(s);
-            thread_local std::vector<Vec3f> q;
-            q.resize(p.size());
-            bool visible = true;
-            for (size_t i = 0; i < p.size(); ++i) {
-                q[i] = cam.project(p[i]);
-                visible = visible && q[i].z() > kNear;
-            }
-            uint32_t n = p.empty() ? 0 : 1;
-            for (size_t i = 0; i + 1 < p.size(); ++i) {
-                int m = 1;
-                if (visible) {
-                    const Vec2f b(q[i].x(), q[i].y()), c(q[i + 1].x(), q[i + 1].y());
-                    const Vec2f a = i > 0 ? Vec2f(q[i - 1].x(), q[i - 1].y()) : Vec2f(2 * b - c);
-                    const Vec2f d =
-                        i + 2 < p.size() ? Vec2f(q[i + 2].x(), q[i + 2].y()) : Vec2f(2 * c - b);
-                    const Vec2f chord = c - b;
-                    const float len = chord.norm();
-                    const Vec2f b1 = (c - a) / 6.f, b2 = (b - d) / 6.f;  // offsets from b, c
-                    float dev;
-                    if (len > 1e-6f) {
-                        const Vec2f nrm(-chord.y() / len, chord.x() / len);
-                        dev = std::max(std::abs(b1.dot(nrm)), std::abs(b2.dot(nrm)));
-                    } else {
-                        dev = std::max(b1.norm(), b2.norm());
-                    }
-                    const float by_bend = std::sqrt(dev / kFlatness);
-                    const float by_length = len / kMaxPiecePixels;
-                    m = std::clamp(ceil_to_int(std::max(by_bend, by_length)), 1, kMaxPieces);
-                }
-                pieces[hair.offsets[s] + i] = static_cast<uint8_t>(m);
-                n += static_cast<uint32_t>(m);
-            }
-            counts[s + 1] = n;
-        },
-        256);
-    first_vertex.assign(strands + 1, 0);
-    for (size_t k = 0; k < strands; ++k)
-        first_vertex[k + 1] = first_vertex[k] + counts[scene.strand_order[k] + 1];
-    vertices.resize(first_vertex[strands]);
-    const float tip = hair.widths.empty() ? o.tip_width : 1.f;
-    const HairLobeSet base_lobes(o.hair);
-    const LightShadow& key = scene.key_shadow;
-    const LightShadow& rim_light = scene.rim_shadow;
-    const bool rim = scene.lights.rim;
-    parallel_for(
-        strands,
-        [&](size_t k_order) {
-            const size_t s = scene.strand_order[k_order];
-            // Each strand's secondary highlight varies a little (its sparkle), and so do its
-            // brightness and width, by hashes of its index: the same at any thread count.
-            auto uniform = [s](uint64_t salt) {
-                return static_cast<float>(mix64(salt ^ s) >> 40) * (2.f / 16777216.f) - 1.f;
-            };
-            const float variation = uniform(0x5b4c1e);
-            const Vec3f color =
-                (hair.color_of(s) * (1.f + o.strand_brightness * uniform(0x7a3d91f2c4e5b6a7)))
-                    .cwiseMin(1.f);
-            const float width_scale =
-                o.width_scale * (1.f + o.strand_width * uniform(0x3c6ef372fe94f82b));
-            const HairLobeSet lobes =
-                base_lobes.with_sparkle(o.hair, variation, uniform(0x9e3779b97f4a7c15));
-            const std::span<const Vec3f> p = hair.strand(s);
-            const uint32_t first = first_vertex[k_order];
-            uint32_t k = first;
-            const uint8_t* m = &pieces[hair.offsets[s]];
-            // Shadows change slowly along a strand: looked up at the control points and
-            // interpolated in between; the rim's, from its coarser maps, at every other control
-            // point (and the tip).
-            int segment = -1;
-            float shadow0 = 1.f, shadow1 = 1.f;
-            int rim_a = -1, rim_b = -1;  // control points of the rim's current span
-            float rim0 = 1.f, rim1 = 1.f, rim_scale = 1.f;
-            const int last = static_cast<int>(p.size()) - 1;
-            for_each_strand_sample(
-                hair, s, width_scale, tip,
-                [&](size_t i, const Vec3f&, const Vec3f&) { return static_cast<int>(m[i]); },
-                [&](const StrandSample& sample) {
-                    const Vec3f q = cam.project(sample.p);
-                    HairVertex& v = vertices[k++];
-                    v.x = q.x();
-                    v.y = q.y();
-                    v.z = q.z();
-                    v.w = 0.f;
-                    v.rgb = 0u;
-                    if (sample.segment != segment) {
-                        const bool first_segment = segment < 0;
-                        shadow0 = first_segment ? key.visibility(p[sample.segment]) : shadow1;
-                        segment = sample.segment;
-                        const bool more = p.size() > 1;
-                        shadow1 = more ? key.visibility(p[segment + 1]) : shadow0;
-                        if (rim && segment >= rim_b) {
-                            const int a = segment & ~1, b = std::min(a + 2, last);
-                            rim0 = a == rim_b ? rim1 : rim_light.visibility(p[a]);
-                            rim1 = b > a ? rim_light.visibility(p[b]) : rim0;
-                            rim_a = a;
-                            rim_b = b;
-                            rim_scale = 1.f / static_cast<float>(std::max(1, b - a));
-                        }
-                    }
-                    if (q.z() <= kNear) return;
-                    const float shadow = shadow0 + (shadow1 - shadow0) * sample.u;
-                    const float rim_u =
-                        (static_cast<float>(segment - rim_a) + sample.u) * rim_scale;
-                    const float rim_shadow = rim0 + (rim1 - rim0) * rim_u;
-                    v.w = sample.width * cam.focal_pixels / q.z();
-                    v.rgb = pack_color(
-                        shade_hair(scene, sample.p, sample.t, color, shadow, rim_shadow, lobes));
-                });
-            if (k > first) vertices[k - 1].rgb |= kLastOfStrand;
-        },
-        64);
 }
 
 // Head data prepared for the tiles: projected vertices, smooth normals.
@@ -477,6 +348,277 @@ Vec3f shade_head(const Scene& scene, const HeadGeometry& g, uint32_t face, float
     return light.cwiseProduct(scene.options->skin_color);
 }
 
+// The head's samples in one tile: per sample the nearest front face and its depth (1/z
+// interpolated); +inf and -1 where a sample sees no head. sample_depth, sample_face
+// #kTile²·kSamples, sample s of pixel (x, y) of the tile at ((y·kTile + x)·kSamples + s).
+void rasterize_head_tile(const Scene& scene, const HeadGeometry& head,
+                         const Bins<uint32_t>& head_bins, int tile, float* sample_depth,
+                         int32_t* sample_face) {
+    const RenderOptions& o = *scene.options;
+    const int tx = tile % head_bins.tiles_x, ty = tile / head_bins.tiles_x;
+    const int x0 = tx * kTile, y0 = ty * kTile;
+    const int x1 = std::min(x0 + kTile, o.width), y1 = std::min(y0 + kTile, o.height);
+    std::fill_n(sample_depth, kTile * kTile * kSamples, std::numeric_limits<float>::infinity());
+    std::fill_n(sample_face, kTile * kTile * kSamples, -1);
+    if (!scene.head) return;
+    for (uint64_t e = head_bins.offsets[tile]; e < head_bins.offsets[tile + 1]; ++e) {
+        const uint32_t f = head_bins.items[e];
+        const Vec3i& t = scene.head->faces[f];
+        const Vec3f &a = head.screen[t[0]], &b = head.screen[t[1]], &c = head.screen[t[2]];
+        const float area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+        const float inv = 1.f / area;
+        const int bx0 = std::max(x0, floor_to_int(std::min({a.x(), b.x(), c.x()})));
+        const int bx1 = std::min(x1 - 1, floor_to_int(std::max({a.x(), b.x(), c.x()})));
+        const int by0 = std::max(y0, floor_to_int(std::min({a.y(), b.y(), c.y()})));
+        const int by1 = std::min(y1 - 1, floor_to_int(std::max({a.y(), b.y(), c.y()})));
+        const float iza = 1.f / a.z(), izb = 1.f / b.z(), izc = 1.f / c.z();
+        for (int y = by0; y <= by1; ++y)
+            for (int x = bx0; x <= bx1; ++x)
+                for (int s = 0; s < kSamples; ++s) {
+                    const float px = x + kSampleOffsets[s][0], py = y + kSampleOffsets[s][1];
+                    const float wa =
+                        ((b.x() - px) * (c.y() - py) - (b.y() - py) * (c.x() - px)) * inv;
+                    const float wb =
+                        ((c.x() - px) * (a.y() - py) - (c.y() - py) * (a.x() - px)) * inv;
+                    const float wc = 1.f - wa - wb;
+                    if (wa < 0.f || wb < 0.f || wc < 0.f) continue;
+                    const float z = 1.f / (wa * iza + wb * izb + wc * izc);
+                    const size_t k = ((y - y0) * kTile + (x - x0)) * kSamples + s;
+                    if (z < sample_depth[k]) {
+                        sample_depth[k] = z;
+                        sample_face[k] = static_cast<int32_t>(f);
+                    }
+                }
+    }
+}
+
+// Per 8×8-pixel block of the image, the farthest depth that hair must be in front of to show
+// in it: its farthest head sample + kHeadBias, +inf where a sample sees no head (pass 3, before
+// the strands, so that the strands pass can skip the hair the head hides). The tiles
+// rasterize the head again rather than keep every sample (32 MB at 1024², gigabytes at the
+// largest sizes): it costs 2% of a render at 1024².
+constexpr int kBlock = 8;  // pixels
+struct HeadBlocks {
+    int blocks_x = 0, blocks_y = 0;
+    std::vector<float> far;  // #blocks_y·blocks_x; empty without a head
+};
+
+HeadBlocks head_blocks(const Scene& scene, const HeadGeometry& head,
+                       const Bins<uint32_t>& head_bins) {
+    HeadBlocks out;
+    if (!scene.head) return out;
+    const RenderOptions& o = *scene.options;
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    constexpr int kTileBlocks = kTile / kBlock;
+    const int tiles = head_bins.tiles_x * head_bins.tiles_y;
+    out.blocks_x = head_bins.tiles_x * kTileBlocks;
+    out.blocks_y = head_bins.tiles_y * kTileBlocks;
+    out.far.assign(static_cast<size_t>(out.blocks_x) * out.blocks_y, kInf);
+    parallel_for(static_cast<size_t>(tiles), [&](size_t tile_index) {
+        const int tile = static_cast<int>(tile_index);
+        if (head_bins.offsets[tile] == head_bins.offsets[tile + 1]) return;  // no head: +inf
+        const int tx = tile % head_bins.tiles_x, ty = tile / head_bins.tiles_x;
+        const int x0 = tx * kTile, y0 = ty * kTile;
+        const int x1 = std::min(x0 + kTile, o.width), y1 = std::min(y0 + kTile, o.height);
+        std::array<float, kTile * kTile * kSamples> sample_depth;
+        std::array<int32_t, kTile * kTile * kSamples> sample_face;
+        rasterize_head_tile(scene, head, head_bins, tile, sample_depth.data(), sample_face.data());
+        // Blocks: only their pixels inside the image count.
+        for (int by = 0; by < kTileBlocks; ++by)
+            for (int bx = 0; bx < kTileBlocks; ++bx) {
+                float far = -kInf;
+                for (int y = y0 + by * kBlock; y < std::min(y0 + (by + 1) * kBlock, y1); ++y)
+                    for (int x = x0 + bx * kBlock; x < std::min(x0 + (bx + 1) * kBlock, x1); ++x)
+                        for (int s = 0; s < kSamples; ++s)
+                            far = std::max(
+                                far, sample_depth[((y - y0) * kTile + (x - x0)) * kSamples + s]);
+                out.far[static_cast<size_t>(ty * kTileBlocks + by) * out.blocks_x +
+                        tx * kTileBlocks + bx] = far + kHeadBias;
+            }
+    });
+    return out;
+}
+
+// Whether the head hides every pixel that the piece from a to b may touch (the box of its ends
+// widened by its width and a pixel, as the tiles test it): hair at or behind the farthest head
+// sample of a pixel adds nothing to it (render_tile's depth test), so the piece's colour is
+// never needed. The depths' minimum is lowered by 10⁻⁵ of itself against rounding in the
+// tiles' interpolation.
+bool hidden_by_head(const HeadBlocks& head, const HairVertex& a, const HairVertex& b, int width,
+                    int height) {
+    if (head.far.empty()) return false;
+    const float r = std::max(a.w, b.w) + 1.f;
+    const float w = static_cast<float>(width), h = static_cast<float>(height);
+    const float lx = std::min(a.x, b.x) - r, hx = std::max(a.x, b.x) + r;
+    const float ly = std::min(a.y, b.y) - r, hy = std::max(a.y, b.y) + r;
+    if (hx < 0.f || hy < 0.f || lx >= w || ly >= h) return true;  // off the image
+    const int bx0 = floor_to_int(std::max(lx, 0.f)) / kBlock;
+    const int bx1 = floor_to_int(std::min(hx, w - 1.f)) / kBlock;
+    const int by0 = floor_to_int(std::max(ly, 0.f)) / kBlock;
+    const int by1 = floor_to_int(std::min(hy, h - 1.f)) / kBlock;
+    const float z = std::min(a.z, b.z) * (1.f - 1e-5f);
+    for (int by = by0; by <= by1; ++by)
+        for (int bx = bx0; bx <= bx1; ++bx)
+            if (z < head.far[static_cast<size_t>(by) * head.blocks_x + bx]) return false;
+    return true;
+}
+
+// Pass 3: strand pieces. Strands are laid out in scene.strand_order (neighbours on screen
+// next to each other in memory, so that a tile's pieces are gathered from a few runs):
+// strand strand_order[k] owns vertices [first_vertex[k], first_vertex[k + 1]).
+size_t tessellate_strands(const Scene& scene, const HeadBlocks& head,
+                          std::vector<HairVertex>& vertices, std::vector<uint32_t>& first_vertex) {
+    const Hair& hair = *scene.hair;
+    const RenderOptions& o = *scene.options;
+    const Camera& cam = scene.camera;
+    const size_t strands = hair.strand_count();
+    // Pieces per segment: enough for the pieces to follow the curve within kFlatness pixels
+    // and be at most kMaxPiecePixels long, so that straight or distant hair costs little.
+    // The curve's distance from its chord is bounded by that of its Bézier control points
+    // b1 = p1 + (p2 - p0) / 6 and b2 = p2 - (p3 - p1) / 6 (convex hull); m pieces divide it
+    // by about m².
+    std::vector<uint8_t> pieces(hair.point_count(), 1);
+    std::vector<uint32_t> counts(strands + 1, 0);
+    parallel_for(
+        strands,
+        [&](size_t s) {
+            const std::span<const Vec3f> p = hair.strand(s);
+            thread_local std::vector<Vec3f> q;
+            q.resize(p.size());
+            bool visible = true;
+            for (size_t i = 0; i < p.size(); ++i) {
+                q[i] = cam.project(p[i]);
+                visible = visible && q[i].z() > kNear;
+            }
+            uint32_t n = p.empty() ? 0 : 1;
+            for (size_t i = 0; i + 1 < p.size(); ++i) {
+                int m = 1;
+                if (visible) {
+                    const Vec2f b(q[i].x(), q[i].y()), c(q[i + 1].x(), q[i + 1].y());
+                    const Vec2f a = i > 0 ? Vec2f(q[i - 1].x(), q[i - 1].y()) : Vec2f(2 * b - c);
+                    const Vec2f d =
+                        i + 2 < p.size() ? Vec2f(q[i + 2].x(), q[i + 2].y()) : Vec2f(2 * c - b);
+                    const Vec2f chord = c - b;
+                    const float len = chord.norm();
+                    const Vec2f b1 = (c - a) / 6.f, b2 = (b - d) / 6.f;  // offsets from b, c
+                    float dev;
+                    if (len > 1e-6f) {
+                        const Vec2f nrm(-chord.y() / len, chord.x() / len);
+                        dev = std::max(std::abs(b1.dot(nrm)), std::abs(b2.dot(nrm)));
+                    } else {
+                        dev = std::max(b1.norm(), b2.norm());
+                    }
+                    const float by_bend = std::sqrt(dev / kFlatness);
+                    const float by_length = len / kMaxPiecePixels;
+                    m = std::clamp(ceil_to_int(std::max(by_bend, by_length)), 1, kMaxPieces);
+                }
+                pieces[hair.offsets[s] + i] = static_cast<uint8_t>(m);
+                n += static_cast<uint32_t>(m);
+            }
+            counts[s + 1] = n;
+        },
+        256);
+    first_vertex.assign(strands + 1, 0);
+    for (size_t k = 0; k < strands; ++k)
+        first_vertex[k + 1] = first_vertex[k] + counts[scene.strand_order[k] + 1];
+    vertices.resize(first_vertex[strands]);
+    const float tip = hair.widths.empty() ? o.tip_width : 1.f;
+    const HairLobeSet base_lobes(o.hair);
+    const LightShadow& key = scene.key_shadow;
+    const LightShadow& rim_light = scene.rim_shadow;
+    const bool rim = scene.lights.rim;
+    std::atomic<size_t> hidden_pieces{0};
+    parallel_for(
+        strands,
+        [&](size_t k_order) {
+            const size_t s = scene.strand_order[k_order];
+            // Each strand's secondary highlight varies a little (its sparkle), and so do its
+            // brightness and width, by hashes of its index: the same at any thread count.
+            auto uniform = [s](uint64_t salt) {
+                return static_cast<float>(mix64(salt ^ s) >> 40) * (2.f / 16777216.f) - 1.f;
+            };
+            const float variation = uniform(0x5b4c1e);
+            const Vec3f color =
+                (hair.color_of(s) * (1.f + o.strand_brightness * uniform(0x7a3d91f2c4e5b6a7)))
+                    .cwiseMin(1.f);
+            const float width_scale =
+                o.width_scale * (1.f + o.strand_width * uniform(0x3c6ef372fe94f82b));
+            const std::span<const Vec3f> p = hair.strand(s);
+            const uint32_t first = first_vertex[k_order];
+            const uint8_t* m = &pieces[hair.offsets[s]];
+            // The strand's samples, projected: the vertices of its pieces.
+            thread_local std::vector<StrandSample> samples;
+            samples.clear();
+            for_each_strand_sample(
+                hair, s, width_scale, tip,
+                [&](size_t i, const Vec3f&, const Vec3f&) { return static_cast<int>(m[i]); },
+                [&](const StrandSample& sample) { samples.push_back(sample); });
+            const size_t n = samples.size();
+            HairVertex* v = &vertices[first];
+            for (size_t j = 0; j < n; ++j) {
+                const Vec3f q = cam.project(samples[j].p);
+                v[j] = HairVertex{q.x(), q.y(), q.z(), 0.f, 0u};
+                if (q.z() > kNear) v[j].w = samples[j].width * cam.focal_pixels / q.z();
+            }
+            // Pieces the tiles will not draw (behind the eye, or hidden by the head) are
+            // flagged, and a vertex that starts or ends no drawn piece is not shaded: its colour
+            // is never read.
+            size_t hidden = 0;
+            for (size_t j = 0; j + 1 < n; ++j)
+                if (v[j].z <= kNear || v[j + 1].z <= kNear ||
+                    hidden_by_head(head, v[j], v[j + 1], o.width, o.height)) {
+                    v[j].rgb = kHiddenPiece;
+                    ++hidden;
+                }
+            if (hidden == n - 1 && n > 0) {
+                hidden_pieces += hidden;
+                v[n - 1].rgb |= kLastOfStrand;
+                return;
+            }
+            hidden_pieces += hidden;
+            const HairLobeSet lobes =
+                base_lobes.with_sparkle(o.hair, variation, uniform(0x9e3779b97f4a7c15));
+            // Shadows change slowly along a strand: looked up at the control points and
+            // interpolated in between; the rim's, from its coarser maps, at every other control
+            // point (and the tip). Each is looked up once, when a shaded vertex first needs it.
+            int segment = -1;
+            float shadow0 = 1.f, shadow1 = 1.f;
+            int rim_a = -1, rim_b = -1;  // control points of the rim's current span
+            float rim0 = 1.f, rim1 = 1.f, rim_scale = 1.f;
+            const int last = static_cast<int>(p.size()) - 1;
+            for (size_t j = 0; j < n; ++j) {
+                if (v[j].z <= kNear) continue;
+                const bool drawn = (j + 1 < n && !(v[j].rgb & kHiddenPiece)) ||
+                                   (j > 0 && !(v[j - 1].rgb & kHiddenPiece));
+                if (!drawn) continue;
+                const StrandSample& sample = samples[j];
+                if (sample.segment != segment) {
+                    shadow0 = sample.segment == segment + 1 && segment >= 0
+                                  ? shadow1
+                                  : key.visibility(p[sample.segment]);
+                    segment = sample.segment;
+                    shadow1 = p.size() > 1 ? key.visibility(p[segment + 1]) : shadow0;
+                    if (rim && (rim_a < 0 || segment < rim_a || segment >= rim_b)) {
+                        const int a = segment & ~1, b = std::min(a + 2, last);
+                        rim0 = a == rim_b && rim_a >= 0 ? rim1 : rim_light.visibility(p[a]);
+                        rim1 = b > a ? rim_light.visibility(p[b]) : rim0;
+                        rim_a = a;
+                        rim_b = b;
+                        rim_scale = 1.f / static_cast<float>(std::max(1, b - a));
+                    }
+                }
+                const float shadow = shadow0 + (shadow1 - shadow0) * sample.u;
+                const float rim_u = (static_cast<float>(segment - rim_a) + sample.u) * rim_scale;
+                const float rim_shadow = rim0 + (rim1 - rim0) * rim_u;
+                v[j].rgb |= pack_color(
+                    shade_hair(scene, sample.p, sample.t, color, shadow, rim_shadow, lobes));
+            }
+            if (n > 0) v[n - 1].rgb |= kLastOfStrand;
+        },
+        64);
+    return hidden_pieces;
+}
+
 struct TileCounters {
     size_t fragments = 0;
 };
@@ -489,46 +631,12 @@ void render_tile(const Scene& scene, const HeadGeometry& head, const Bins<uint32
     const int tx = tile % hair_bins.tiles_x, ty = tile / hair_bins.tiles_x;
     const int x0 = tx * kTile, y0 = ty * kTile;
     const int x1 = std::min(x0 + kTile, o.width), y1 = std::min(y0 + kTile, o.height);
-    constexpr float kInf = std::numeric_limits<float>::infinity();
 
-    // Head: per sample the nearest front face and its depth (1/z interpolated), per pixel
-    // the nearest and farthest sample depths for the hair's quick depth test.
+    // The head's samples and, per pixel, the nearest and farthest sample depths for the hair's
+    // quick depth test.
     std::array<float, kTile * kTile * kSamples> sample_depth;
     std::array<int32_t, kTile * kTile * kSamples> sample_face;
-    sample_depth.fill(kInf);
-    sample_face.fill(-1);
-    if (scene.head) {
-        for (uint64_t e = head_bins.offsets[tile]; e < head_bins.offsets[tile + 1]; ++e) {
-            const uint32_t f = head_bins.items[e];
-            const Vec3i& t = scene.head->faces[f];
-            const Vec3f &a = head.screen[t[0]], &b = head.screen[t[1]], &c = head.screen[t[2]];
-            const float area =
-                (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
-            const float inv = 1.f / area;
-            const int bx0 = std::max(x0, floor_to_int(std::min({a.x(), b.x(), c.x()})));
-            const int bx1 = std::min(x1 - 1, floor_to_int(std::max({a.x(), b.x(), c.x()})));
-            const int by0 = std::max(y0, floor_to_int(std::min({a.y(), b.y(), c.y()})));
-            const int by1 = std::min(y1 - 1, floor_to_int(std::max({a.y(), b.y(), c.y()})));
-            const float iza = 1.f / a.z(), izb = 1.f / b.z(), izc = 1.f / c.z();
-            for (int y = by0; y <= by1; ++y)
-                for (int x = bx0; x <= bx1; ++x)
-                    for (int s = 0; s < kSamples; ++s) {
-                        const float px = x + kSampleOffsets[s][0], py = y + kSampleOffsets[s][1];
-                        const float wa =
-                            ((b.x() - px) * (c.y() - py) - (b.y() - py) * (c.x() - px)) * inv;
-                        const float wb =
-                            ((c.x() - px) * (a.y() - py) - (c.y() - py) * (a.x() - px)) * inv;
-                        const float wc = 1.f - wa - wb;
-                        if (wa < 0.f || wb < 0.f || wc < 0.f) continue;
-                        const float z = 1.f / (wa * iza + wb * izb + wc * izc);
-                        const size_t k = ((y - y0) * kTile + (x - x0)) * kSamples + s;
-                        if (z < sample_depth[k]) {
-                            sample_depth[k] = z;
-                            sample_face[k] = static_cast<int32_t>(f);
-                        }
-                    }
-        }
-    }
+    rasterize_head_tile(scene, head, head_bins, tile, sample_depth.data(), sample_face.data());
     std::array<float, kTile * kTile> near_head, far_head;
     for (int p = 0; p < kTile * kTile; ++p) {
         const float* d = &sample_depth[p * kSamples];
@@ -754,25 +862,8 @@ RgbImage render(const Hair& hair, const Mesh* head, const RenderOptions& o, Rend
     }
     lap("shadows");
 
-    std::vector<HairVertex> vertices;
-    std::vector<uint32_t> first_vertex;
-    {
-        std::vector<Vec2f> middle(hair.strand_count());
-        parallel_for(
-            middle.size(),
-            [&](size_t s) {
-                const std::span<const Vec3f> p = hair.strand(s);
-                const Vec3f q = p.empty() ? Vec3f::Zero() : scene.camera.project(p[p.size() / 2]);
-                middle[s] = Vec2f(q.x(), q.y());
-            },
-            4096);
-        scene.strand_order = morton_order(middle);
-    }
-    tessellate_strands(scene, vertices, first_vertex);
     HeadGeometry head_geometry;
     if (scene.head) head_geometry = prepare_head(scene);
-    lap("strands");
-
     // Depth keys: 16 bits over the depth range of the framed box.
     Box3 box = scene.hair_box;
     if (scene.head) box.extend(scene.head->bounds());
@@ -800,26 +891,6 @@ RgbImage render(const Hair& hair, const Mesh* head, const RenderOptions& o, Rend
             for (int tx = tx0; tx <= tx1; ++tx)
                 visit(ty * hair_bins.tiles_x + tx);
     };
-    // A piece joins vertex i to i + 1; a strand's last vertex starts none.
-    const size_t strands = hair.strand_count();
-    bin_items(
-        vertices.size(), tiles,
-        [&](size_t i, auto&& emit) {
-            if (i + 1 >= vertices.size()) return;
-            const HairVertex& a = vertices[i];
-            const HairVertex& b = vertices[i + 1];
-            if (a.rgb & kLastOfStrand) return;
-            if (a.z <= kNear || b.z <= kNear) return;
-            const float r = 0.5f * std::max({a.w, b.w, 1.f}) + 1.f;
-            const float zm = 0.5f * (a.z + b.z);
-            const uint16_t key =
-                static_cast<uint16_t>(std::clamp((zm - z_lo) * key_scale, 0.f, 65535.f));
-            const uint32_t piece = static_cast<uint32_t>(i);
-            tile_range(std::min(a.x, b.x) - r, std::min(a.y, b.y) - r, std::max(a.x, b.x) + r,
-                       std::max(a.y, b.y) + r, [&](int tile) { emit(tile, key, piece); });
-        },
-        hair_bins);
-    const size_t pieces = vertices.size() - std::min(vertices.size(), strands);
     if (scene.head) {
         bin_items(
             head_geometry.front_faces.size(), tiles,
@@ -836,6 +907,67 @@ RgbImage render(const Hair& hair, const Mesh* head, const RenderOptions& o, Rend
     } else {
         head_bins.offsets.assign(tiles + 1, 0);
     }
+    const HeadBlocks head_blocks_far = head_blocks(scene, head_geometry, head_bins);
+    lap("head");
+
+    std::vector<HairVertex> vertices;
+    std::vector<uint32_t> first_vertex;
+    {
+        std::vector<Vec2f> middle(hair.strand_count());
+        parallel_for(
+            middle.size(),
+            [&](size_t s) {
+                const std::span<const Vec3f> p = hair.strand(s);
+                const Vec3f q = p.empty() ? Vec3f::Zero() : scene.camera.project(p[p.size() / 2]);
+                middle[s] = Vec2f(q.x(), q.y());
+            },
+            4096);
+        scene.strand_order = morton_order(middle);
+    }
+    const size_t hidden_pieces = tessellate_strands(scene, head_blocks_far, vertices, first_vertex);
+    lap("strands");
+
+    // A piece joins vertex i to i + 1; a strand's last vertex starts none. Each piece's depth
+    // key and tile rectangle are found once, for bin_items' two passes to read.
+    const size_t strands = hair.strand_count();
+    struct PieceTiles {
+        uint16_t key = 0, tx0 = 1, ty0 = 0, tx1 = 0, ty1 = 0;  // none: tx0 > tx1
+    };
+    std::vector<PieceTiles> piece_tiles(vertices.size());
+    parallel_for(
+        vertices.size(),
+        [&](size_t i) {
+            if (i + 1 >= vertices.size()) return;
+            const HairVertex& a = vertices[i];
+            const HairVertex& b = vertices[i + 1];
+            if (a.rgb & (kLastOfStrand | kHiddenPiece)) return;
+            if (a.z <= kNear || b.z <= kNear) return;
+            const float r = 0.5f * std::max({a.w, b.w, 1.f}) + 1.f;
+            const float lx = std::min(a.x, b.x) - r, ly = std::min(a.y, b.y) - r;
+            const float hx = std::max(a.x, b.x) + r, hy = std::max(a.y, b.y) + r;
+            if (hx < 0.f || hy < 0.f || lx >= width_f || ly >= height_f) return;
+            const float zm = 0.5f * (a.z + b.z);
+            PieceTiles& p = piece_tiles[i];
+            p.key = static_cast<uint16_t>(std::clamp((zm - z_lo) * key_scale, 0.f, 65535.f));
+            p.tx0 = static_cast<uint16_t>(std::max(0, static_cast<int>(lx) / kTile));
+            p.ty0 = static_cast<uint16_t>(std::max(0, static_cast<int>(ly) / kTile));
+            p.tx1 = static_cast<uint16_t>(
+                std::min(hair_bins.tiles_x - 1, static_cast<int>(std::min(hx, width_f)) / kTile));
+            p.ty1 = static_cast<uint16_t>(
+                std::min(hair_bins.tiles_y - 1, static_cast<int>(std::min(hy, height_f)) / kTile));
+        },
+        4096);
+    bin_items(
+        vertices.size(), tiles,
+        [&](size_t i, auto&& emit) {
+            const PieceTiles& p = piece_tiles[i];
+            const uint32_t piece = static_cast<uint32_t>(i);
+            for (int ty = p.ty0; ty <= p.ty1; ++ty)
+                for (int tx = p.tx0; tx <= p.tx1; ++tx)
+                    emit(ty * hair_bins.tiles_x + tx, p.key, piece);
+        },
+        hair_bins);
+    const size_t pieces = vertices.size() - std::min(vertices.size(), strands);
     lap("bin");
 
     RgbImage image;
@@ -854,6 +986,7 @@ RgbImage render(const Hair& hair, const Mesh* head, const RenderOptions& o, Rend
     st.tile_entries = hair_bins.items.size();
     st.head_triangles = head_geometry.front_faces.size();
     st.pieces = pieces;
+    st.hidden_pieces = hidden_pieces;
     return image;
 }
 

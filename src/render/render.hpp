@@ -10,12 +10,17 @@
 //   1. camera       named view framed on framing_bounds(), or an explicit look-at
 //   2. shadows      opacity shadow map of the hair + depth map of the head, from the key and
 //                   from the rim light
-//   3. strands      each Catmull-Rom segment cut into pieces of ≤ ~6 pixels; every piece end
-//                   projected and shaded (Kajiya-Kay × shadow), width tapered to the tip
-//   4. bin          pieces and head triangles binned to 32×32-pixel tiles, in strand order
-//   5. tiles        per tile, in parallel: the head rasterized with 2×2 samples per pixel
-//                   (deferred shading), the pieces sorted by depth and rasterized front to
-//                   back with coverage, per pixel, until it is opaque; resolved to sRGB.
+//   3. head         head triangles binned to 32×32-pixel tiles and rasterized with 2×2 samples
+//                   per pixel (nearest face and depth per sample), and per 8×8-pixel block the
+//                   farthest head sample
+//   4. strands      each Catmull-Rom segment cut into pieces of ≤ 24 pixels; every piece end
+//                   projected; pieces the head hides at every pixel they may touch are flagged,
+//                   and only the ends of the others shaded (hair lobes × shadow), width tapered
+//                   to the tip
+//   5. bin          the pieces binned to the tiles, in strand order
+//   6. tiles        per tile, in parallel: the pieces sorted by depth and rasterized front to
+//                   back with coverage, per pixel, until it is opaque; the head's samples shaded
+//                   under what the hair lets through (deferred shading); resolved to sRGB.
 // Every pass writes only its own outputs, so the picture is bit-identical for any thread
 // count.
 #include <cstddef>
@@ -108,7 +113,8 @@ struct RenderOptions {
 
 struct RenderStats {
     StageTimes stages;          // (pass, ms) in the order above
-    size_t pieces = 0;          // straight strand pieces drawn
+    size_t pieces = 0;          // straight strand pieces
+    size_t hidden_pieces = 0;   // of which hidden by the head (or behind the eye): not drawn
     size_t tile_entries = 0;    // (piece, tile) pairs after binning
     size_t fragments = 0;       // hair fragments composited (after early termination)
     size_t head_triangles = 0;  // front-facing head triangles binned

@@ -4,6 +4,7 @@
 #include <stb_image.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -295,6 +296,40 @@ TEST(Render, PictureDoesNotDependOnThreadCount) {
         two = render(s.hair, &s.head, o);
     }
     EXPECT_EQ(one.rgb, two.rgb);
+}
+
+// Pieces the head hides at every pixel they may touch are neither shaded nor drawn: hair
+// wholly behind the head leaves the picture as the head alone makes it, and the hair on the
+// sphere's far side is counted as hidden while the near side is drawn.
+TEST(Render, HairTheHeadHidesIsSkippedAndChangesNothing) {
+    const Scene& s = small_scene();
+    RenderOptions o = small_options();
+    o.shadows = false;
+    o.look_at = LookAt{Vec3f(0, 3, 60), Vec3f(0, 3, -1)};
+    RenderStats stats;
+    render(s.hair, &s.head, o, &stats);
+    EXPECT_GT(stats.hidden_pieces, stats.pieces / 10);
+    EXPECT_LT(stats.hidden_pieces, stats.pieces);
+
+    // Short strands 3 cm behind the sphere's centre, within 5 cm of its axis toward the eye:
+    // inside its silhouette.
+    Hair behind;
+    constexpr int strands = 200, points = 8;
+    for (int k = 0; k < strands; ++k) {
+        const float angle = 0.1f * k, radius = 4.5f * (k % 10) / 10.f;
+        const Vec3f root(radius * std::cos(angle), 3.f + radius * std::sin(angle), -4.f);
+        std::array<Vec3f, points> strand;
+        for (int i = 0; i < points; ++i)
+            strand[i] = root + Vec3f(0.05f * i, -0.05f * i, -0.1f * i);
+        behind.add_strand(strand);
+        behind.colors.push_back(Vec3f(0.9f, 0.8f, 0.5f));
+    }
+    behind.default_width = 0.08f;
+    const RgbImage with_hair = render(behind, &s.head, o, &stats);
+    EXPECT_EQ(stats.hidden_pieces, stats.pieces);
+    EXPECT_EQ(stats.fragments, 0u);
+    const RgbImage head_alone = render(Hair{}, &s.head, o);
+    EXPECT_EQ(with_hair.rgb, head_alone.rgb);
 }
 
 TEST(Render, EmptySceneIsBackground) {
