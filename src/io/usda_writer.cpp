@@ -498,10 +498,14 @@ void write_single(Out& out, const Hair& hair, const UsdaWriteOptions& options) {
     out.flush(true);
 }
 
+void check_precision(int precision, const std::string& name) {
+    if (precision < 0 || precision > kMaxUsdaPrecision)
+        fail(name, ": precision ", precision, " is not 0 (exact) or 1 … ", kMaxUsdaPrecision,
+             " significant digits");
+}
+
 void check_options(const Hair& hair, const UsdaWriteOptions& options, const std::string& name) {
-    if (options.precision < 0 || options.precision > kMaxUsdaPrecision)
-        fail(name, ": precision ", options.precision, " is not 0 (exact) or 1 … ",
-             kMaxUsdaPrecision, " significant digits");
+    check_precision(options.precision, name);
     if (options.guides) {
         check_strands(*options.guides, name + " guides");
         if (hair.wisp.empty() && hair.strand_count())
@@ -680,15 +684,18 @@ void check_guides_mode(const Hair& strands, const Hair& guides, const std::strin
 }  // namespace
 
 UsdaAnimationWriter::UsdaAnimationWriter(const std::filesystem::path& path, const Hair& first,
-                                         double fps, size_t frames, const Hair* strands)
+                                         double fps, size_t frames, const Hair* strands,
+                                         int precision)
     : path_(path) {
     if (frames == 0) fail(path.string(), ": an animation needs at least one frame");
     if (!(fps > 0) || !std::isfinite(fps))
         fail(path.string(), ": frames per second must be positive, not ", fps);
+    check_precision(precision, path.string());
     check_strands(first, path.string());
     if (strands) check_guides_mode(*strands, first, path.string());
     impl_ = std::make_unique<Impl>(path);
     impl_->out.stream = &impl_->file.stream();
+    impl_->out.precision = precision;
     impl_->first = first;
     if (strands) impl_->strands = *strands;
     impl_->frames = frames;
@@ -705,7 +712,7 @@ void UsdaAnimationWriter::add(const Hair& frame) {
     Impl& m = *impl_;
     check_next_frame(path_, m.first, frame, m.written, m.frames);
     add_animation_frame(m.out, frame, m.written);
-    m.extents.push_back(extent_of(frame));
+    m.extents.push_back(extent_of(frame, false, m.out.precision));
     ++m.written;
     m.out.flush();
 }
@@ -735,17 +742,18 @@ std::string clip_prefix(const std::filesystem::path& path) {
 }
 
 void write_clip_frame(const std::filesystem::path& file, const Hair& frame, size_t index,
-                      const std::string& top, const char* prim) {
+                      const std::string& top, const char* prim, int precision) {
     AtomicFile f(file);
     Out out;
     out.stream = &f.stream();
+    out.precision = precision;
     out.buf += cat("#usda 1.0\n(\n    doc = \"wisp animation: frame ", index, ", a value clip of ",
                    top, "\"\n)\n\n");
     out.buf += cat("over \"hair\"\n{\n    over BasisCurves \"", prim, "\"\n    {\n");
     out.buf += "        float3[] extent.timeSamples = {\n            ";
     append_number(out.buf, index);
     out.buf += ": ";
-    append_extent(out.buf, extent_of(frame));
+    append_extent(out.buf, extent_of(frame, false, precision));
     out.buf += ",\n        }\n        point3f[] points.timeSamples = {\n";
     add_animation_frame(out, frame, index);
     out.buf += "        }\n    }\n}\n";
@@ -760,6 +768,7 @@ struct UsdaClipWriter::Impl {
     std::optional<Hair> strands;  // guides mode: the render strands at rest
     double fps = 24;
     size_t frames = 0, written = 0;
+    int precision = 0;  // UsdaWriteOptions::precision
     FileSeries series;
     Impl(const std::filesystem::path& path, size_t n)
         : series(clip_prefix(path), ".usda", frame_digits(n)) {}
@@ -774,12 +783,13 @@ std::filesystem::path UsdaClipWriter::frame_path(const std::filesystem::path& pa
 }
 
 UsdaClipWriter::UsdaClipWriter(const std::filesystem::path& path, const Hair& first, double fps,
-                               size_t frames, const Hair* strands)
+                               size_t frames, const Hair* strands, int precision)
     : path_(path) {
     const std::string name = path.string();
     if (frames == 0) fail(name, ": an animation needs at least one frame");
     if (!(fps > 0) || !std::isfinite(fps))
         fail(name, ": frames per second must be positive, not ", fps);
+    check_precision(precision, name);
     // The frame files are named in the top layer as @./<stem>.<i>.usda@.
     const std::string stem = path.stem().string();
     if (stem.empty() || stem.find('@') != std::string::npos || excerpt(stem, SIZE_MAX) != stem)
@@ -793,6 +803,7 @@ UsdaClipWriter::UsdaClipWriter(const std::filesystem::path& path, const Hair& fi
     if (strands) impl_->strands = *strands;
     impl_->fps = fps;
     impl_->frames = frames;
+    impl_->precision = precision;
 }
 
 UsdaClipWriter::~UsdaClipWriter() = default;
@@ -802,7 +813,7 @@ void UsdaClipWriter::add(const Hair& frame) {
     check_next_frame(path_, m.first, frame, m.written, m.frames);
     const std::filesystem::path file = m.series.path(m.written);
     write_clip_frame(file, frame, m.written, path_.filename().string(),
-                     m.strands ? "guides" : "strands");
+                     m.strands ? "guides" : "strands", m.precision);
     m.series.added(m.written);
     ++m.written;
 }
@@ -837,6 +848,7 @@ void UsdaClipWriter::finish() {
         write_file_atomic(path_, [&](std::ostream& os) {
             Out out;
             out.stream = &os;
+            out.precision = m.precision;
             const Hair* strands = m.strands ? &*m.strands : nullptr;
             if (strands)
                 begin_guides_layer(out, *strands, m.first, animation_metadata(m.frames, m.fps),
