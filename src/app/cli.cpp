@@ -149,8 +149,17 @@ struct LookArgs {
     }
 };
 
-// What every hair output of generate and convert shares: a subset of the strands, and the
-// points per strand of the resampling formats (.npz, .data).
+// --precision of every command that writes .usda (generate, convert, animate).
+void add_precision_option(CLI::App* cmd, int& precision) {
+    cmd->add_option("--precision", precision,
+                    ".usda: significant digits of the strands' numbers, 1-9, for a smaller "
+                    "file (each value within half a unit of its last digit); default: the "
+                    "shortest form that reads back exactly")
+        ->check(CLI::Range(1, kMaxUsdaPrecision));
+}
+
+// What every hair output of generate and convert shares: a subset of the strands, the points
+// per strand of the resampling formats (.npz, .data) and the .usda precision.
 struct ExportArgs {
     size_t strands = 0;   // --export-strands; 0: all
     double fraction = 0;  // --export-fraction; 0: all
@@ -168,11 +177,7 @@ struct ExportArgs {
                         ".npz and .data: points per strand, evenly spaced along each strand "
                         "(default: .npz 32, .data 100 as USC-HairSalon has them)")
             ->check(CLI::Range(2, 4096));
-        cmd->add_option("--precision", precision,
-                        ".usda: significant digits of the strands' numbers, 1-9, for a smaller "
-                        "file (each value within half a unit of its last digit); default: the "
-                        "shortest form that reads back exactly")
-            ->check(CLI::Range(1, kMaxUsdaPrecision));
+        add_precision_option(cmd, precision);
     }
     void check() const {
         if (strands && fraction > 0)
@@ -486,6 +491,7 @@ struct AnimateArgs {
     bool single_level = false, quiet = false;
     std::string usda = "clips";  // .usda layout: clips (a layer per frame) or single
     bool guides = false;         // .usda: animate one guide strand per wisp only
+    int precision = 0;           // .usda: --precision; 0: shortest exact
     LookArgs look;
 };
 
@@ -676,11 +682,11 @@ int run_animate(const AnimateArgs& args) {
             series.push_back(std::make_unique<FileSeries>(
                 pattern.substr(0, first), pattern.substr(last), static_cast<int>(last - first)));
         } else if (args.usda == "single") {
-            usda.push_back(std::make_unique<UsdaAnimationWriter>(out, first_frame, args.fps,
-                                                                 args.frames, guided));
+            usda.push_back(std::make_unique<UsdaAnimationWriter>(
+                out, first_frame, args.fps, args.frames, guided, args.precision));
         } else {
-            clips.push_back(
-                std::make_unique<UsdaClipWriter>(out, first_frame, args.fps, args.frames, guided));
+            clips.push_back(std::make_unique<UsdaClipWriter>(out, first_frame, args.fps,
+                                                             args.frames, guided, args.precision));
         }
     }
     // The frames of an MP4 without --png go to a temporary folder, removed however the run
@@ -971,6 +977,7 @@ int run_cli(int argc, char** argv) {
         ".usda: animate one guide strand per wisp only (groom_guide = 1), beside the render "
         "strands at rest bound to their wisp's guide (groom_closest_guides): what Unreal, "
         "Houdini or a DCC needs to rebuild the rest, at a fraction of the size");
+    add_precision_option(animate_cmd, anim.precision);
     animate_cmd->add_option("--png", anim.png, "Render every frame: PNG name with ####");
     animate_cmd->add_option("--mp4", anim.mp4, "Also encode the frames to an MP4 (ffmpeg)");
     animate_cmd->add_option("--view", anim.view, "Camera view for --png/--mp4")

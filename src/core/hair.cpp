@@ -8,6 +8,22 @@
 
 namespace wisp {
 
+static_assert(sizeof(Vec3f) == 3 * sizeof(float), "points are read as a flat float array");
+
+namespace {
+
+// Whether every coordinate of `points` is finite and within ±limit.
+bool coordinates_within(std::span<const Vec3f> points, float limit) {
+    const float* f = points.empty() ? nullptr : points.data()->data();
+    const size_t n = 3 * points.size();
+    unsigned outside = 0;  // NaN compares false: outside
+    for (size_t i = 0; i < n; ++i)
+        outside |= !(std::fabs(f[i]) <= limit);
+    return outside == 0;
+}
+
+}  // namespace
+
 void Hair::validate(const std::string& what) const {
     if (offsets.empty() || offsets.front() != 0) fail(what, ": offsets must start with 0");
     for (size_t i = 0; i + 1 < offsets.size(); ++i)
@@ -28,17 +44,21 @@ void Hair::validate(const std::string& what) const {
         fail(what, ": root_normal has ", root_normal.size(), " values, expected ", s);
     if (!group.empty() && group.size() != s)
         fail(what, ": group has ", group.size(), " values, expected ", s);
-    for (size_t st = 0; st < s; ++st)
-        for (uint32_t i = offsets[st]; i < offsets[st + 1]; ++i) {
-            const Vec3f& p = points[i];
-            if (!p.allFinite())
-                fail(what, ": point ", i, " is not finite (strand ", st, ", its point ",
-                     i - offsets[st], ")");
-            if (p.cwiseAbs().maxCoeff() > kMaxCoordinate)
-                fail(what, ": point ", i, " (strand ", st, ", its point ", i - offsets[st],
-                     ") is at (", p.x(), ", ", p.y(), ", ", p.z(), "), farther than ",
-                     kMaxCoordinate, " cm from the origin on an axis (see docs/formats.md)");
-        }
+    // One branch-free pass over every coordinate, which the compiler vectorizes (the loop
+    // below took 45 instructions a point); that loop, which names the first bad point, runs
+    // only when there is one.
+    if (!coordinates_within(points, kMaxCoordinate))
+        for (size_t st = 0; st < s; ++st)
+            for (uint32_t i = offsets[st]; i < offsets[st + 1]; ++i) {
+                const Vec3f& p = points[i];
+                if (!p.allFinite())
+                    fail(what, ": point ", i, " is not finite (strand ", st, ", its point ",
+                         i - offsets[st], ")");
+                if (p.cwiseAbs().maxCoeff() > kMaxCoordinate)
+                    fail(what, ": point ", i, " (strand ", st, ", its point ", i - offsets[st],
+                         ") is at (", p.x(), ", ", p.y(), ", ", p.z(), "), farther than ",
+                         kMaxCoordinate, " cm from the origin on an axis (see docs/formats.md)");
+            }
     for (size_t i = 0; i < widths.size(); ++i)
         if (!std::isfinite(widths[i]) || widths[i] < 0.f)
             fail(what, ": width ", i, " is negative or not finite");

@@ -1,7 +1,7 @@
 #pragma once
 // Helpers shared by the io readers and writers: fast whole-file reads, bounds-checked
-// little-endian binary reads, and shortest round-trip number formatting (std::to_chars,
-// std::from_chars: no iostream per value). Internal to src/io.
+// little-endian binary reads, and shortest round-trip number formatting (put_shortest for
+// floats, std::to_chars otherwise, std::from_chars: no iostream per value). Internal to src/io.
 #include <bit>
 #include <charconv>
 #include <cstdint>
@@ -16,6 +16,7 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/math.hpp"
+#include "io/float_text.hpp"
 
 namespace wisp::io_detail {
 
@@ -137,11 +138,10 @@ class FileReader {
     size_t size_ = 0, pos_ = 0;
 };
 
-// Appends the shortest decimal form that reads back to exactly v.
+// Appends the shortest decimal form that reads back to exactly v (std::to_chars' bytes).
 inline void append_number(std::string& out, float v) {
-    char buf[32];
-    const auto r = std::to_chars(buf, buf + sizeof buf, v);
-    out.append(buf, r.ptr);
+    char buf[kShortestFloatRoom];
+    out.append(buf, put_shortest(buf, v));
 }
 inline void append_number(std::string& out, double v) {
     char buf[32];

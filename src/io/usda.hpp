@@ -151,8 +151,10 @@ class UsdaAnimationWriter {
     // render strands at rest, written once as "/hair/strands" with what rebuilds them from
     // the guides: strand s follows guide strands.wisp[s] (groom_closest_guides, weight 1),
     // its rest points and root UV (UsdaWriteOptions::guides' layout, GroomAPI on "/hair").
+    // `precision`: significant digits of the strands' floats, as UsdaWriteOptions::precision
+    // (0: the shortest exact form); each frame's extent holds its rounded points.
     UsdaAnimationWriter(const std::filesystem::path& path, const Hair& first, double fps,
-                        size_t frames, const Hair* strands = nullptr);
+                        size_t frames, const Hair* strands = nullptr, int precision = 0);
     ~UsdaAnimationWriter();
     void add(const Hair& frame);
     void finish();
@@ -174,9 +176,10 @@ class UsdaAnimationWriter {
 // SIGINT/SIGTERM/SIGHUP, removes the frames already written.
 class UsdaClipWriter {
   public:
-    // `strands`: guides mode, as UsdaAnimationWriter's (the clips animate "/hair/guides").
+    // `strands`: guides mode, and `precision`, as UsdaAnimationWriter's (the clips animate
+    // "/hair/guides").
     UsdaClipWriter(const std::filesystem::path& path, const Hair& first, double fps, size_t frames,
-                   const Hair* strands = nullptr);
+                   const Hair* strands = nullptr, int precision = 0);
     ~UsdaClipWriter();
     void add(const Hair& frame);
     void finish();

@@ -1,5 +1,6 @@
-// The usda writer: text built into one std::string with std::to_chars, strands formatted
-// in parallel blocks and joined in order, so the bytes never depend on the thread count.
+// The usda writer: text built into one std::string (floats by put_shortest, the same bytes
+// as std::to_chars), strands formatted in parallel blocks and joined in order, so the bytes
+// never depend on the thread count.
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -14,6 +15,7 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/parallel.hpp"
+#include "io/float_text.hpp"
 #include "io/io_util.hpp"
 #include "io/usda.hpp"
 
@@ -21,6 +23,7 @@ namespace wisp {
 namespace {
 
 using io_detail::append_number;
+using io_detail::kShortestFloatRoom;
 
 void append_vec(std::string& out, const Vec3f& v) {
     out += '(';
@@ -32,15 +35,16 @@ void append_vec(std::string& out, const Vec3f& v) {
     out += ')';
 }
 
-// Hot loops format straight into a char buffer: a float's shortest form is at most 15
-// characters ("-1.1754944e-38"), so a run of k values needs at most 17·k bytes.
+// Hot loops format straight into a char buffer: a float's text is at most 15 characters
+// ("-1.1754944e-38", or "-1.23456789e-38" at a precision), so a run of k values with
+// separators needs at most 17·k bytes. Writing a float may also touch scratch bytes after its
+// text, up to kShortestFloatRoom from where it starts: append_raw leaves that much room.
 constexpr size_t kMaxFloatChars = 16;
 
-// precision 0: the shortest exact form; else that many significant digits (%g's form,
-// "-1.23456789e-38" at most: 15 characters).
+// precision 0: the shortest exact form; else that many significant digits (%g's form).
 char* put_float(char* p, float v, int precision = 0) {
     return precision == 0
-               ? std::to_chars(p, p + kMaxFloatChars, v).ptr
+               ? io_detail::put_shortest(p, v)
                : std::to_chars(p, p + kMaxFloatChars, v, std::chars_format::general, precision).ptr;
 }
 
@@ -59,49 +63,58 @@ char* put_vec(char* p, const Vec3f& v, int precision = 0) {
 
 // The float a reader gets back from v written at `precision` digits.
 float written_value(float v, int precision) {
-    char buf[kMaxFloatChars];
+    char buf[kShortestFloatRoom];
     char* end = put_float(buf, v, precision);
     float back = v;
     std::from_chars(buf, end, back);
     return back;
 }
 
-// put_float through a small direct-mapped cache of values already formatted: for arrays
-// that repeat a few values (widths), a hit copies the text instead of formatting.
+// put_float through a cache of the values already formatted, for arrays that repeat a few
+// values (widths: a taper along the strand, the same for strands of the same length): a hit
+// copies the text instead of formatting. An open-addressing table (linear probing) holds up
+// to half its slots; a direct-mapped one lost most of a 32-point taper to collisions.
 struct FloatTextCache {
-    static constexpr size_t kSlots = 64;
-    struct Slot {
-        uint32_t bits = 0;
-        uint8_t size = 0;  // 0: empty
-        char text[kMaxFloatChars];
-    };
-    std::array<Slot, kSlots> slots;
+    static constexpr size_t kSlots = 1024, kMaxHeld = kSlots / 2;
+    std::array<uint32_t, kSlots> bits{};
+    std::array<uint8_t, kSlots> size{};  // 0: empty
+    std::array<std::array<char, kMaxFloatChars>, kSlots> text;
+    size_t held = 0;
     int precision = 0;  // of the texts held
 
     char* put(char* p, float v, int digits) {
         if (digits != precision) {
-            slots = {};
+            size = {};
+            held = 0;
             precision = digits;
         }
-        const uint32_t bits = std::bit_cast<uint32_t>(v);
-        Slot& slot = slots[(bits * 2654435761u) >> 26];
-        if (slot.size > 0 && slot.bits == bits) {
-            std::memcpy(p, slot.text, slot.size);
-            return p + slot.size;
+        const uint32_t key = std::bit_cast<uint32_t>(v);
+        size_t i = (key * 2654435761u) >> 22;
+        while (size[i] > 0 && bits[i] != key)
+            i = (i + 1) % kSlots;
+        // Whole slots are copied (the room after p holds them): a copy of the text's own
+        // length compiles to `rep movs`, slower than formatting.
+        if (size[i] > 0) {
+            std::memcpy(p, text[i].data(), kMaxFloatChars);
+            return p + size[i];
         }
         char* end = put_float(p, v, precision);
-        slot.bits = bits;
-        slot.size = static_cast<uint8_t>(end - p);
-        std::memcpy(slot.text, p, slot.size);
+        if (held < kMaxHeld) {
+            ++held;
+            bits[i] = key;
+            size[i] = static_cast<uint8_t>(end - p);
+            std::memcpy(text[i].data(), p, kMaxFloatChars);
+        }
         return end;
     }
 };
 
-// Appends up to `max_bytes` written by write(char*) -> char* end.
+// Appends up to `max_bytes` written by write(char*) -> char* end (with the scratch room of the
+// last float beyond them).
 template <typename Write>
 void append_raw(std::string& out, size_t max_bytes, Write&& write) {
     const size_t at = out.size();
-    out.resize(at + max_bytes);
+    out.resize(at + max_bytes + kShortestFloatRoom);
     char* end = write(out.data() + at);
     out.resize(static_cast<size_t>(end - out.data()));
 }
@@ -485,10 +498,14 @@ void write_single(Out& out, const Hair& hair, const UsdaWriteOptions& options) {
     out.flush(true);
 }
 
+void check_precision(int precision, const std::string& name) {
+    if (precision < 0 || precision > kMaxUsdaPrecision)
+        fail(name, ": precision ", precision, " is not 0 (exact) or 1 … ", kMaxUsdaPrecision,
+             " significant digits");
+}
+
 void check_options(const Hair& hair, const UsdaWriteOptions& options, const std::string& name) {
-    if (options.precision < 0 || options.precision > kMaxUsdaPrecision)
-        fail(name, ": precision ", options.precision, " is not 0 (exact) or 1 … ",
-             kMaxUsdaPrecision, " significant digits");
+    check_precision(options.precision, name);
     if (options.guides) {
         check_strands(*options.guides, name + " guides");
         if (hair.wisp.empty() && hair.strand_count())
@@ -667,15 +684,18 @@ void check_guides_mode(const Hair& strands, const Hair& guides, const std::strin
 }  // namespace
 
 UsdaAnimationWriter::UsdaAnimationWriter(const std::filesystem::path& path, const Hair& first,
-                                         double fps, size_t frames, const Hair* strands)
+                                         double fps, size_t frames, const Hair* strands,
+                                         int precision)
     : path_(path) {
     if (frames == 0) fail(path.string(), ": an animation needs at least one frame");
     if (!(fps > 0) || !std::isfinite(fps))
         fail(path.string(), ": frames per second must be positive, not ", fps);
+    check_precision(precision, path.string());
     check_strands(first, path.string());
     if (strands) check_guides_mode(*strands, first, path.string());
     impl_ = std::make_unique<Impl>(path);
     impl_->out.stream = &impl_->file.stream();
+    impl_->out.precision = precision;
     impl_->first = first;
     if (strands) impl_->strands = *strands;
     impl_->frames = frames;
@@ -692,7 +712,7 @@ void UsdaAnimationWriter::add(const Hair& frame) {
     Impl& m = *impl_;
     check_next_frame(path_, m.first, frame, m.written, m.frames);
     add_animation_frame(m.out, frame, m.written);
-    m.extents.push_back(extent_of(frame));
+    m.extents.push_back(extent_of(frame, false, m.out.precision));
     ++m.written;
     m.out.flush();
 }
@@ -722,17 +742,18 @@ std::string clip_prefix(const std::filesystem::path& path) {
 }
 
 void write_clip_frame(const std::filesystem::path& file, const Hair& frame, size_t index,
-                      const std::string& top, const char* prim) {
+                      const std::string& top, const char* prim, int precision) {
     AtomicFile f(file);
     Out out;
     out.stream = &f.stream();
+    out.precision = precision;
     out.buf += cat("#usda 1.0\n(\n    doc = \"wisp animation: frame ", index, ", a value clip of ",
                    top, "\"\n)\n\n");
     out.buf += cat("over \"hair\"\n{\n    over BasisCurves \"", prim, "\"\n    {\n");
     out.buf += "        float3[] extent.timeSamples = {\n            ";
     append_number(out.buf, index);
     out.buf += ": ";
-    append_extent(out.buf, extent_of(frame));
+    append_extent(out.buf, extent_of(frame, false, precision));
     out.buf += ",\n        }\n        point3f[] points.timeSamples = {\n";
     add_animation_frame(out, frame, index);
     out.buf += "        }\n    }\n}\n";
@@ -747,6 +768,7 @@ struct UsdaClipWriter::Impl {
     std::optional<Hair> strands;  // guides mode: the render strands at rest
     double fps = 24;
     size_t frames = 0, written = 0;
+    int precision = 0;  // UsdaWriteOptions::precision
     FileSeries series;
     Impl(const std::filesystem::path& path, size_t n)
         : series(clip_prefix(path), ".usda", frame_digits(n)) {}
@@ -761,12 +783,13 @@ std::filesystem::path UsdaClipWriter::frame_path(const std::filesystem::path& pa
 }
 
 UsdaClipWriter::UsdaClipWriter(const std::filesystem::path& path, const Hair& first, double fps,
-                               size_t frames, const Hair* strands)
+                               size_t frames, const Hair* strands, int precision)
     : path_(path) {
     const std::string name = path.string();
     if (frames == 0) fail(name, ": an animation needs at least one frame");
     if (!(fps > 0) || !std::isfinite(fps))
         fail(name, ": frames per second must be positive, not ", fps);
+    check_precision(precision, name);
     // The frame files are named in the top layer as @./<stem>.<i>.usda@.
     const std::string stem = path.stem().string();
     if (stem.empty() || stem.find('@') != std::string::npos || excerpt(stem, SIZE_MAX) != stem)
@@ -780,6 +803,7 @@ UsdaClipWriter::UsdaClipWriter(const std::filesystem::path& path, const Hair& fi
     if (strands) impl_->strands = *strands;
     impl_->fps = fps;
     impl_->frames = frames;
+    impl_->precision = precision;
 }
 
 UsdaClipWriter::~UsdaClipWriter() = default;
@@ -789,7 +813,7 @@ void UsdaClipWriter::add(const Hair& frame) {
     check_next_frame(path_, m.first, frame, m.written, m.frames);
     const std::filesystem::path file = m.series.path(m.written);
     write_clip_frame(file, frame, m.written, path_.filename().string(),
-                     m.strands ? "guides" : "strands");
+                     m.strands ? "guides" : "strands", m.precision);
     m.series.added(m.written);
     ++m.written;
 }
@@ -824,6 +848,7 @@ void UsdaClipWriter::finish() {
         write_file_atomic(path_, [&](std::ostream& os) {
             Out out;
             out.stream = &os;
+            out.precision = m.precision;
             const Hair* strands = m.strands ? &*m.strands : nullptr;
             if (strands)
                 begin_guides_layer(out, *strands, m.first, animation_metadata(m.frames, m.fps),

@@ -266,6 +266,20 @@ TEST(Cli, AnimateGuidesWritesTheGuidesOnly) {
     ASSERT_EQ(run(common + "--guides -o " + g.string()), 0);
     ASSERT_EQ(run(common + "--guides --usda single -o " + gs.string()), 0);
     EXPECT_EQ(run(common + "--guides -o " + (d.path / "x.hair").string()), 2);
+    // --precision as generate and convert take it: the same frames, rounded, in smaller files.
+    const fs::path rounded = d.path / "p.usda";
+    ASSERT_EQ(run(common + "--precision 3 -o " + rounded.string()), 0);
+    EXPECT_LT(fs::file_size(d.path / "p.0002.usda") * 3,
+              fs::file_size(d.path / "full.0002.usda") * 2);
+    {
+        const auto exact = wisp::read_usda_layer(d.path / "full.0002.usda").curves.at(0).points;
+        const auto near = wisp::read_usda_layer(d.path / "p.0002.usda").curves.at(0).points;
+        ASSERT_EQ(near.size(), exact.size());
+        for (size_t i = 0; i < exact.size(); ++i)
+            for (int k = 0; k < 3; ++k)
+                ASSERT_NEAR(near[i][k], exact[i][k], 0.0051 * std::abs(exact[i][k]) + 1e-6);
+    }
+    EXPECT_EQ(run(common + "--precision 10 -o " + rounded.string()), 2);
 
     // The frame layers animate /hair/guides only, and are far smaller.
     const std::string frame2 = slurp(d.path / "g.0002.usda");

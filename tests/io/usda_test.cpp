@@ -819,6 +819,84 @@ TEST(Usda, PrecisionBoundsTheErrorAndShrinksTheFile) {
                            "w.usda: precision " + std::to_string(wrong));
 }
 
+// Both animation writers take the precision: each frame's points are rounded as a single
+// layer's are (the same text as encode_usda's points at that precision), its extent holds
+// them, and the files shrink; a precision outside 0-9 is refused naming the file.
+TEST(Usda, AnimationWritersTakeThePrecision) {
+    std::vector<Hair> frames;
+    for (int f = 0; f < 2; ++f) {
+        Hair h = test::random_hair(9, 200, 8);
+        for (Vec3f& p : h.points)
+            p.x() += 1.5f * float(f);
+        frames.push_back(h);
+    }
+    const auto dir =
+        std::filesystem::temp_directory_path() / ("wisp_prec_test_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    // The numbers of the array that starts at `from`, without spaces and line breaks (the
+    // layers indent them differently).
+    const auto points_text = [](const std::string& text, const std::string& from) {
+        const size_t a = text.find(from);
+        if (a == std::string::npos) return std::string();
+        std::string out;
+        for (size_t i = a + from.size(); i < text.size() && text[i] != ']'; ++i)
+            if (text[i] != ' ' && text[i] != '\n') out += text[i];
+        return out;
+    };
+    for (int digits : {0, 4}) {
+        const auto single = dir / ("single" + std::to_string(digits) + ".usda");
+        const auto top = dir / ("clips" + std::to_string(digits) + ".usda");
+        {
+            UsdaAnimationWriter a(single, frames[0], 24.0, 2, nullptr, digits);
+            UsdaClipWriter c(top, frames[0], 24.0, 2, nullptr, digits);
+            for (const Hair& f : frames) {
+                a.add(f);
+                c.add(f);
+            }
+            a.finish();
+            c.finish();
+        }
+        for (int f = 0; f < 2; ++f) {
+            // The frame's points as encode_usda writes them at that precision.
+            const std::string want = points_text(
+                encode_usda(frames[f], "hair", {.precision = digits}), "point3f[] points = [\n");
+            const std::string clip = test::read_file_text(UsdaClipWriter::frame_path(top, f, 2));
+            const std::string got = points_text(clip, cat(f, ": [\n"));
+            ASSERT_FALSE(want.empty());
+            EXPECT_EQ(got, want) << digits << " digits, frame " << f;
+            // A clip holds points only (the topology is the top layer's).
+            const UsdaLayer layer = parse_usda(clip, "clip.usda");
+            ASSERT_EQ(layer.curves.size(), 1u);
+            const std::vector<Vec3f>& back = layer.curves[0].points;
+            ASSERT_EQ(back.size(), frames[f].points.size());
+            if (digits == 0) EXPECT_EQ(back, frames[f].points);
+            // The frame's extent holds its points as read back.
+            std::smatch m;
+            static const std::regex re(
+                R"(extent.timeSamples = \{\s*\d+: \[\(([^,]+), ([^,]+), ([^)]+)\), \(([^,]+), ([^,]+), ([^)]+)\)\])");
+            ASSERT_TRUE(std::regex_search(clip, m, re));
+            for (const Vec3f& p : back)
+                for (int k = 0; k < 3; ++k) {
+                    EXPECT_LE(std::stof(m[1 + k]), p[k]);
+                    EXPECT_GE(std::stof(m[4 + k]), p[k]);
+                }
+        }
+        if (digits == 4) {
+            EXPECT_LT(std::filesystem::file_size(single),
+                      std::filesystem::file_size(dir / "single0.usda"));
+            EXPECT_LT(
+                std::filesystem::file_size(UsdaClipWriter::frame_path(top, 1, 2)),
+                std::filesystem::file_size(UsdaClipWriter::frame_path(dir / "clips0.usda", 1, 2)));
+        }
+    }
+    test::expect_error([&] { UsdaClipWriter(dir / "bad.usda", frames[0], 24.0, 2, nullptr, 10); },
+                       "bad.usda: precision 10");
+    test::expect_error(
+        [&] { UsdaAnimationWriter(dir / "bad.usda", frames[0], 24.0, 2, nullptr, -1); },
+        "bad.usda: precision -1");
+    std::filesystem::remove_all(dir);
+}
+
 TEST(Usda, TruncatedFilesFail) {
     Hair h = test::random_hair(21, 6, 4);
     const std::string text = encode_usda(h);
