@@ -81,8 +81,9 @@ class StageCache {
 
     // What GET /api/hair?strands=N sends: encode_strands (edit/wire.hpp) of the first
     // min(N, all) strands of the whole hair in strand_order, byte for byte what encoding the
-    // hair of update() would give (a preview of fewer strands than all while the members are
-    // stale: strand i is strand_order[i] of the full hair, as update_preview grows it). Only
+    // hair of update() would give (while the members are stale and fewer strands than all are
+    // asked for, update_preview's subset, strand i being strand_order[i] of the full hair:
+    // the same bytes unless the cut removes strands, which shifts them). Only
     // what the answer shows is computed: while the members are stale, the strands sent alone
     // (update_preview); while only the colour is, the colours of the strands sent alone (the
     // colour stage stays stale for the update that follows), written over the positions
