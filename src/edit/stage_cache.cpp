@@ -1,6 +1,7 @@
 #include "edit/stage_cache.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <utility>
 
@@ -240,7 +241,10 @@ std::shared_ptr<const std::string> StageCache::hair_bytes(size_t strands, const 
     // The positions encoded last time stay when the hair and the count are the same and no
     // one holds that buffer any more (use_count is exact here: copies are made under the
     // caller's lock only, and a holder that lets go only lowers it).
-    if (!bytes_ || bytes_run_ != hair_run_ || bytes_strands_ != count || bytes_.use_count() > 1) {
+    const bool held = bytes_ && bytes_.use_count() > 1;
+    // A holder's reads come before its release of the buffer: seen released, they are over.
+    std::atomic_thread_fence(std::memory_order_acquire);
+    if (!bytes_ || bytes_run_ != hair_run_ || bytes_strands_ != count || held) {
         bytes_ = std::make_shared<std::string>(encode_strands(hair, ids, all));
         bytes_run_ = hair_run_;
         bytes_strands_ = count;
