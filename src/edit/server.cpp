@@ -76,6 +76,17 @@ void send_error(httplib::Response& res, int status, const std::string& message,
     send_json(res, j, status);
 }
 
+// Sends `bytes` as they are, without copying them into the response (a full hair is tens of
+// megabytes): the response holds the buffer until it has been written.
+void send_shared(httplib::Response& res, std::shared_ptr<const std::string> bytes) {
+    const size_t size = bytes->size();
+    res.set_content_provider(
+        size, "application/octet-stream",
+        [bytes = std::move(bytes)](size_t offset, size_t length, httplib::DataSink& sink) {
+            return sink.write(bytes->data() + offset, std::min(length, bytes->size() - offset));
+        });
+}
+
 // Constant-time comparison, so the token cannot be found a byte at a time by timing.
 bool same_token(std::string_view a, std::string_view b) {
     if (a.size() != b.size()) return false;
@@ -395,10 +406,10 @@ struct EditServer::Impl {
             // this one, even while its stages run.
             const uint64_t ticket = ++hair_requests;
             std::lock_guard lock(cache_mutex);
-            const Hair* hair = cache.update_preview(limit, CancelToken(hair_requests, ticket));
-            if (!hair) return send_error(res, 409, "superseded by a newer request");
-            res.set_content(encode_strands(*hair, limit, cache.strands_in_all()),
-                            "application/octet-stream");
+            std::shared_ptr<const std::string> bytes =
+                cache.hair_bytes(limit, CancelToken(hair_requests, ticket));
+            if (!bytes) return send_error(res, 409, "superseded by a newer request");
+            send_shared(res, std::move(bytes));
         });
         server.Get("/api/masters", [this](const httplib::Request& req, httplib::Response& res) {
             const uint64_t ticket = ++hair_requests;

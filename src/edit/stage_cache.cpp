@@ -1,12 +1,14 @@
 #include "edit/stage_cache.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <utility>
 
 #include "core/error.hpp"
 #include "core/timer.hpp"
 #include "edit/wire.hpp"
+#include "groom/color.hpp"
 #include "groom/generate.hpp"
 #include "groom/style_toml.hpp"
 
@@ -139,6 +141,7 @@ bool StageCache::run_until(Stage last, const CancelToken& cancel, const StagePro
                 result_.points_inside_head = m.points_inside_head;
                 result_.strands_cut = m.strands_cut;
                 result_.strands_removed = m.strands_removed;
+                ++hair_run_;
                 break;
             }
             case Stage::kColor:
@@ -187,8 +190,7 @@ const Hair* StageCache::update_preview(size_t strands, const CancelToken& cancel
     if (progress) progress(Stage::kMembers);
     if (cancel.cancelled()) return nullptr;
     Stopwatch watch;
-    const std::vector<uint32_t> order = strand_order(roots_.members.size());
-    const std::span<const uint32_t> ids(order.data(), strands);
+    const std::span<const uint32_t> ids(order(roots_.members.size()).data(), strands);
     MembersResult m = members_stage(style_, head_, *head_field_, roots_, result_.masters,
                                     groups_.wisp_group, nullptr, ids, cancel);
     if (cancel.cancelled()) return nullptr;
@@ -198,6 +200,57 @@ const Hair* StageCache::update_preview(size_t strands, const CancelToken& cancel
     color_stage(style_, preview_, m.strands_removed == 0 ? ids : std::span<const uint32_t>());
     preview_ms_ = watch.ms();
     return &preview_;
+}
+
+const std::vector<uint32_t>& StageCache::order(size_t n) {
+    if (order_.size() != n) order_ = strand_order(n);
+    return order_;
+}
+
+std::shared_ptr<const std::string> StageCache::hair_bytes(size_t strands, const CancelToken& cancel,
+                                                          const StageProgress& progress) {
+    if (!run_until(Stage::kSolve, cancel, progress)) return nullptr;
+    if (stale_ <= Stage::kMembers && strands < roots_.members.size()) {
+        // A preview: strand i of preview_ is already strand_order[i] of the full hair.
+        const Hair* preview = update_preview(strands, cancel, progress);
+        if (!preview) return nullptr;
+        std::vector<uint32_t> ids(preview->strand_count());
+        for (size_t i = 0; i < ids.size(); ++i)
+            ids[i] = static_cast<uint32_t>(i);
+        return std::make_shared<const std::string>(
+            encode_strands(*preview, ids, roots_.members.size()));
+    }
+    // The members are up to date, or all of them are asked for.
+    if (!run_until(Stage::kMembers, cancel, progress)) return nullptr;
+    const Hair& hair = result_.hair;
+    const size_t all = hair.strand_count(), count = std::min(strands, all);
+    const std::span<const uint32_t> ids(order(all).data(), count);
+    std::vector<Vec3f> colors(count);
+    if (stale_ == Stage::kColor && count < all) {
+        // The colours of the strands sent only (color_stage's, strand by strand).
+        if (progress) progress(Stage::kColor);
+        std::vector<int32_t> wisp(count);
+        for (size_t i = 0; i < count; ++i)
+            wisp[i] = hair.wisp[ids[i]];
+        color_strands(style_.color, style_.seed, wisp, colors, ids);
+    } else {
+        if (!run_until(Stage::kColor, cancel, progress)) return nullptr;
+        for (size_t i = 0; i < count; ++i)
+            colors[i] = hair.color_of(ids[i]);
+    }
+    // The positions encoded last time stay when the hair and the count are the same and no
+    // one holds that buffer any more (use_count is exact here: copies are made under the
+    // caller's lock only, and a holder that lets go only lowers it).
+    const bool held = bytes_ && bytes_.use_count() > 1;
+    // A holder's reads come before its release of the buffer: seen released, they are over.
+    std::atomic_thread_fence(std::memory_order_acquire);
+    if (!bytes_ || bytes_run_ != hair_run_ || bytes_strands_ != count || held) {
+        bytes_ = std::make_shared<std::string>(encode_strands(hair, ids, all));
+        bytes_run_ = hair_run_;
+        bytes_strands_ = count;
+    }
+    write_strand_colors(colors, *bytes_);
+    return bytes_;
 }
 
 const Masters* StageCache::update_masters_preview(const CancelToken& cancel,

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -78,6 +79,20 @@ class StageCache {
     const Hair* update_preview(size_t strands, const CancelToken& cancel = {},
                                const StageProgress& progress = {});
 
+    // What GET /api/hair?strands=N sends: encode_strands (edit/wire.hpp) of the first
+    // min(N, all) strands of the whole hair in strand_order, byte for byte what encoding the
+    // hair of update() would give (while the members are stale and fewer strands than all are
+    // asked for, update_preview's subset, strand i being strand_order[i] of the full hair:
+    // the same bytes unless the cut removes strands, which shifts them). Only
+    // what the answer shows is computed: while the members are stale, the strands sent alone
+    // (update_preview); while only the colour is, the colours of the strands sent alone (the
+    // colour stage stays stale for the update that follows), written over the positions
+    // encoded the last time, which a colour change leaves as they were. Null when cancelled.
+    // The buffer is shared with the caller, who may keep it while sending it: the next call
+    // encodes afresh rather than write into a buffer still held.
+    std::shared_ptr<const std::string> hair_bytes(size_t strands, const CancelToken& cancel = {},
+                                                  const StageProgress& progress = {});
+
     // The strands of the whole hair: the last full result's when the members are up to
     // date, else the member roots' (what update_preview draws its subset from).
     size_t strands_in_all() const {
@@ -102,6 +117,8 @@ class StageCache {
     const HeadField& head_field();
     // The styling field for the current style and solve bounds, kept while they stay.
     const StylingField& styling_field_for(const Box3& bounds);
+    // strand_order(n), kept: every preview and every answer of the same hair draws on it.
+    const std::vector<uint32_t>& order(size_t n);
 
     Style style_;
     std::filesystem::path base_dir_;
@@ -113,8 +130,15 @@ class StageCache {
     GroupSelection groups_;   // the constraint groups' wisps (the solve stage)
     HairstyleResult result_;  // hair, solved masters, stats
     std::optional<StylingField> field_;
-    std::string field_key_;    // what field_ was built from (the fields feeding it, bounds)
-    Hair preview_;             // the last update_preview of a subset
+    std::string field_key_;        // what field_ was built from (the fields feeding it, bounds)
+    Hair preview_;                 // the last update_preview of a subset
+    std::vector<uint32_t> order_;  // strand_order(order_.size())
+    // The last hair_bytes answer from the full hair: the members run it encodes (hair_run_)
+    // and how many strands; its positions stay right while the members do.
+    std::shared_ptr<std::string> bytes_;
+    uint64_t bytes_run_ = 0;
+    size_t bytes_strands_ = 0;
+    uint64_t hair_run_ = 0;    // bumped each time the members stage publishes new hair
     Masters preview_masters_;  // the last coarse solve of update_masters_preview
     Stage stale_ = Stage::kRoots;
     std::array<int, kStageCount> runs_{};

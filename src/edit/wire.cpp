@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "core/error.hpp"
+#include "core/parallel.hpp"
 #include "core/rng.hpp"
 #include "groom/style_schema.hpp"
 #include "groom/style_toml.hpp"
@@ -112,36 +113,55 @@ std::vector<uint32_t> strand_order(size_t n) {
     return order;
 }
 
-std::string encode_strands(const Hair& hair, size_t limit, size_t all) {
-    const size_t total = hair.strand_count();
-    const size_t count = std::min(limit, total);
-    const std::vector<uint32_t> order = strand_order(total);
-    size_t points = 0;
-    for (size_t i = 0; i < count; ++i)
-        points += hair.strand_size(order[i]);
-    std::string out;
-    out.reserve(24 + 4 * (count + 1) + 12 * points + 12 * count);
-    out += "WISPHAIR";
-    put_u32(out, 1);
-    put_u32(out, static_cast<uint32_t>(count));
-    put_u32(out, static_cast<uint32_t>(points));
-    put_u32(out, static_cast<uint32_t>(all ? all : total));
-    uint32_t offset = 0;
-    put_u32(out, 0);
+std::string encode_strands(const Hair& hair, std::span<const uint32_t> ids, size_t total) {
+    static_assert(sizeof(Vec3f) == 12, "positions and colours are copied as float32 triples");
+    const size_t count = ids.size();
+    // Where each strand's points go: the offsets sent, computed once and copied in parallel.
+    std::vector<uint32_t> offsets(count + 1, 0);
     for (size_t i = 0; i < count; ++i) {
-        offset += hair.strand_size(order[i]);
-        put_u32(out, offset);
+        if (ids[i] >= hair.strand_count())
+            fail("encode_strands: strand ", ids[i], " of ", hair.strand_count());
+        offsets[i + 1] = offsets[i] + hair.strand_size(ids[i]);
     }
-    for (size_t i = 0; i < count; ++i)
-        for (const Vec3f& p : hair.strand(order[i]))
-            for (int c = 0; c < 3; ++c)
-                put_f32(out, p[c]);
-    for (size_t i = 0; i < count; ++i) {
-        const Vec3f color = hair.color_of(order[i]);
-        for (int c = 0; c < 3; ++c)
-            put_f32(out, color[c]);
-    }
+    const size_t points = offsets[count];
+    const uint32_t header[4] = {1, static_cast<uint32_t>(count), static_cast<uint32_t>(points),
+                                static_cast<uint32_t>(total)};
+    const size_t at_offsets = 8 + sizeof header, at_points = at_offsets + 4 * (count + 1),
+                 at_colors = at_points + 12 * points;
+    std::string out(at_colors + 12 * count, '\0');
+    char* bytes = out.data();
+    std::memcpy(bytes, "WISPHAIR", 8);
+    std::memcpy(bytes + 8, header, sizeof header);
+    std::memcpy(bytes + at_offsets, offsets.data(), 4 * (count + 1));
+    parallel_for(
+        count,
+        [&](size_t i) {
+            const uint32_t s = ids[i];
+            std::memcpy(bytes + at_points + 12 * size_t(offsets[i]),
+                        hair.points.data() + hair.offsets[s], 12 * size_t(hair.strand_size(s)));
+            const Vec3f color = hair.color_of(s);
+            std::memcpy(bytes + at_colors + 12 * i, color.data(), 12);
+        },
+        1024);
     return out;
+}
+
+std::string encode_strands(const Hair& hair, size_t limit, size_t total) {
+    const size_t n = hair.strand_count();
+    const std::vector<uint32_t> order = strand_order(n);
+    return encode_strands(hair, std::span<const uint32_t>(order.data(), std::min(limit, n)),
+                          total ? total : n);
+}
+
+void write_strand_colors(std::span<const Vec3f> colors, std::string& bytes) {
+    uint32_t count = 0;
+    if (bytes.size() >= 24) std::memcpy(&count, bytes.data() + 12, 4);
+    if (bytes.size() < 24 + 4 + 12 * size_t(count) || count != colors.size())
+        fail("write_strand_colors: ", colors.size(), " colours for a buffer of ", count,
+             " strands");
+    if (count)
+        std::memcpy(bytes.data() + bytes.size() - 12 * colors.size(), colors.data(),
+                    12 * colors.size());
 }
 
 void encode_frame(uint32_t frame, std::span<const Vec3f> points, std::string& out) {

@@ -20,16 +20,21 @@ namespace wisp {
 // is a uniform random subset (Fisher–Yates on a fixed stream: the same n, the same order).
 std::vector<uint32_t> strand_order(size_t n);
 
-// The first min(limit, #S) strands of `hair` in strand_order(#S), as:
+// The strands `ids` (#S', indices into hair's strands) of `hair`, in that order, as:
 //   "WISPHAIR"                 8 bytes
 //   uint32 version (1), strands sent S', points sent P', strands in all S
 //   uint32 offsets[S'+1]       strand i owns points [offsets[i], offsets[i+1])
 //   float32 positions[3·P']    cm, head space
 //   float32 colors[3·S']       linear RGB in [0, 1]
-// every number little-endian.
-// `total`, when non-zero, is the count written as "strands in all" (a preview's hair holds
-// only the strands it sends).
+// every number little-endian. The colours come last, so a colour change rewrites them alone
+// (write_strand_colors). `total` is the count written as "strands in all".
+std::string encode_strands(const Hair& hair, std::span<const uint32_t> ids, size_t total);
+// The first min(limit, #S) strands of `hair` in strand_order(#S). `total`, when non-zero, is
+// the count written as "strands in all" (a preview's hair holds only the strands it sends).
 std::string encode_strands(const Hair& hair, size_t limit, size_t total = 0);
+// Overwrites the colours of an encode_strands buffer: colors #S' linear RGB, one per strand it
+// holds (the last 12·S' bytes). Throws wisp::Error when `bytes` holds another count.
+void write_strand_colors(std::span<const Vec3f> colors, std::string& bytes);
 
 // One frame of the live motion (issue 17) for strands the browser already has from
 // encode_strands (the same strands, in the same order): "WISPFRAM", uint32 version (1),

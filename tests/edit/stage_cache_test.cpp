@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <memory>
 #include <string>
 
 #include "edit/wire.hpp"
@@ -245,6 +246,53 @@ TEST(StageCache, PreviewIsTheShuffledSubsetOfTheFullHair) {
     }
     // Up to date: the preview is the full hair.
     EXPECT_EQ(cache.update_preview(500), &cache.update().hair);
+}
+
+// What GET /api/hair sends is the encoding of the full hair's first strands in strand_order,
+// byte for byte, whatever the answer left out: a colour change colours only the strands sent
+// (over positions encoded before) and leaves the colour stage to the update; a κ change grows
+// only the strands sent. A buffer still held is never written into.
+TEST(StageCache, HairBytesAreTheFullHairsEncodingWhateverTheyLeaveOut) {
+    StageCache cache(small_style());
+    cache.update();
+    const auto full = [&](size_t n) { return encode_strands(cache.update().hair, n); };
+    std::shared_ptr<const std::string> held = cache.hair_bytes(500);
+    EXPECT_EQ(*held, full(500));
+    const std::string was = *held;
+
+    cache.set("color.wisp_hue", "4");
+    Runs before = cache.runs();
+    std::shared_ptr<const std::string> bytes = cache.hair_bytes(500);
+    EXPECT_EQ(cache.runs(), before);  // no stage ran: 500 colours only
+    EXPECT_EQ(cache.stale(), Stage::kColor);
+    EXPECT_NE(bytes, held);
+    EXPECT_EQ(*held, was);  // the held buffer is as it was sent
+    std::string sent = *bytes;
+    EXPECT_NE(sent, was);  // the colours moved
+    EXPECT_EQ(sent, full(500));
+    held.reset();
+    bytes.reset();
+
+    // The positions are kept: the buffer of the last answer is written over in place.
+    const std::string* memory = cache.hair_bytes(500).get();
+    cache.set("color.wisp_hue", "1");
+    bytes = cache.hair_bytes(500);
+    EXPECT_EQ(bytes.get(), memory);
+    sent = *bytes;
+    bytes.reset();
+    EXPECT_EQ(sent, full(500));
+
+    cache.set("solve.stiffness", "0.3");
+    before = cache.runs();
+    sent = *cache.hair_bytes(500);
+    EXPECT_EQ(delta(before, cache.runs()), (Runs{0, 0, 0, 1, 0, 0}));  // 500 strands grown
+    EXPECT_EQ(cache.stale(), Stage::kMembers);
+    EXPECT_EQ(sent, full(500));
+
+    cache.set("color.wisp_hue", "2");
+    sent = *cache.hair_bytes(SIZE_MAX);
+    EXPECT_EQ(cache.stale(), Stage::kNone);
+    EXPECT_EQ(sent, encode_strands(generate_hairstyle(cache.style(), cache.head()).hair, SIZE_MAX));
 }
 
 // While κ moves, the masters preview solves every k-th wisp only; it leaves the cache's

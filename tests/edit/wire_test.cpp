@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <vector>
+
+#include "core/error.hpp"
 
 namespace wisp {
 namespace {
@@ -31,6 +34,36 @@ TEST(Wire, FrameIsHeaderThenPositionsAndReusesItsBuffer) {
     EXPECT_EQ(bytes.size(), 32u);
     EXPECT_EQ(bytes.data(), memory);  // a smaller frame reuses the memory
     EXPECT_EQ(u32_at(bytes, 16), 1u);
+}
+
+// Strands by index, in the order given; the colours last, rewritten alone.
+TEST(Wire, StrandsAreSentInTheOrderGivenWithTheirColoursLast) {
+    Hair hair;
+    hair.add_strand(std::vector<Vec3f>{{0, 0, 0}, {0, 1, 0}});
+    hair.add_strand(std::vector<Vec3f>{{1, 0, 0}, {1, 1, 0}, {1, 2, 0}});
+    hair.colors = {{0.1f, 0.2f, 0.3f}, {0.4f, 0.5f, 0.6f}};
+    const std::vector<uint32_t> ids{1};
+    std::string bytes = encode_strands(hair, ids, 7);
+    ASSERT_EQ(bytes.size(), 24u + 8u + 36u + 12u);
+    EXPECT_EQ(bytes.substr(0, 8), "WISPHAIR");
+    EXPECT_EQ(u32_at(bytes, 12), 1u);  // strands sent
+    EXPECT_EQ(u32_at(bytes, 16), 3u);  // points sent
+    EXPECT_EQ(u32_at(bytes, 20), 7u);  // strands in all
+    EXPECT_EQ(u32_at(bytes, 28), 3u);  // offsets: 0, 3
+    float v[3];
+    std::memcpy(v, bytes.data() + 32 + 2 * 12, 12);
+    EXPECT_EQ(Vec3f(v[0], v[1], v[2]), Vec3f(1, 2, 0));
+    std::memcpy(v, bytes.data() + 68, 12);
+    EXPECT_EQ(Vec3f(v[0], v[1], v[2]), hair.colors[1]);
+    const std::vector<Vec3f> red{{1, 0, 0}};
+    write_strand_colors(red, bytes);
+    std::memcpy(v, bytes.data() + 68, 12);
+    EXPECT_EQ(Vec3f(v[0], v[1], v[2]), red[0]);
+    EXPECT_THROW(write_strand_colors(hair.colors, bytes), Error);  // two colours, one strand
+    // The shuffled prefix is the same bytes as its ids.
+    const std::vector<uint32_t> order = strand_order(2);
+    EXPECT_EQ(encode_strands(hair, 2), encode_strands(hair, order, 2));
+    EXPECT_THROW(encode_strands(hair, std::vector<uint32_t>{2}, 2), Error);
 }
 
 }  // namespace

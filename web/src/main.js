@@ -32,15 +32,23 @@ function edited() {
   }, 1500);
 }
 
-async function refreshHair(final) {
+// While a value moves: with `mastersFirst` (a value that the masters depend on), the coarse
+// masters first (GET /api/masters?preview=1, a solve of every 3rd wisp), then 20,000 strands;
+// when it stops, the whole hair.
+async function refreshHair(final, { mastersFirst = false } = {}) {
   const mine = ++generation;
   const mastersOnly = document.getElementById("show-masters").checked;
   const t0 = performance.now();
   try {
     if (mastersOnly) {
-      const buffer = await getBinary("/api/masters");
-      if (buffer && mine === generation) viewport.setHair(decodeStrands(buffer));
+      const buffer = await getBinary(final ? "/api/masters" : "/api/masters?preview=1");
+      if (buffer && mine === generation) viewport.setHair(decodeStrands(buffer), { masters: true });
     } else {
+      if (!final && mastersFirst) {
+        const buffer = await getBinary("/api/masters?preview=1");
+        if (mine !== generation) return;  // overtaken by a newer request
+        if (buffer) viewport.setHair(decodeStrands(buffer), { masters: true });
+      }
       const limit = final ? 1e7 : previewStrands;
       const buffer = await getBinary(`/api/hair?strands=${limit}`);
       if (!buffer || mine !== generation) return;  // overtaken by a newer request
@@ -82,7 +90,7 @@ async function setField(path, value, { final = true, record = true } = {}) {
   if (motion.active) return path.startsWith("dynamics.") ? motion.setDynamics(path, result.body.value) : true;
   clearTimeout(timer);
   if (final) refreshHair(true);
-  else timer = setTimeout(() => refreshHair(false), 30);
+  else timer = setTimeout(() => refreshHair(false, { mastersFirst: feedsMasters(path) }), 30);
   return true;
 }
 
@@ -91,6 +99,9 @@ async function setField(path, value, { final = true, record = true } = {}) {
 const dragStart = new Map();
 const schema = await getJson("/api/schema");
 const mapFields = schema.fields.filter((f) => f.type === "map").map((f) => f.path);
+// The fields whose change moves the masters: those feeding the roots, masters or solve.
+const mastersStages = new Set(["head", "roots", "masters", "solve"]);
+const feedsMasters = (path) => mastersStages.has(schema.fields.find((f) => f.path === path)?.stage);
 const panels = new Panels(document.getElementById("panels"), schema, (path, value, { final }) => {
   if (!dragStart.has(path)) dragStart.set(path, values[path]);
   setField(path, value, { final, record: false }).then((ok) => {

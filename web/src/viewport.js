@@ -65,6 +65,10 @@ export class Viewport {
       uniforms: { lightDir: { value: this.lightDir }, opacity: { value: 1 } },
     });
     this.hair = null;
+    this.capacity = { points: 0, index: 0 };
+    this.counts = { updates: 0, allocations: 0, mastersDrawn: 0 };
+    this.shown = null;
+    this.frame = 0;
     this.head = null;
     new ResizeObserver(() => this.resize()).observe(element);
     this.resize();
@@ -79,7 +83,17 @@ export class Viewport {
     this.render();
   }
 
+  // Draws on the next animation frame, once: the pointer, the brush and each answer ask for
+  // many renders a frame, and software GL draws every one of them in full.
   render() {
+    if (this.frame) return;
+    this.frame = requestAnimationFrame(() => this.renderNow());
+  }
+
+  // Draws at once (the browser tests read the pixels back).
+  renderNow() {
+    if (this.frame) cancelAnimationFrame(this.frame);
+    this.frame = 0;
     this.renderer.render(this.scene, this.camera);
   }
 
@@ -115,15 +129,44 @@ export class Viewport {
     this.render();
   }
 
-  // strands: decodeStrands()'s arrays. One vertex per control point, one index pair per
-  // segment: a single LineSegments, a single draw call.
-  setHair(strands) {
+  // strands: decodeStrands()'s arrays; masters: they are the masters (a first answer while a
+  // value moves), not strands of the hair. One vertex per control point, one index pair per
+  // segment: a single LineSegments, a single draw call. The buffers are kept and rewritten
+  // in place (only the range in use is uploaded, and drawn with setDrawRange); they grow by
+  // a quarter more than asked when an answer outgrows them. Software GL (SwiftShader)
+  // crashed when every preview of a brush stroke made new buffers of the whole hair.
+  setHair(strands, { masters = false } = {}) {
     const { offsets, positions, colors, strands: count } = strands;
     const points = positions.length / 3;
-    const tangents = new Float32Array(3 * points);
-    const vertexColors = new Float32Array(3 * points);
-    const segments = points - count;
-    const index = new Uint32Array(2 * Math.max(0, segments));
+    const segments = Math.max(0, points - count);
+    if (!this.hair || points > this.capacity.points || 2 * segments > this.capacity.index) {
+      const capacity = { points: Math.ceil(1.25 * points) + 64, index: 2 * Math.ceil(1.25 * segments) + 64 };
+      const geometry = new THREE.BufferGeometry();
+      for (const name of ["position", "tangent3", "color"]) {
+        const attribute = new THREE.BufferAttribute(new Float32Array(3 * capacity.points), 3);
+        attribute.setUsage(THREE.DynamicDrawUsage);
+        geometry.setAttribute(name, attribute);
+      }
+      const index = new THREE.BufferAttribute(new Uint32Array(capacity.index), 1);
+      index.setUsage(THREE.DynamicDrawUsage);
+      geometry.setIndex(index);
+      if (this.hair) {
+        this.scene.remove(this.hair);
+        this.hair.geometry.dispose();
+      }
+      this.hair = new THREE.LineSegments(geometry, this.hairMaterial);
+      this.hair.frustumCulled = false;
+      this.scene.add(this.hair);
+      this.capacity = capacity;
+      ++this.counts.allocations;
+    }
+    const geometry = this.hair.geometry;
+    const position = geometry.getAttribute("position");
+    const tangent = geometry.getAttribute("tangent3");
+    const color = geometry.getAttribute("color");
+    const index = geometry.getIndex();
+    position.array.set(positions);
+    const tangents = tangent.array, vertexColors = color.array, pairs = index.array;
     let k = 0;
     for (let s = 0; s < count; ++s) {
       const a = offsets[s], b = offsets[s + 1];
@@ -134,23 +177,32 @@ export class Viewport {
           vertexColors[3 * i + c] = colors[3 * s + c];
         }
         if (i + 1 < b) {
-          index[k++] = i;
-          index[k++] = i + 1;
+          pairs[k++] = i;
+          pairs[k++] = i + 1;
         }
       }
     }
-    const geometry = new THREE.BufferGeometry();
-    geometry.setAttribute("position", new THREE.BufferAttribute(positions, 3));
-    geometry.setAttribute("tangent3", new THREE.BufferAttribute(tangents, 3));
-    geometry.setAttribute("color", new THREE.BufferAttribute(vertexColors, 3));
-    geometry.setIndex(new THREE.BufferAttribute(index.subarray(0, k), 1));
-    if (this.hair) {
-      this.scene.remove(this.hair);
-      this.hair.geometry.dispose();
+    for (const attribute of [position, tangent, color]) {
+      attribute.clearUpdateRanges();
+      attribute.addUpdateRange(0, 3 * points);
+      attribute.needsUpdate = true;
     }
-    this.hair = new THREE.LineSegments(geometry, this.hairMaterial);
-    this.hair.frustumCulled = false;
-    this.scene.add(this.hair);
+    index.clearUpdateRanges();
+    index.addUpdateRange(0, k);
+    index.needsUpdate = true;
+    geometry.setDrawRange(0, k);
+    this.counts.updates += 1;
+    if (masters) this.counts.mastersDrawn += 1;
+    this.shown = { strands: count, total: strands.total, points, masters };
     this.render();
+  }
+
+  // What the hair view holds, for the HUD and the browser tests: strands and points drawn,
+  // strands in all, whether it is the whole hair, and how many updates (of them masters) and
+  // buffer allocations it took so far.
+  stats() {
+    const { strands = 0, total = 0, points = 0, masters = false } = this.shown ?? {};
+    return { strands, total, points, masters, final: !masters && strands > 0 && strands === total,
+      ...this.counts };
   }
 }

@@ -80,6 +80,15 @@ try {
   // A slider: κ of eq. (5). Moving it changes the drawn hair; undo restores it.
   const before = await coverage();
   const slider = page.locator("input[type=range][data-path='solve.stiffness']");
+  // While it moves, the coarse masters come first, then the strands.
+  const moving = await page.evaluate(() => window.wispEditor.viewport.stats());
+  await slider.evaluate((e) => { e.value = 3; e.dispatchEvent(new Event("input")); });
+  await page.waitForFunction((n) => window.wispEditor.viewport.stats().mastersDrawn > n, moving.mastersDrawn, { timeout: 60000 });
+  await page.waitForFunction((n) => {
+    const s = window.wispEditor.viewport.stats();
+    return s.updates > n + 1 && !s.masters;
+  }, moving.updates, { timeout: 60000 });
+  console.log(`while κ moves: masters, then ${(await page.evaluate(() => window.wispEditor.viewport.stats())).strands} strands`);
   await slider.evaluate((e) => { e.value = 6; e.dispatchEvent(new Event("input")); e.dispatchEvent(new Event("change")); });
   await page.waitForFunction(() => document.getElementById("hud").textContent.includes("strands"));
   await page.waitForTimeout(3000);
