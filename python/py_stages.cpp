@@ -30,27 +30,9 @@ HeadPtr head_for(const Style& style, const HeadPtr& head) {
     return std::make_shared<Head>(run_released(0, [&] { return load_head(style.head); }));
 }
 
-py::dict solve_stats(const SolveStats& solve, bool enabled) {
-    py::dict d;
-    d["enabled"] = enabled;
-    d["joints"] = solve.joints;
-    d["collision_iterations"] = solve.bends;
-    d["colliding_joints"] = solve.collisions;
-    d["unresolved_joints"] = solve.unresolved;
-    d["projected_joints"] = solve.projected;
-    d["constrained_joints"] = solve.constrained;
-    py::list groups;
-    for (const SolveStats::Group& g : solve.groups) {
-        py::dict e;
-        e["name"] = g.name;
-        e["constraints"] = g.constraints;
-        e["completed"] = g.completed;
-        e["wisps"] = g.wisps;
-        e["met"] = g.met;
-        groups.append(e);
-    }
-    d["groups"] = groups;
-    return d;
+// JSON (the figures the CLI writes) as Python dicts, lists and numbers.
+py::object to_python(const nlohmann::json& j) {
+    return py::module_::import("json").attr("loads")(j.dump());
 }
 
 py::dict times_dict(const StageTimes& times) {
@@ -73,11 +55,6 @@ py::array surface_positions(const std::vector<SurfacePoint>& ps) {
         for (int k = 0; k < 3; ++k)
             out.mutable_at(i, k) = ps[i].position[k];
     return out;
-}
-
-// JSON (the figures the CLI writes) as Python dicts, lists and numbers.
-py::object to_python(const nlohmann::json& j) {
-    return py::module_::import("json").attr("loads")(j.dump());
 }
 
 // `ties`: a sequence of (x, y, z) or (x, y, z, radius) in cm (radius 2 by default), or an
@@ -246,7 +223,7 @@ void bind_stages(py::module_& m) {
             stats["style"] = style.name;
             stats["head"] = head->source;
             stats["time_ms"] = times_dict(r.times);
-            stats["solver"] = solve_stats(r.solve, style.solve.enabled);
+            stats["solver"] = to_python(solve_stats_json(r.solve, style.solve));
             stats["points_pushed_out_of_head"] = r.points_pushed;
             stats["points_inside_head"] = r.points_inside_head;
             stats["strands_cut"] = r.strands_cut;
@@ -432,7 +409,7 @@ the array, the master and what was expected.)")
                     stats = solve_stage(s.style, *head, field, roots, groups, *solved);
                 return 0;
             });
-            return py::make_tuple(solved, solve_stats(stats, s.style.solve.enabled));
+            return py::make_tuple(solved, to_python(solve_stats_json(stats, s.style.solve)));
         },
         py::arg("style"), py::arg("head"), py::arg("roots"), py::arg("masters"),
         py::arg("threads") = py::none());

@@ -438,23 +438,7 @@ int run_generate(const GenerateArgs& args) {
         j["time_ms"] = stage_stats(times);
         j["time_ms"]["wall"] = total.ms();
         j["version"] = kVersion;
-        const SolveStats& solve = result.solve;
-        j["solver"] = {{"enabled", style.solve.enabled},
-                       {"order", style.solve.depth_first ? "depth-first" : "breadth-first"},
-                       {"joints", solve.joints},
-                       {"collision_iterations", solve.bends},
-                       {"colliding_joints", solve.collisions},
-                       {"unresolved_joints", solve.unresolved},
-                       {"projected_joints", solve.projected},
-                       {"constrained_joints", solve.constrained}};
-        nlohmann::json groups = nlohmann::json::array();
-        for (const SolveStats::Group& g : solve.groups)
-            groups.push_back({{"name", g.name},
-                              {"constraints", g.constraints},
-                              {"completed", g.completed},
-                              {"wisps", g.wisps},
-                              {"met", g.met}});
-        j["solver"]["groups"] = std::move(groups);
+        j["solver"] = solve_stats_json(result.solve, style.solve);
         for (const auto& [stage, ms] : result.times)
             if (stage == "solve") j["solver"]["time_ms"] = ms;
         j["coverage"] = coverage_stats(result.hair, head, style);
