@@ -13,6 +13,7 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "groom/head.hpp"
 #include "groom/style.hpp"
@@ -38,6 +39,25 @@ using HeadPtr = std::shared_ptr<Head>;
 // A Python value (bool, int, float, str, path, list, tuple, dict, numpy array or scalar) as
 // an inline TOML value for set_style_field; raises TypeError naming `where` for others.
 std::string inline_toml(const py::handle& value, const std::string& where);
+
+// Arrays from Python, checked at the boundary: numpy.asarray of `o`, or TypeError naming
+// `name` for None and non-numeric dtypes.
+py::array as_array(const py::object& o, const std::string& name);
+std::string shape_text(const py::array& a);  // "(2, 3)"
+std::string dtype_text(const py::array& a);  // "float64"
+// A float32 copy (C order) of a floating-point array of shape (rows, cols) (rows −1: any;
+// cols 0: 1-D), every value finite; TypeError or ValueError naming `name`, the expected
+// `shape` and what was found.
+py::array_t<float, py::array::c_style> float_array(const py::object& o, const std::string& name,
+                                                   py::ssize_t rows, py::ssize_t cols,
+                                                   const char* shape);
+// A 1-D integer array of `rows` values (−1: any) as int64, checked as float_array.
+std::vector<int64_t> int_array(const py::object& o, const std::string& name, py::ssize_t rows,
+                               const char* shape);
+// CSR offsets (rows values, −1: any) as int64: int_array, then 0 first, non-decreasing and
+// `last` (described as `last_is`, "the point count") last.
+std::vector<int64_t> offsets_array(const py::object& o, const std::string& name, py::ssize_t rows,
+                                   const char* shape, int64_t last, const char* last_is);
 
 // Raises FileNotFoundError naming `what` and the path unless the file exists.
 void require_file(const std::filesystem::path& path, const char* what);

@@ -15,11 +15,6 @@
 #include "render/export_view.hpp"
 
 namespace wisp::python {
-namespace {
-
-static_assert(sizeof(Vec3f) == 3 * sizeof(float) && sizeof(Vec2f) == 2 * sizeof(float) &&
-                  sizeof(Vec3i) == 3 * sizeof(int),
-              "numpy views need packed Eigen vectors");
 
 using ssize = py::ssize_t;
 
@@ -83,22 +78,35 @@ std::vector<int64_t> int_array(const py::object& o, const std::string& name, ssi
     return {v.data(), v.data() + v.size()};
 }
 
+std::vector<int64_t> offsets_array(const py::object& o, const std::string& name, ssize rows,
+                                   const char* shape, int64_t last, const char* last_is) {
+    const std::vector<int64_t> v = int_array(o, name, rows, shape);
+    if (v.empty()) throw py::value_error(cat(name, ": expected at least one value, got none"));
+    if (v.front() != 0)
+        throw py::value_error(cat(name, ": ", name, "[0] must be 0, got ", v.front()));
+    for (size_t i = 1; i < v.size(); ++i)
+        if (v[i] < v[i - 1])
+            throw py::value_error(cat(name, ": not monotone: ", name, "[", i, "] = ", v[i], " < ",
+                                      name, "[", i - 1, "] = ", v[i - 1]));
+    if (v.back() != last)
+        throw py::value_error(
+            cat(name, ": the last offset must be ", last_is, " ", last, ", got ", v.back()));
+    return v;
+}
+
+namespace {
+
+static_assert(sizeof(Vec3f) == 3 * sizeof(float) && sizeof(Vec2f) == 2 * sizeof(float) &&
+                  sizeof(Vec3i) == 3 * sizeof(int),
+              "numpy views need packed Eigen vectors");
+
 Hair from_arrays(const py::object& points, const py::object& offsets, const py::object& colors,
                  const py::object& widths, const py::object& wisp_ids) {
     Hair hair;
     const auto p = float_array(points, "points", -1, 3, "(P, 3)");
     const ssize P = p.shape(0);
-    const std::vector<int64_t> o = int_array(offsets, "offsets", -1, "(N + 1,)");
-    if (o.empty()) throw py::value_error("offsets: expected N + 1 >= 1 values, got none");
-    if (o.front() != 0)
-        throw py::value_error(cat("offsets: offsets[0] must be 0, got ", o.front()));
-    for (size_t i = 1; i < o.size(); ++i)
-        if (o[i] < o[i - 1])
-            throw py::value_error(cat("offsets: not monotone: offsets[", i, "] = ", o[i],
-                                      " < offsets[", i - 1, "] = ", o[i - 1]));
-    if (o.back() != P)
-        throw py::value_error(
-            cat("offsets: the last offset must be the point count ", P, ", got ", o.back()));
+    const std::vector<int64_t> o =
+        offsets_array(offsets, "offsets", -1, "(N + 1,)", P, "the point count");
     if (o.back() > int64_t(std::numeric_limits<uint32_t>::max()))
         throw py::value_error(cat("points: ", P, " points, more than a Hair holds (2^32 - 1)"));
     const ssize N = static_cast<ssize>(o.size()) - 1;

@@ -1,5 +1,6 @@
 // wisp.render: the CLI's renderer (render/render.hpp) to an H×W×3 uint8 array that owns the
-// image's memory (no copy), with the options of `wisp render` (--eye, --shading, --rim, ...).
+// image's memory (no copy), or H×W×4 with the coverage as alpha, with the options of `wisp
+// render` (--eye, --shading, --rim, ...).
 #include <cmath>
 
 #include "bindings.hpp"
@@ -104,12 +105,12 @@ RenderOptions render_options(const std::string& view, int width, int height, con
     return o;
 }
 
-py::array image_array(RgbImage image) {
-    auto* owned = new RgbImage(std::move(image));
-    py::capsule owner(owned, [](void* p) { delete static_cast<RgbImage*>(p); });
-    return py::array_t<uint8_t>(
-        {py::ssize_t(owned->height), py::ssize_t(owned->width), py::ssize_t(3)}, owned->rgb.data(),
-        owner);
+// An H×W×channels array owning `pixels` (no copy).
+py::array image_array(std::vector<uint8_t> pixels, int width, int height, int channels) {
+    auto* owned = new std::vector<uint8_t>(std::move(pixels));
+    py::capsule owner(owned, [](void* p) { delete static_cast<std::vector<uint8_t>*>(p); });
+    return py::array_t<uint8_t>({py::ssize_t(height), py::ssize_t(width), py::ssize_t(channels)},
+                                owned->data(), owner);
 }
 
 }  // namespace
@@ -118,14 +119,29 @@ void bind_render(py::module_& m) {
     m.def(
         "render",
         [](const Hair& hair, const HeadPtr& head, const std::string& view, int width, int height,
-           const py::object& threads, const py::kwargs& kw) {
+           const py::object& threads, bool alpha, const py::kwargs& kw) {
             const RenderOptions o = render_options(view, width, height, kw);
             const int n = thread_count(threads);
-            return image_array(run_released(
-                n, [&] { return render(hair, head ? head->mesh.get() : nullptr, o); }));
+            if (!alpha) {
+                RgbImage image = run_released(
+                    n, [&] { return render(hair, head ? head->mesh.get() : nullptr, o); });
+                return image_array(std::move(image.rgb), image.width, image.height, 3);
+            }
+            std::vector<uint8_t> rgba = run_released(n, [&] {
+                std::vector<uint8_t> a;
+                const RgbImage image =
+                    render(hair, head ? head->mesh.get() : nullptr, o, nullptr, &a);
+                std::vector<uint8_t> out(a.size() * 4);
+                for (size_t i = 0; i < a.size(); ++i) {
+                    std::copy_n(&image.rgb[3 * i], 3, &out[4 * i]);
+                    out[4 * i + 3] = a[i];
+                }
+                return out;
+            });
+            return image_array(std::move(rgba), o.width, o.height, 4);
         },
         py::arg("hair"), py::arg("head"), py::arg("view"), py::arg("width"), py::arg("height"),
-        py::arg("threads") = py::none());
+        py::arg("threads") = py::none(), py::arg("alpha") = false);
     m.def(
         "encode_png",
         [](const py::array_t<uint8_t, py::array::c_style | py::array::forcecast>& rgb) {

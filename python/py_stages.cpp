@@ -3,6 +3,8 @@
 #include "bindings.hpp"
 #include "core/error.hpp"
 #include "dynamics/animate.hpp"
+#include "geometry/mesh_distance.hpp"
+#include "groom/master.hpp"
 #include "groom/style_schema.hpp"
 #include "groom/style_toml.hpp"
 #include "solve/pipeline.hpp"
@@ -28,27 +30,9 @@ HeadPtr head_for(const Style& style, const HeadPtr& head) {
     return std::make_shared<Head>(run_released(0, [&] { return load_head(style.head); }));
 }
 
-py::dict solve_stats(const SolveStats& solve, bool enabled) {
-    py::dict d;
-    d["enabled"] = enabled;
-    d["joints"] = solve.joints;
-    d["collision_iterations"] = solve.bends;
-    d["colliding_joints"] = solve.collisions;
-    d["unresolved_joints"] = solve.unresolved;
-    d["projected_joints"] = solve.projected;
-    d["constrained_joints"] = solve.constrained;
-    py::list groups;
-    for (const SolveStats::Group& g : solve.groups) {
-        py::dict e;
-        e["name"] = g.name;
-        e["constraints"] = g.constraints;
-        e["completed"] = g.completed;
-        e["wisps"] = g.wisps;
-        e["met"] = g.met;
-        groups.append(e);
-    }
-    d["groups"] = groups;
-    return d;
+// JSON (the figures the CLI writes) as Python dicts, lists and numbers.
+py::object to_python(const nlohmann::json& j) {
+    return py::module_::import("json").attr("loads")(j.dump());
 }
 
 py::dict times_dict(const StageTimes& times) {
@@ -73,40 +57,151 @@ py::array surface_positions(const std::vector<SurfacePoint>& ps) {
     return out;
 }
 
-py::dict animation_stats(const AnimationStats& stats, const Hair& rest, const Motion& motion,
-                         int frames, double fps) {
-    py::dict j;
-    j["motion"] = motion.name;
-    j["frames"] = frames;
-    j["fps"] = fps;
-    j["strands"] = rest.strand_count();
-    j["points"] = rest.point_count();
-    j["links"] = stats.rigid ? "rigid" : "soft";
-    py::dict h;
-    h["levels"] = stats.levels;
-    h["sections"] = stats.sections;
-    h["gcs_per_level"] = stats.gcs_per_level;
-    h["nodes"] = stats.nodes;
-    h["finest_nodes"] = stats.finest_nodes;
-    h["held_finest_nodes"] = stats.held_finest_nodes;
-    j["hierarchy"] = h;
-    j["body_spheres"] = stats.spheres;
-    j["steps"] = stats.steps;
-    j["steps_per_frame"] = stats.steps_per_frame;
-    j["dt_s"] = stats.dt;
-    j["ms_per_step"] =
-        py::dict(py::arg("mean") = stats.step_ms_mean, py::arg("max") = stats.step_ms_max);
-    j["skin_ms_per_frame"] = stats.skin_ms_mean;
-    j["splits"] = stats.splits;
-    j["merges"] = stats.merges;
-    j["hair_pair_tests"] = stats.pair_tests;
-    j["hair_contacts"] = stats.hair_contacts;
-    j["body_contacts"] = stats.body_contacts;
-    j["max_kinetic_energy"] = stats.max_kinetic_energy;
-    j["active_nodes_per_level"] = stats.active_per_level;
-    j["splits_per_frame"] = stats.frame_splits;
-    j["merges_per_frame"] = stats.frame_merges;
-    return j;
+// `ties`: a sequence of (x, y, z) or (x, y, z, radius) in cm (radius 2 by default), or an
+// array T×3 or T×4, as `wisp animate --tie x,y,z[,radius]`.
+std::vector<Tie> ties_from(const py::object& ties) {
+    std::vector<Tie> out;
+    if (ties.is_none()) return out;
+    if (py::isinstance<py::str>(ties) || !py::isinstance<py::iterable>(ties))
+        throw py::type_error("ties: expected a sequence of (x, y, z) or (x, y, z, radius)");
+    size_t t = 0;
+    for (const py::handle item : ties) {
+        const std::string name = cat("ties[", t++, "]");
+        py::object numbers;
+        try {
+            numbers = py::module_::import("numpy").attr("asarray")(item, "float64");
+        } catch (const py::error_already_set&) {
+            throw py::type_error(cat(name, ": expected numbers x, y, z[, radius]"));
+        }
+        const auto v = float_array(numbers, name, -1, 0, "(3,) or (4,): x, y, z[, radius]");
+        if (v.shape(0) != 3 && v.shape(0) != 4)
+            throw py::value_error(
+                cat(name, ": expected x, y, z or x, y, z, radius, got ", v.shape(0), " numbers"));
+        Tie tie;
+        tie.point = Vec3f(v.at(0), v.at(1), v.at(2));
+        if (v.shape(0) == 4) {
+            tie.radius = v.at(3);
+            if (!(tie.radius > 0))
+                throw py::value_error(cat(name, ": the radius must be > 0 cm, got ", tie.radius));
+        }
+        out.push_back(tie);
+    }
+    return out;
+}
+
+// Roots from a user's arrays: each position snapped to the nearest point of the head's
+// surface (within kMaxRootDistance), its normal and scalp UV taken there; wisp radii from
+// the members.
+constexpr float kMaxRootDistance = 1.f;  // cm
+
+SurfacePoint snap_root(const Head& head, const MeshDistance& surface, const Vec3f& p,
+                       const std::string& name, ssize row) {
+    uint32_t face = 0;
+    const Vec3f q = surface.closest_point(p, &face);
+    const float d = (q - p).norm();
+    if (!(d <= kMaxRootDistance))
+        throw py::value_error(cat(name, ": row ", row, " (", p.x(), ", ", p.y(), ", ", p.z(),
+                                  ") is ", d, " cm from the head's surface; roots must lie within ",
+                                  kMaxRootDistance, " cm of it"));
+    const Mesh& mesh = *head.mesh;
+    const Vec3i& f = mesh.faces[face];
+    const Vec3f a = mesh.vertices[f[0]], e1 = mesh.vertices[f[1]] - a, e2 = mesh.vertices[f[2]] - a;
+    // Barycentrics of q (on the triangle) by least squares on the two edges.
+    const float d11 = e1.dot(e1), d12 = e1.dot(e2), d22 = e2.dot(e2);
+    const float r1 = (q - a).dot(e1), r2 = (q - a).dot(e2), det = d11 * d22 - d12 * d12;
+    Vec2f bary(0.f, 0.f);
+    if (det > 0) bary = Vec2f((d22 * r1 - d12 * r2) / det, (d11 * r2 - d12 * r1) / det);
+    SurfacePoint sp = head.scalp->point_on(face, bary);
+    sp.position = p;  // the user's point, not moved
+    return sp;
+}
+
+std::shared_ptr<Roots> roots_from_arrays(const HeadPtr& head, const py::object& masters_in,
+                                         const py::object& members_in,
+                                         const py::object& offsets_in) {
+    if (!head) throw py::type_error("head: expected a wisp.Head, got None");
+    const auto m = float_array(masters_in, "master_positions", -1, 3, "(W, 3)");
+    const ssize W = m.shape(0);
+    if (W < 1) throw py::value_error("master_positions: expected at least one wisp, got 0");
+    const auto s = float_array(members_in, "member_positions", -1, 3, "(S, 3)");
+    const ssize S = s.shape(0);
+    const std::vector<int64_t> o =
+        offsets_array(offsets_in, "wisp_offsets", W + 1, "(W + 1,)", S, "the member count");
+    auto roots = std::make_shared<Roots>();
+    py::gil_scoped_release release;
+    const MeshDistance surface(*head->mesh);
+    const auto point = [](const float* p, ssize i) {
+        return Vec3f(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
+    };
+    // py::value_error is a C++ exception: thrown here, it is raised once the GIL is back.
+    for (ssize w = 0; w < W; ++w)
+        roots->masters.push_back(
+            snap_root(*head, surface, point(m.data(), w), "master_positions", w));
+    for (ssize i = 0; i < S; ++i)
+        roots->members.push_back(
+            snap_root(*head, surface, point(s.data(), i), "member_positions", i));
+    roots->wisp_offsets.assign(o.begin(), o.end());
+    roots->wisp_radius.assign(W, 0.f);
+    for (ssize w = 0; w < W; ++w)
+        for (int64_t i = o[w]; i < o[w + 1]; ++i)
+            roots->wisp_radius[w] =
+                std::max(roots->wisp_radius[w],
+                         (roots->members[i].position - roots->masters[w].position).norm());
+    return roots;
+}
+
+// A W×n×3 float array as its float32 values, checked: name, shape and finiteness.
+std::vector<float> master_array(const py::object& o, const std::string& name, ssize W, ssize n) {
+    py::array a = as_array(o, name);
+    if (a.dtype().kind() != 'f')
+        throw py::type_error(
+            cat(name, ": expected a floating-point array (float32 or float64), got dtype ",
+                dtype_text(a)));
+    if (a.ndim() != 3 || a.shape(0) != W || a.shape(1) != n || a.shape(2) != 3)
+        throw py::value_error(
+            cat(name, ": expected shape (", W, ", ", n, ", 3), got ", shape_text(a)));
+    auto f = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(a);
+    const float* p = f.data();
+    for (ssize i = 0; i < f.size(); ++i)
+        if (!std::isfinite(p[i]) || std::abs(p[i]) > 1e5f)
+            throw py::value_error(cat(name, "[", i / (3 * n), ", ", (i / 3) % n,
+                                      "]: not a finite coordinate within 1 km (", p[i], ")"));
+    return {p, p + f.size()};
+}
+
+// Masters with a user's outline and/or details (W×n×3): frames and control points follow
+// (update_master); each master's segment length becomes its outline's mean.
+std::shared_ptr<Masters> replace_masters(const Masters& in, const py::object& outline,
+                                         const py::object& details) {
+    auto out = std::make_shared<Masters>(in);
+    const ssize W = static_cast<ssize>(in.count()), n = in.points;
+    const auto copy = [&](const std::vector<float>& v, std::vector<Vec3f>& to) {
+        std::copy_n(v.data(), v.size(), to.data()->data());
+    };
+    if (!outline.is_none()) {
+        const std::vector<float> v = master_array(outline, "outline", W, n);
+        for (ssize w = 0; w < W; ++w) {
+            const Vec3f first(v[3 * w * n], v[3 * w * n + 1], v[3 * w * n + 2]);
+            const float d = (first - in.roots[w].position).norm();
+            if (d > 0.01f)
+                throw py::value_error(cat("outline[", w, ", 0]: the first joint must be master ", w,
+                                          "'s root (within 0.01 cm), but it is ", d,
+                                          " cm from it"));
+        }
+        copy(v, out->outline);
+        for (ssize w = 0; w < W; ++w) {
+            float length = 0;
+            for (ssize i = 1; i < n; ++i)
+                length += (out->outline[w * n + i] - out->outline[w * n + i - 1]).norm();
+            if (!(length > 0))
+                throw py::value_error(cat("outline[", w, "]: the master has zero length"));
+            out->segment[w] = length / static_cast<float>(n - 1);
+        }
+    }
+    if (!details.is_none()) copy(master_array(details, "details", W, n), out->details);
+    for (ssize w = 0; w < W; ++w)
+        update_master(*out, static_cast<size_t>(w));
+    return out;
 }
 
 }  // namespace
@@ -128,7 +223,7 @@ void bind_stages(py::module_& m) {
             stats["style"] = style.name;
             stats["head"] = head->source;
             stats["time_ms"] = times_dict(r.times);
-            stats["solver"] = solve_stats(r.solve, style.solve.enabled);
+            stats["solver"] = to_python(solve_stats_json(r.solve, style.solve));
             stats["points_pushed_out_of_head"] = r.points_pushed;
             stats["points_inside_head"] = r.points_inside_head;
             stats["strands_cut"] = r.strands_cut;
@@ -173,6 +268,17 @@ void bind_stages(py::module_& m) {
                             false);
             },
             "W float32 root radius of each wisp, cm")
+        .def_static("from_arrays", &roots_from_arrays, py::arg("head"), py::arg("master_positions"),
+                    py::arg("member_positions"), py::arg("wisp_offsets"),
+                    R"(Roots from one's own arrays, for the masters stage and after.
+
+master_positions: W×3 float, cm, head space: one root per wisp (W ≥ 1).
+member_positions: S×3 float, cm: the member roots, grouped by wisp.
+wisp_offsets: W+1 integers: wisp w owns member_positions[wisp_offsets[w]:wisp_offsets[w+1]]
+(0 first, non-decreasing, S last).
+Every root must lie within 1 cm of the head's surface: it keeps its position and takes the
+normal and scalp UV of the nearest surface point; a wisp's radius is its farthest member.
+Raises TypeError or ValueError naming the array, the row and what was expected.)")
         .def("__len__", [](const Roots& r) { return r.masters.size(); });
 
     py::class_<Masters, std::shared_ptr<Masters>>(m, "Masters", "Master strands (§2.2)")
@@ -193,6 +299,25 @@ void bind_stages(py::module_& m) {
                             {static_cast<ssize>(ms.count()), ms.points, 3}, false);
             },
             "W×n×3 float32 outline joint centres, cm (read-only view)")
+        .def_property_readonly(
+            "details",
+            [](py::object self) {
+                const Masters& ms = self.cast<const Masters&>();
+                return view(self, ms.details.empty() ? nullptr : ms.details.data()->data(),
+                            {static_cast<ssize>(ms.count()), ms.points, 3}, false);
+            },
+            "W×n×3 float32 details δ_i in the frame of segment i, cm (read-only view)")
+        .def("replaced", &replace_masters, py::arg("outline") = py::none(),
+             py::arg("details") = py::none(),
+             R"(A copy of these masters with one's own outline and/or details, for the solve
+or members stage.
+
+outline: W×n×3 float, cm, head space: the joint centres of every master (n =
+points_per_master); the first joint of master w must be its root (within 0.01 cm). Each
+master's segment length becomes its outline's length / (n − 1).
+details: W×n×3 float, cm: δ_i in the frame of segment i (Choe & Ko §2.2).
+Frames and control points are recomputed from them. Raises TypeError or ValueError naming
+the array, the master and what was expected.)")
         .def("__len__", &Masters::count);
 
     // The Adaptive Wisp Tree run of `wisp animate` (dynamics/animate.hpp) on a style's hair
@@ -203,7 +328,8 @@ void bind_stages(py::module_& m) {
         "animate",
         [](const PyStyle& s, const std::shared_ptr<Hair>& hair_in, const HeadPtr& head_in,
            const std::string& motion_name, int frames, double fps, const py::object& seed,
-           const py::object& threads, const py::function& on_frame) {
+           const py::object& threads, const py::object& ties_in, const py::function& on_frame) {
+            const std::vector<Tie> ties = ties_from(ties_in);
             if (frames < 1 || frames > 100000)
                 throw py::value_error(cat("frames: expected 1 to 100000, got ", frames));
             if (!(fps > 0 && fps <= 1000))
@@ -225,6 +351,7 @@ void bind_stages(py::module_& m) {
                 rest = std::move(r.hair);
                 settings.wisp_held = std::move(r.solve.held_length);
             }
+            settings.strand_held = run_released(n, [&] { return tie_holds(rest, ties); });
             const AnimationStats stats = run_released(n, [&] {
                 return animate(rest, *head->mesh, frame, motion, style.dynamics,
                                style.prototype.kind, settings,
@@ -244,13 +371,17 @@ void bind_stages(py::module_& m) {
                                    on_frame(f, pose.time, points, rotation, translation);
                                });
             });
-            py::dict out = animation_stats(stats, rest, motion, frames, fps);
+            py::dict out = to_python(animation_stats_json(stats, rest, motion, frames, fps));
             out["rest"] = std::make_shared<Hair>(std::move(rest));
             return out;
         },
         py::arg("style"), py::arg("hair"), py::arg("head"), py::arg("motion"), py::arg("frames"),
-        py::arg("fps"), py::arg("seed"), py::arg("threads"), py::arg("on_frame"));
+        py::arg("fps"), py::arg("seed"), py::arg("threads"), py::arg("ties"), py::arg("on_frame"));
 
+    m.def(
+        "check_ties", [](const py::object& ties) { ties_from(ties); }, py::arg("ties"),
+        "Raises TypeError or ValueError naming the tie if `ties` is not a sequence of (x, y, z) "
+        "or (x, y, z, radius > 0)");
     m.def(
         "stage_roots",
         [](const PyStyle& s, const HeadPtr& head, const py::object& threads) {
@@ -278,7 +409,7 @@ void bind_stages(py::module_& m) {
                     stats = solve_stage(s.style, *head, field, roots, groups, *solved);
                 return 0;
             });
-            return py::make_tuple(solved, solve_stats(stats, s.style.solve.enabled));
+            return py::make_tuple(solved, to_python(solve_stats_json(stats, s.style.solve)));
         },
         py::arg("style"), py::arg("head"), py::arg("roots"), py::arg("masters"),
         py::arg("threads") = py::none());

@@ -193,8 +193,11 @@ def _default_head(hair):
 
 
 def render(hair: Hair, head: Head | None | bool = None, view: str = "three-quarter",
-           size=1024, threads: int | None = None, **options):
-    """Renders hair (and a head) as ``wisp render`` does: an H×W×3 uint8 sRGB array.
+           size=1024, threads: int | None = None, alpha: bool = False, **options):
+    """Renders hair (and a head) as ``wisp render`` does: an H×W×3 uint8 sRGB array, or with
+    ``alpha=True`` H×W×4 whose fourth channel is the coverage (0 to 255: the share of the
+    pixel that hair and head cover, antialiased) and whose colours are straight (not
+    premultiplied), the background left out (black where alpha is 0).
 
     head: a Head; None: the head the hair was generated on, else the built-in head; False:
     no head. view: one of ``wisp._wisp.view_names()`` ("front", "three-quarter", ...). size:
@@ -219,7 +222,9 @@ def render(hair: Hair, head: Head | None | bool = None, view: str = "three-quart
     for name, v in (("width", width), ("height", height)):
         if isinstance(v, bool) or not isinstance(v, int):
             raise TypeError(f"size: {name} must be an integer, got {v!r}")
-    return _wisp.render(hair, head, view, width, height, threads, **options)
+    if not isinstance(alpha, bool):
+        raise TypeError(f"alpha: expected True or False, got {alpha!r}")
+    return _wisp.render(hair, head, view, width, height, threads, alpha, **options)
 
 
 def _repr_png_(self):
@@ -234,7 +239,10 @@ Hair._repr_png_ = _repr_png_
 class stages:
     """The pipeline's stages one at a time (DESIGN.md), for research use: each takes the
     outputs before it, so any one can be inspected or replaced. ``generate`` is
-    roots → masters → solve → members → color with the same results."""
+    roots → masters → solve → members → color with the same results. To replace a stage with
+    one's own: ``wisp.Roots.from_arrays(head, master_positions, member_positions,
+    wisp_offsets)`` for the roots, ``masters.replaced(outline=..., details=...)`` for the
+    masters (before or after solve), ``wisp.Hair.from_arrays`` for the members."""
 
     @staticmethod
     def roots(style: Style, head: Head, threads=None) -> Roots:
@@ -337,13 +345,17 @@ class Animation:
 
 def animate(style_or_hair, motion: str = "lean", frames: int = 48, fps: float = 24,
             head: Head | None = None, seed: int | None = None,
-            threads: int | None = None) -> Animation:
+            threads: int | None = None, ties=None) -> Animation:
     """Animates a style's hair (generated first, its ties held) or a Hair with the Adaptive
     Wisp Tree (Bertails et al. 2003), as ``wisp animate`` does. motion: a preset ("lean",
-    "shake", "nod", "jump", "run") or a keyframe JSON path. Returns an Animation: iterate it
-    for Frame tuples (index, time, points, head_rotation, head_translation); its ``stats``
-    are set once the last frame is taken. Argument errors raise here; an unknown motion
-    raises when the first frame is taken."""
+    "shake", "nod", "jump", "run") or a keyframe JSON path. ties: as ``wisp animate --tie``,
+    points (x, y, z) or (x, y, z, radius) in cm, in the rest hair's coordinates (radius 2 by
+    default; a T×3 or T×4 array works too): every strand passing within radius of a point is
+    held rigidly to the head from its root to there, like a ponytail's tie. Returns an
+    Animation: iterate it for Frame tuples (index, time, points, head_rotation,
+    head_translation); its ``stats`` are set once the last frame is taken. Argument errors
+    raise here; an unknown motion, or a tie that passes near no strand, raises when the first
+    frame is taken."""
     if isinstance(style_or_hair, Style):
         style, hair = style_or_hair, None
     elif isinstance(style_or_hair, Hair):
@@ -361,9 +373,10 @@ def animate(style_or_hair, motion: str = "lean", frames: int = 48, fps: float = 
         raise ValueError(f"fps: expected a number in (0, 1000], got {fps!r}")
     if head is not None and not isinstance(head, Head):
         raise TypeError("animate: head must be a wisp.Head or None")
+    _wisp.check_ties(ties)
 
     def run(on_frame):
         return _wisp.animate(style._s, hair, head, motion, frames, float(fps), seed, threads,
-                             on_frame)
+                             ties, on_frame)
 
     return Animation(run)

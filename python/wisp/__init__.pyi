@@ -134,6 +134,12 @@ class Roots:
     @property
     def wisp_radius(self) -> Float32Array:
         """W float32, cm."""
+    @staticmethod
+    def from_arrays(head: Head, master_positions: npt.ArrayLike, member_positions: npt.ArrayLike,
+                    wisp_offsets: npt.ArrayLike) -> Roots:
+        """One's own roots: master_positions W×3 float (cm), member_positions S×3 float (cm),
+        wisp_offsets W+1 integers (0 first, non-decreasing, S last); every root within 1 cm of
+        the head's surface. TypeError or ValueError naming the array and row."""
     def __len__(self) -> int: ...
 
 class Masters:
@@ -145,6 +151,13 @@ class Masters:
     @property
     def outline(self) -> Float32Array:
         """W×n×3 float32 joint centres, cm."""
+    @property
+    def details(self) -> Float32Array:
+        """W×n×3 float32 δ_i in the frame of segment i, cm."""
+    def replaced(self, outline: npt.ArrayLike | None = None,
+                 details: npt.ArrayLike | None = None) -> Masters:
+        """A copy with one's own outline and/or details (W×n×3 float, cm; the outline's first
+        joints at the roots); frames and control points recomputed."""
     def __len__(self) -> int: ...
 
 def read(path: str) -> Hair:
@@ -155,8 +168,8 @@ def generate(style: Style | None = None, head: Head | None = None, seed: int | N
 
 def render(hair: Hair, head: Head | None | Literal[False] = None,
            view: str = "three-quarter", size: int | tuple[int, int] = 1024,
-           threads: int | None = None, **options: Any) -> UInt8Array:
-    """H×W×3 uint8 sRGB."""
+           threads: int | None = None, alpha: bool = False, **options: Any) -> UInt8Array:
+    """H×W×3 uint8 sRGB; with alpha, H×W×4: straight colours and coverage as alpha."""
 
 class stages:
     @staticmethod
@@ -195,4 +208,6 @@ class Animation:
 
 def animate(style_or_hair: Style | Hair, motion: str = "lean", frames: int = 48,
             fps: float = 24, head: Head | None = None, seed: int | None = None,
-            threads: int | None = None) -> Animation: ...
+            threads: int | None = None,
+            ties: Sequence[Sequence[float]] | npt.ArrayLike | None = None) -> Animation:
+    """ties: (x, y, z) or (x, y, z, radius) in cm, as `wisp animate --tie`."""

@@ -443,23 +443,7 @@ int run_generate(const GenerateArgs& args) {
         j["time_ms"] = stage_stats(times);
         j["time_ms"]["wall"] = total.ms();
         j["version"] = kVersion;
-        const SolveStats& solve = result.solve;
-        j["solver"] = {{"enabled", style.solve.enabled},
-                       {"order", style.solve.depth_first ? "depth-first" : "breadth-first"},
-                       {"joints", solve.joints},
-                       {"collision_iterations", solve.bends},
-                       {"colliding_joints", solve.collisions},
-                       {"unresolved_joints", solve.unresolved},
-                       {"projected_joints", solve.projected},
-                       {"constrained_joints", solve.constrained}};
-        nlohmann::json groups = nlohmann::json::array();
-        for (const SolveStats::Group& g : solve.groups)
-            groups.push_back({{"name", g.name},
-                              {"constraints", g.constraints},
-                              {"completed", g.completed},
-                              {"wisps", g.wisps},
-                              {"met", g.met}});
-        j["solver"]["groups"] = std::move(groups);
+        j["solver"] = solve_stats_json(result.solve, style.solve);
         for (const auto& [stage, ms] : result.times)
             if (stage == "solve") j["solver"]["time_ms"] = ms;
         j["coverage"] = coverage_stats(result.hair, head, style);
@@ -637,24 +621,13 @@ int run_animate(const AnimateArgs& args) {
     settings.wisp_held = std::move(held);
     // Ties for hair without constraints: each tie's holds, the longest where several catch a
     // strand.
-    for (size_t t = 0; t < args.ties.size(); ++t) {
-        const Tie& tie = ties[t];
-        const std::vector<float> caught = held_lengths(rest, std::span(&tie, 1));
-        const auto count = static_cast<size_t>(
-            std::count_if(caught.begin(), caught.end(), [](float l) { return l > 0; }));
-        // A tie that catches nothing is a mistake in its coordinates, not a request.
-        if (count == 0) {
-            const Box3 box = rest.bounds();
-            throw CLI::ValidationError(
-                "--tie",
-                cat("'", args.ties[t], "' passes within ", tie.radius,
-                    " cm of no strand (the hair spans ", box.lo.x(), ",", box.lo.y(), ",",
-                    box.lo.z(), " to ", box.hi.x(), ",", box.hi.y(), ",", box.hi.z(), ")"));
-        }
-        info(args.quiet, cat("wisp: tie ", t + 1, " holds ", count, " strands"));
-        if (settings.strand_held.empty()) settings.strand_held.assign(caught.size(), 0.f);
-        for (size_t s = 0; s < caught.size(); ++s)
-            settings.strand_held[s] = std::max(settings.strand_held[s], caught[s]);
+    try {
+        std::vector<size_t> caught;
+        settings.strand_held = tie_holds(rest, ties, &caught);
+        for (size_t t = 0; t < caught.size(); ++t)
+            info(args.quiet, cat("wisp: tie ", t + 1, " holds ", caught[t], " strands"));
+    } catch (const Error& e) {
+        throw CLI::ValidationError("--tie", e.what());
     }
 
     // Outputs: .usda as value clips (a layer per frame and a small top-level layer) or one
@@ -793,37 +766,10 @@ int run_animate(const AnimateArgs& args) {
         info(args.quiet, cat("wisp: wrote ", args.mp4));
     }
     if (!args.stats.empty()) {
-        nlohmann::json j;
+        nlohmann::json j = animation_stats_json(stats, rest, motion, args.frames, args.fps);
         j["version"] = kVersion;
         j["input"] = from_style ? style.name : args.input;
-        j["motion"] = motion.name;
-        j["frames"] = args.frames;
-        j["fps"] = args.fps;
-        j["strands"] = rest.strand_count();
-        j["points"] = rest.point_count();
         j["single_level"] = args.single_level;
-        j["links"] = stats.rigid ? "rigid" : "soft";
-        j["hierarchy"] = {{"levels", stats.levels},
-                          {"sections", stats.sections},
-                          {"gcs_per_level", stats.gcs_per_level},
-                          {"nodes", stats.nodes},
-                          {"finest_nodes", stats.finest_nodes},
-                          {"held_finest_nodes", stats.held_finest_nodes}};
-        j["body_spheres"] = stats.spheres;
-        j["steps"] = stats.steps;
-        j["steps_per_frame"] = stats.steps_per_frame;
-        j["dt_s"] = stats.dt;
-        j["ms_per_step"] = {{"mean", stats.step_ms_mean}, {"max", stats.step_ms_max}};
-        j["skin_ms_per_frame"] = stats.skin_ms_mean;
-        j["splits"] = stats.splits;
-        j["merges"] = stats.merges;
-        j["hair_pair_tests"] = stats.pair_tests;
-        j["hair_contacts"] = stats.hair_contacts;
-        j["body_contacts"] = stats.body_contacts;
-        j["max_kinetic_energy"] = stats.max_kinetic_energy;
-        j["active_nodes_per_level"] = stats.active_per_level;
-        j["splits_per_frame"] = stats.frame_splits;
-        j["merges_per_frame"] = stats.frame_merges;
         times.emplace_back("hierarchy", stats.hierarchy_ms);
         times.emplace_back("body spheres", stats.bodies_ms);
         times.emplace_back("bind strands", stats.bind_ms);

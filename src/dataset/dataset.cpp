@@ -1,5 +1,7 @@
 #include "dataset/dataset.hpp"
 
+#include <archive.h>
+#include <archive_entry.h>
 #include <signal.h>
 #include <unistd.h>
 #include <zlib.h>
@@ -21,7 +23,9 @@
 #include "groom/head.hpp"
 #include "groom/style_schema.hpp"
 #include "groom/style_toml.hpp"
+#include "groom/toml_json.hpp"
 #include "io/hair_io.hpp"
+#include "io/npz.hpp"
 #include "render/render.hpp"
 #include "solve/pipeline.hpp"
 
@@ -60,26 +64,6 @@ size_t pick(const std::vector<T>& items, double u) {
         at -= items[i].weight;
     }
     return items.size() - 1;
-}
-
-nlohmann::json toml_to_json(const toml::node& node) {
-    if (const auto* s = node.as_string()) return s->get();
-    if (const auto* i = node.as_integer()) return i->get();
-    if (const auto* f = node.as_floating_point()) return f->get();
-    if (const auto* b = node.as_boolean()) return b->get();
-    if (const auto* a = node.as_array()) {
-        nlohmann::json out = nlohmann::json::array();
-        for (const toml::node& e : *a)
-            out.push_back(toml_to_json(e));
-        return out;
-    }
-    if (const auto* t = node.as_table()) {
-        nlohmann::json out = nlohmann::json::object();
-        for (const auto& [key, value] : *t)
-            out[std::string(key.str())] = toml_to_json(value);
-        return out;
-    }
-    return nullptr;
 }
 
 std::string draw_value(const VaryRule& rule, Rng& rng) {
@@ -203,8 +187,7 @@ SampleDraw draw_sample(const DatasetSpec& spec, uint64_t k) {
             const std::string text = draw_value(rule, rng);
             apply_draw(d.style, rule.path, text, cat(spec.source, ":", rule.line), spec.base_dir);
             d.values_toml += rule.path + " = " + text + "\n";
-            const toml::table t = toml::parse("v = " + text);
-            d.values[rule.path] = toml_to_json(*t.get("v"));
+            d.values[rule.path] = toml_value_to_json(text);
         }
     } catch (const Error& e) {
         fail("sample ", k, ": ", e.what());
@@ -305,6 +288,8 @@ void write_sample(const DatasetSpec& spec, uint64_t k, const fs::path& folder,
     lap("write hair");
 
     nlohmann::json cameras = nlohmann::json::array();
+    std::vector<double> npz_k, npz_w2c, npz_fov;
+    std::vector<int32_t> npz_size;
     for (size_t c = 0; c < spec.cameras.size(); ++c) {
         const Camera cam = sample_camera(spec, draw, c, hair, *head.mesh);
         const std::string prefix = cat("cam", c);
@@ -324,7 +309,10 @@ void write_sample(const DatasetSpec& spec, uint64_t k, const fs::path& folder,
             if (spec.output.mask) write_png(tmp / (prefix + "_mask.png"), mask_image(maps));
             if (spec.output.depth)
                 write_file_atomic(tmp / (prefix + "_depth.npy"),
-                                  encode_npy(maps.depth, maps.height, maps.width));
+                                  encode_npy(npy_array("depth",
+                                                       {static_cast<size_t>(maps.height),
+                                                        static_cast<size_t>(maps.width)},
+                                                       std::span<const float>(maps.depth))));
             lap("maps");
         }
         // OpenCV's convention: x right, y down, z forward; x_pixel = K (R p + t).
@@ -337,6 +325,16 @@ void write_sample(const DatasetSpec& spec, uint64_t k, const fs::path& folder,
         for (int i = 0; i < 3; ++i)
             w2c.push_back({r(i, 0), r(i, 1), r(i, 2), t[i]});
         w2c.push_back({0, 0, 0, 1});
+        // cameras.npz: the same numbers, row-major, as float64 (each holds the float above).
+        const double intrinsics[9] = {
+            cam.focal_pixels, 0, 0.5 * cam.width, 0, cam.focal_pixels, 0.5 * cam.height, 0, 0, 1};
+        npz_k.insert(npz_k.end(), intrinsics, intrinsics + 9);
+        for (int i = 0; i < 4; ++i)
+            for (int j = 0; j < 4; ++j)
+                npz_w2c.push_back(i == 3 ? (j == 3 ? 1.0 : 0.0) : j == 3 ? t[i] : r(i, j));
+        npz_size.push_back(cam.width);
+        npz_size.push_back(cam.height);
+        npz_fov.push_back(cam.fov_y_degrees);
         cameras.push_back({{"name", prefix},
                            {"view", spec.cameras[c].view},
                            {"width", cam.width},
@@ -359,6 +357,13 @@ void write_sample(const DatasetSpec& spec, uint64_t k, const fs::path& folder,
                       "right, y down, z forward); pixel = K (R p + t), pixel (i, j) "
                       "covers [i, i+1) x [j, j+1)"},
                      {"cameras", cameras}});
+    const size_t ncam = spec.cameras.size();
+    const NpyArray camera_arrays[] = {
+        npy_array("K", {ncam, 3, 3}, std::span<const double>(npz_k)),
+        npy_array("world_to_camera", {ncam, 4, 4}, std::span<const double>(npz_w2c)),
+        npy_array("image_size", {ncam, 2}, std::span<const int32_t>(npz_size)),
+        npy_array("fov_y_degrees", {ncam}, std::span<const double>(npz_fov))};
+    write_npz(tmp / "cameras.npz", camera_arrays);
 
     nlohmann::json meta = manifest_entry(spec, draw);
     meta["strands"] = hair.strand_count();
@@ -636,34 +641,65 @@ namespace wisp {
 
 namespace {
 
-// One ustar header block for a regular file.
-std::string tar_header(const std::string& name, uint64_t size) {
-    if (name.size() > 100) fail("pack: member name '", excerpt(name), "' is over 100 bytes");
-    std::string h(512, '\0');
-    const auto put = [&](size_t at, size_t width, const std::string& s) {
-        std::copy(s.begin(), s.begin() + std::min(s.size(), width), h.begin() + at);
-    };
-    const auto octal = [](uint64_t v, int digits) {
-        char buffer[32];
-        std::snprintf(buffer, sizeof buffer, "%0*llo", digits, static_cast<unsigned long long>(v));
-        return std::string(buffer);
-    };
-    put(0, 100, name);
-    put(100, 8, octal(0644, 7));
-    put(108, 8, octal(0, 7));
-    put(116, 8, octal(0, 7));
-    put(124, 12, octal(size, 11));
-    put(136, 12, octal(0, 11));
-    put(148, 8, "        ");  // the checksum counts its own field as spaces
-    h[156] = '0';
-    put(257, 6, std::string("ustar\0", 6));
-    put(263, 2, "00");
-    unsigned sum = 0;
-    for (const char c : h)
-        sum += static_cast<unsigned char>(c);
-    put(148, 8, octal(sum, 6) + std::string("\0 ", 2));
-    return h;
-}
+// A POSIX ustar archive written by libarchive into a stream (the AtomicFile of a shard).
+// Every member gets mode 0644, owner and group 0 without names, and time 0, so that the
+// archive's bytes depend only on the members' names and contents, in the order added.
+class TarWriter {
+  public:
+    TarWriter(std::ostream& out, const std::string& what) : out_(out), what_(what) {
+        archive_ = archive_write_new();
+        entry_ = archive_entry_new();
+        if (!archive_ || !entry_) fail(what_, ": libarchive could not allocate");
+        check(archive_write_set_format_ustar(archive_));
+        check(archive_write_add_filter_none(archive_));
+        // One 512-byte block per write: no padding of the last write to libarchive's 10 KiB
+        // default blocks beyond what ustar needs (two zero blocks).
+        check(archive_write_set_bytes_per_block(archive_, 512));
+        check(archive_write_set_bytes_in_last_block(archive_, 1));
+        check(archive_write_open(archive_, this, nullptr, &TarWriter::write, nullptr));
+    }
+    TarWriter(const TarWriter&) = delete;
+    TarWriter& operator=(const TarWriter&) = delete;
+    ~TarWriter() {
+        archive_entry_free(entry_);
+        archive_write_free(archive_);
+    }
+
+    void add(const std::string& name, const std::string& bytes) {
+        archive_entry_clear(entry_);
+        archive_entry_set_pathname(entry_, name.c_str());
+        archive_entry_set_filetype(entry_, AE_IFREG);
+        archive_entry_set_perm(entry_, 0644);
+        archive_entry_set_size(entry_, static_cast<la_int64_t>(bytes.size()));
+        archive_entry_set_mtime(entry_, 0, 0);
+        archive_entry_set_uid(entry_, 0);
+        archive_entry_set_gid(entry_, 0);
+        check(archive_write_header(archive_, entry_));
+        if (!bytes.empty() && archive_write_data(archive_, bytes.data(), bytes.size()) !=
+                                  static_cast<la_ssize_t>(bytes.size()))
+            fail(what_, ": member '", excerpt(name), "': ", archive_error_string(archive_));
+    }
+
+    void finish() { check(archive_write_close(archive_)); }
+
+  private:
+    static la_ssize_t write(struct archive*, void* self, const void* data, size_t n) {
+        auto* w = static_cast<TarWriter*>(self);
+        w->out_.write(static_cast<const char*>(data), static_cast<std::streamsize>(n));
+        return w->out_ ? static_cast<la_ssize_t>(n) : -1;
+    }
+    void check(int status) {
+        if (status != ARCHIVE_OK) {
+            const char* why = archive_error_string(archive_);
+            fail(what_, ": ", why ? why : "libarchive failed");
+        }
+    }
+
+    std::ostream& out_;
+    std::string what_;
+    struct archive* archive_ = nullptr;
+    struct archive_entry* entry_ = nullptr;
+};
 
 }  // namespace
 
@@ -680,8 +716,9 @@ size_t pack_dataset(const fs::path& dir, uint64_t samples_per_shard) {
     ReadLimits limits;
     limits.what = "a sample's file";
     for (size_t first = 0; first < done.size(); first += samples_per_shard, ++shards) {
-        AtomicFile tar(dir / "pack" / ("shard-" + sample_name(0, shards) + ".tar"));
-        std::ostream& out = tar.stream();
+        const fs::path path = dir / "pack" / ("shard-" + sample_name(0, shards) + ".tar");
+        AtomicFile file(path);
+        TarWriter tar(file.stream(), path.string());
         for (size_t i = first; i < std::min(done.size(), first + samples_per_shard); ++i) {
             const std::string name = sample_name(spec.samples, done[i]);
             const fs::path folder = dir / "samples" / name;
@@ -689,14 +726,11 @@ size_t pack_dataset(const fs::path& dir, uint64_t samples_per_shard) {
             for (const auto& entry : fs::directory_iterator(folder))
                 if (entry.is_regular_file()) files.insert(entry.path().filename().string());
             files.erase("complete.json");
-            for (const std::string& f : files) {
-                const std::string bytes = read_file(folder / f, limits);
-                out << tar_header(name + "." + f, bytes.size()) << bytes
-                    << std::string((512 - bytes.size() % 512) % 512, '\0');
-            }
+            for (const std::string& f : files)
+                tar.add(name + "." + f, read_file(folder / f, limits));
         }
-        out << std::string(1024, '\0');
-        tar.commit();
+        tar.finish();
+        file.commit();
     }
     return shards;
 }

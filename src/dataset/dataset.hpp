@@ -60,6 +60,8 @@ std::string sample_name(uint64_t samples, uint64_t k);
 //   hair.<ext>            in each format of spec.output.hair
 //   meta.json             index, seeds, base, head, drawn values, counts, version (no times)
 //   cameras.json          every camera's intrinsics and extrinsics
+//   cameras.npz           the same as arrays: K #C×3×3, world_to_camera #C×4×4 (float64),
+//                         image_size #C×2 (int32 width, height), fov_y_degrees #C
 //   cam<c>.png, cam<c>_orientation.png, cam<c>_mask.png, cam<c>_depth.npy   per camera
 // `times`, if given, receives the stages' wall times in ms (for the run's log).
 void write_sample(const DatasetSpec& spec, uint64_t k, const std::filesystem::path& folder,
@@ -127,11 +129,11 @@ std::string slurm_script(const std::filesystem::path& dir, const SlurmOptions& o
 namespace wisp {
 
 // `wisp dataset pack`: the done samples as WebDataset-style tar shards (POSIX ustar, written
-// here: no dependency), `samples_per_shard` samples each, in index order, into
+// with libarchive), `samples_per_shard` samples each, in index order, into
 // DIR/pack/shard-NNNNNN.tar (atomic). A sample's files are members "<name>.<file>"
-// ("000007.cam0.png"), so WebDataset groups them by the key "000007"; complete.json is left
-// out. Every member has mode 0644, owner 0 and time 0, so a shard's bytes depend only on its
-// samples. Returns the number of shards written.
+// ("000007.cam0.png"), in name order, so WebDataset groups them by the key "000007";
+// complete.json is left out. Every member has mode 0644, owner 0 and time 0, so a shard's
+// bytes depend only on its samples. Returns the number of shards written.
 size_t pack_dataset(const std::filesystem::path& dir, uint64_t samples_per_shard);
 
 }  // namespace wisp

@@ -10,6 +10,7 @@
 #include "dataset/toml_value.hpp"
 #include "groom/style_schema.hpp"
 #include "groom/style_toml.hpp"
+#include "groom/toml_json.hpp"
 #include "render/camera.hpp"
 
 namespace wisp {
@@ -403,15 +404,7 @@ void SpecParser::read_cameras(const toml::table& root, DatasetSpec& spec) const 
 }
 
 DatasetSpec SpecParser::parse(std::string_view text) {
-    toml::table root;
-    try {
-        root = toml::parse(text, source_);
-    } catch (const toml::parse_error& e) {
-        std::string description(e.description());
-        std::replace(description.begin(), description.end(), '\n', ' ');
-        fail(source_, ":", e.source().begin.line, ":", e.source().begin.column,
-             ": TOML syntax error: ", excerpt(description, 300));
-    }
+    const toml::table root = parse_toml(text, source_);
     check_keys(root, "", {"samples", "seed", "base", "head", "vary", "output", "camera"});
     DatasetSpec spec;
     spec.source = source_;

@@ -112,21 +112,4 @@ RgbImage mask_image(const TargetMaps& maps) {
     return image;
 }
 
-std::string encode_npy(const std::vector<float>& values, int rows, int cols) {
-    if (values.size() != static_cast<size_t>(rows) * cols)
-        fail("encode_npy: ", values.size(), " values for a ", rows, "x", cols, " array");
-    std::string header =
-        cat("{'descr': '<f4', 'fortran_order': False, 'shape': (", rows, ", ", cols, "), }");
-    // Magic (6) + version (2) + length (2) + header + '\n', padded to a multiple of 64.
-    const size_t total = (10 + header.size() + 1 + 63) / 64 * 64;
-    header.append(total - 10 - header.size() - 1, ' ');
-    header += '\n';
-    std::string out = std::string("\x93NUMPY\x01\x00", 8);
-    out += static_cast<char>(header.size() & 0xFF);
-    out += static_cast<char>(header.size() >> 8);
-    out += header;
-    out.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(float));
-    return out;
-}
-
 }  // namespace wisp

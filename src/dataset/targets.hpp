@@ -40,7 +40,4 @@ TargetMaps draw_targets(const Hair& hair, const Mesh* head, const Camera& camera
 RgbImage orientation_image(const TargetMaps& maps);
 RgbImage mask_image(const TargetMaps& maps);
 
-// A float32 array #rows×cols as numpy's .npy (version 1.0, little-endian, C order).
-std::string encode_npy(const std::vector<float>& values, int rows, int cols);
-
 }  // namespace wisp

@@ -176,4 +176,37 @@ Mesh pose_body(const Mesh& body, const HeadFrame& head, const FramePose& pose) {
     return posed;
 }
 
+nlohmann::json animation_stats_json(const AnimationStats& stats, const Hair& rest,
+                                    const Motion& motion, int frames, double fps) {
+    nlohmann::json j;
+    j["motion"] = motion.name;
+    j["frames"] = frames;
+    j["fps"] = fps;
+    j["strands"] = rest.strand_count();
+    j["points"] = rest.point_count();
+    j["links"] = stats.rigid ? "rigid" : "soft";
+    j["hierarchy"] = {{"levels", stats.levels},
+                      {"sections", stats.sections},
+                      {"gcs_per_level", stats.gcs_per_level},
+                      {"nodes", stats.nodes},
+                      {"finest_nodes", stats.finest_nodes},
+                      {"held_finest_nodes", stats.held_finest_nodes}};
+    j["body_spheres"] = stats.spheres;
+    j["steps"] = stats.steps;
+    j["steps_per_frame"] = stats.steps_per_frame;
+    j["dt_s"] = stats.dt;
+    j["ms_per_step"] = {{"mean", stats.step_ms_mean}, {"max", stats.step_ms_max}};
+    j["skin_ms_per_frame"] = stats.skin_ms_mean;
+    j["splits"] = stats.splits;
+    j["merges"] = stats.merges;
+    j["hair_pair_tests"] = stats.pair_tests;
+    j["hair_contacts"] = stats.hair_contacts;
+    j["body_contacts"] = stats.body_contacts;
+    j["max_kinetic_energy"] = stats.max_kinetic_energy;
+    j["active_nodes_per_level"] = stats.active_per_level;
+    j["splits_per_frame"] = stats.frame_splits;
+    j["merges_per_frame"] = stats.frame_merges;
+    return j;
+}
+
 }  // namespace wisp

@@ -6,6 +6,8 @@
 #include <span>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "core/hair.hpp"
 #include "dynamics/awt.hpp"
 #include "dynamics/body.hpp"
@@ -123,6 +125,12 @@ AnimationStats animate(const Hair& rest, const Mesh& body, const HeadFrame& head
                        const Motion& motion, const DynamicsSpec& spec,
                        PrototypeSpec::Kind prototype, const AnimateSettings& settings,
                        const std::function<void(int, const Hair&, const FramePose&)>& frame);
+
+// The figures of a run as `wisp animate --stats` and `wisp.animate(...).stats` give them:
+// motion, frames, fps, the rest hair's strands and points, links, hierarchy, body spheres,
+// steps, ms per step, splits and merges (in all and per frame), contacts, kinetic energy.
+nlohmann::json animation_stats_json(const AnimationStats& stats, const Hair& rest,
+                                    const Motion& motion, int frames, double fps);
 
 // The body mesh posed: vertices above the chin follow the head, those below the neck base
 // the body, blended linearly in between (the neck bends instead of tearing).

@@ -161,6 +161,30 @@ std::vector<float> held_lengths(const Hair& hair, std::span<const Tie> ties) {
     return held;
 }
 
+std::vector<float> tie_holds(const Hair& hair, std::span<const Tie> ties,
+                             std::vector<size_t>* caught) {
+    std::vector<float> held;
+    if (caught) caught->clear();
+    for (size_t t = 0; t < ties.size(); ++t) {
+        const Tie& tie = ties[t];
+        const std::vector<float> own = held_lengths(hair, ties.subspan(t, 1));
+        const auto count = static_cast<size_t>(
+            std::count_if(own.begin(), own.end(), [](float l) { return l > 0; }));
+        if (count == 0) {
+            const Box3 box = hair.bounds();
+            fail("tie ", t + 1, " (", tie.point.x(), ",", tie.point.y(), ",", tie.point.z(),
+                 ", radius ", tie.radius, " cm) passes within ", tie.radius,
+                 " cm of no strand (the hair spans ", box.lo.x(), ",", box.lo.y(), ",", box.lo.z(),
+                 " to ", box.hi.x(), ",", box.hi.y(), ",", box.hi.z(), ")");
+        }
+        if (caught) caught->push_back(count);
+        if (held.empty()) held.assign(own.size(), 0.f);
+        for (size_t s = 0; s < own.size(); ++s)
+            held[s] = std::max(held[s], own[s]);
+    }
+    return held;
+}
+
 Hierarchy build_hierarchy(const Hair& hair, const HierarchyOptions& o) {
     if (o.levels < 2 || o.levels > 4) fail("dynamics: levels must be in [2, 4], got ", o.levels);
     if (o.sections < 3 || o.sections > 64)

@@ -64,6 +64,14 @@ struct Tie {
 // that is not > 0.
 std::vector<float> held_lengths(const Hair& hair, std::span<const Tie> ties);
 
+// The holds of ties a user gives (`wisp animate --tie`, `wisp.animate(..., ties=)`): per
+// strand, the longest length any tie holds (HierarchyOptions::strand_held; empty for no
+// ties). Each tie must catch a strand: one that catches none is a mistake in its
+// coordinates, and throws wisp::Error "tie T (x,y,z, radius r cm) passes within r cm of no
+// strand (the hair spans ...)". `caught`, if given, receives each tie's strand count.
+std::vector<float> tie_holds(const Hair& hair, std::span<const Tie> ties,
+                             std::vector<size_t>* caught = nullptr);
+
 struct Hierarchy {
     int levels = 0;
     int sections = 0;  // n: nodes per GC

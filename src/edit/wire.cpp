@@ -26,79 +26,6 @@ void put_f32(std::string& out, float v) {
     out.append(reinterpret_cast<const char*>(&v), 4);
 }
 
-nlohmann::json node_to_json(const toml::node& node) {
-    if (const auto* s = node.as_string()) return s->get();
-    if (const auto* i = node.as_integer()) return i->get();
-    if (const auto* f = node.as_floating_point()) return f->get();
-    if (const auto* b = node.as_boolean()) return b->get();
-    if (const auto* a = node.as_array()) {
-        nlohmann::json out = nlohmann::json::array();
-        for (const toml::node& e : *a)
-            out.push_back(node_to_json(e));
-        return out;
-    }
-    if (const auto* t = node.as_table()) {
-        nlohmann::json out = nlohmann::json::object();
-        for (auto&& [k, v] : *t)
-            out[std::string(k.str())] = node_to_json(v);
-        return out;
-    }
-    return nullptr;
-}
-
-void to_toml(const nlohmann::json& v, const std::string& field, int depth, std::string& out) {
-    if (depth > 8) fail("field '", excerpt(field), "': the value nests deeper than 8 levels");
-    switch (v.type()) {
-        case nlohmann::json::value_t::boolean:
-            out += v.get<bool>() ? "true" : "false";
-            return;
-        case nlohmann::json::value_t::number_integer:
-            out += std::to_string(v.get<int64_t>());
-            return;
-        case nlohmann::json::value_t::number_unsigned:
-            out += std::to_string(v.get<uint64_t>());
-            return;
-        case nlohmann::json::value_t::number_float: {
-            const double d = v.get<double>();
-            if (!std::isfinite(d)) fail("field '", excerpt(field), "': must be a finite number");
-            char buffer[32];
-            std::snprintf(buffer, sizeof buffer, "%.17g", d);
-            out += buffer;
-            // TOML needs a fraction or exponent for a float; 2.0 prints as "2".
-            if (!std::strpbrk(buffer, ".eEn")) out += ".0";
-            return;
-        }
-        case nlohmann::json::value_t::string:
-            out += toml_quote(v.get<std::string>());
-            return;
-        case nlohmann::json::value_t::array: {
-            out += "[";
-            bool first = true;
-            for (const auto& e : v) {
-                if (!first) out += ", ";
-                first = false;
-                to_toml(e, field, depth + 1, out);
-            }
-            out += "]";
-            return;
-        }
-        case nlohmann::json::value_t::object: {
-            out += "{ ";
-            bool first = true;
-            for (const auto& [k, e] : v.items()) {
-                if (!first) out += ", ";
-                first = false;
-                out += toml_quote(k) + " = ";
-                to_toml(e, field, depth + 1, out);
-            }
-            out += " }";
-            return;
-        }
-        default:
-            fail("field '", excerpt(field), "': a value is required, got null");
-    }
-}
-
 }  // namespace
 
 std::vector<uint32_t> strand_order(size_t n) {
@@ -209,17 +136,6 @@ std::string encode_map(const GrayImage& t, uint32_t kind, float low, float high)
     put_f32(out, high);
     for (const float v : t.values)
         out += static_cast<char>(std::lround((v > 0.f ? std::min(v, 1.f) : 0.f) * 255.f));
-    return out;
-}
-
-nlohmann::json toml_value_to_json(const std::string& toml_value) {
-    const toml::table t = toml::parse("value = " + toml_value);
-    return node_to_json(*t.get("value"));
-}
-
-std::string json_to_toml_value(const nlohmann::json& value, const std::string& field) {
-    std::string out;
-    to_toml(value, field, 0, out);
     return out;
 }
 

@@ -13,6 +13,7 @@
 #include "geometry/mesh.hpp"
 #include "groom/master.hpp"
 #include "groom/style.hpp"
+#include "groom/toml_json.hpp"  // toml_value_to_json, json_to_toml_value
 
 namespace wisp {
 
@@ -64,10 +65,5 @@ nlohmann::json schema_json();
 // The style's value of every field, as JSON keyed by path; file paths relative to
 // `base_dir` when they lie under it.
 nlohmann::json style_values_json(const Style& style, const std::filesystem::path& base_dir = {});
-
-// An inline TOML value as JSON, and JSON as an inline TOML value (for set_style_field).
-// Throws wisp::Error naming `field` for JSON TOML cannot hold (null, nesting deeper than 8).
-nlohmann::json toml_value_to_json(const std::string& toml_value);
-std::string json_to_toml_value(const nlohmann::json& value, const std::string& field);
 
 }  // namespace wisp

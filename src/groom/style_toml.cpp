@@ -21,6 +21,7 @@
 #include "groom/hairdressing.hpp"
 #include "groom/maps.hpp"
 #include "groom/style_schema.hpp"
+#include "groom/toml_json.hpp"
 
 namespace wisp {
 namespace detail {
@@ -1262,15 +1263,7 @@ void Parser::read_groups(const toml::table* root, Style& style) const {
 }
 
 Style Parser::parse(std::string_view text) {
-    toml::table root;
-    try {
-        root = toml::parse(text, source_);
-    } catch (const toml::parse_error& e) {
-        std::string description(e.description());
-        std::replace(description.begin(), description.end(), '\n', ' ');
-        fail(source_, ":", e.source().begin.line, ":", e.source().begin.column,
-             ": TOML syntax error: ", excerpt(description, kMaxMessage));
-    }
+    const toml::table root = parse_toml(text, source_, kMaxMessage);
     check_keys(root, "", section_keys(""));
 
     Style style;

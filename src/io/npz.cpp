@@ -20,15 +20,30 @@ namespace wisp {
 
 namespace {
 
-// One `.npy` file: the version 1.0 header (padded with spaces so that the data starts at a
-// multiple of 64 bytes, as numpy writes it), then the raw little-endian data.
-std::string npy_header(const char* descr, std::initializer_list<size_t> shape) {
+size_t dtype_size(const std::string& dtype) {
+    if (dtype.size() == 3 && (dtype[0] == '<' || dtype[0] == '|') &&
+        (dtype[1] == 'f' || dtype[1] == 'i' || dtype[1] == 'u') &&
+        (dtype[2] == '1' || dtype[2] == '2' || dtype[2] == '4' || dtype[2] == '8'))
+        return static_cast<size_t>(dtype[2] - '0');
+    return 0;
+}
+
+// The version 1.0 header of one `.npy` file, padded with spaces so that the data starts at
+// a multiple of 64 bytes, as numpy writes it; checks the data's size against the shape.
+std::string npy_header(const NpyArray& a) {
+    const size_t item = dtype_size(a.dtype);
+    if (item == 0) fail(a.name, ": unsupported dtype '", excerpt(a.dtype), "'");
+    size_t count = 1;
+    for (size_t d : a.shape)
+        count *= d;
+    if (count * item != a.bytes)
+        fail(a.name, ": ", a.bytes, " bytes of data for ", count, " elements of ", a.dtype);
     std::ostringstream dict;
-    dict << "{'descr': '" << descr << "', 'fortran_order': False, 'shape': (";
+    dict << "{'descr': '" << a.dtype << "', 'fortran_order': False, 'shape': (";
     size_t i = 0;
-    for (size_t d : shape)
+    for (size_t d : a.shape)
         dict << (i++ ? ", " : "") << d;
-    dict << (shape.size() == 1 ? ",), }" : "), }");
+    dict << (a.shape.size() == 1 ? ",), }" : "), }");
     std::string h = dict.str();
     const size_t total = 10 + h.size() + 1;
     h.append((64 - total % 64) % 64, ' ');
@@ -177,10 +192,25 @@ void check(const Hair& hair, const std::string& name, const NpzWriteOptions& opt
         if (hair.strand_size(s) == 0) fail(name, ": strand ", s, " has no points");
 }
 
+void add_array(ZipWriter& zip, const NpyArray& a) {
+    zip.add(a.name + ".npy", npy_header(a), a.data, a.bytes);
+}
+
 template <typename T>
-void add_array(ZipWriter& zip, const char* name, const char* descr,
-               std::initializer_list<size_t> shape, const std::vector<T>& v) {
-    zip.add(name, npy_header(descr, shape), v.data(), v.size() * sizeof(T));
+requires(!std::is_arithmetic_v<T>)  // Eigen vectors: packed scalars
+    void add_array(ZipWriter& zip, const char* name, std::vector<size_t> shape,
+                   const std::vector<T>& v) {
+    using Scalar = std::remove_cv_t<std::remove_reference_t<decltype(*v.data()->data())>>;
+    add_array(zip, npy_array(name, std::move(shape),
+                             std::span<const Scalar>(v.empty() ? nullptr : v.data()->data(),
+                                                     v.size() * sizeof(T) / sizeof(Scalar))));
+}
+
+template <typename T>
+requires std::is_arithmetic_v<T>
+void add_array(ZipWriter& zip, const char* name, std::vector<size_t> shape,
+               const std::vector<T>& v) {
+    add_array(zip, npy_array(name, std::move(shape), std::span<const T>(v)));
 }
 
 void write_archive(std::ostream& os, const Hair& hair, const NpzWriteOptions& options) {
@@ -202,21 +232,20 @@ void write_archive(std::ostream& os, const Hair& hair, const NpzWriteOptions& op
                                      {points.data() + s * N, N}, {widths.data() + s * N, N});
             },
             256);
-        add_array(zip, "positions.npy", "<f4", {S, N, 3}, points);
-        add_array(zip, "widths.npy", "<f4", {S, N}, widths);
+        add_array(zip, "positions", {S, N, 3}, points);
+        add_array(zip, "widths", {S, N}, widths);
     }
-    add_array(zip, "control_points.npy", "<f4", {hair.point_count(), 3}, hair.points);
+    add_array(zip, "control_points", {hair.point_count(), 3}, hair.points);
     const std::vector<int64_t> offsets(hair.offsets.begin(), hair.offsets.end());
-    add_array(zip, "offsets.npy", "<i8", {offsets.size()}, offsets);
+    add_array(zip, "offsets", {offsets.size()}, offsets);
     if (hair.colors.empty())
-        add_array(zip, "colors.npy", "<f4", {S, 3}, std::vector<Vec3f>(S, hair.default_color));
+        add_array(zip, "colors", {S, 3}, std::vector<Vec3f>(S, hair.default_color));
     else
-        add_array(zip, "colors.npy", "<f4", {S, 3}, hair.colors);
-    if (!hair.wisp.empty()) add_array(zip, "wisp_id.npy", "<i4", {S}, hair.wisp);
-    if (!hair.group.empty()) add_array(zip, "group_id.npy", "<i4", {S}, hair.group);
-    if (!hair.root_uv.empty()) add_array(zip, "root_uv.npy", "<f4", {S, 2}, hair.root_uv);
-    if (!hair.root_normal.empty())
-        add_array(zip, "root_normal.npy", "<f4", {S, 3}, hair.root_normal);
+        add_array(zip, "colors", {S, 3}, hair.colors);
+    if (!hair.wisp.empty()) add_array(zip, "wisp_id", {S}, hair.wisp);
+    if (!hair.group.empty()) add_array(zip, "group_id", {S}, hair.group);
+    if (!hair.root_uv.empty()) add_array(zip, "root_uv", {S, 2}, hair.root_uv);
+    if (!hair.root_normal.empty()) add_array(zip, "root_normal", {S, 3}, hair.root_normal);
     zip.finish();
 }
 
@@ -233,6 +262,44 @@ void write_npz(const std::filesystem::path& path, const Hair& hair,
                const NpzWriteOptions& options) {
     check(hair, path.string(), options);
     write_file_atomic(path, [&](std::ostream& os) { write_archive(os, hair, options); });
+}
+
+std::string encode_npy(const NpyArray& array) {
+    std::string out = npy_header(array);
+    out.append(static_cast<const char*>(array.data), array.bytes);
+    return out;
+}
+
+namespace {
+
+void write_arrays(std::ostream& os, std::span<const NpyArray> arrays) {
+    ZipWriter zip(os, 0xFFFFFFFFu);
+    for (const NpyArray& a : arrays)
+        add_array(zip, a);
+    zip.finish();
+}
+
+void check_arrays(std::span<const NpyArray> arrays, const std::string& where) {
+    for (size_t i = 0; i < arrays.size(); ++i) {
+        npy_header(arrays[i]);
+        for (size_t j = 0; j < i; ++j)
+            if (arrays[j].name == arrays[i].name)
+                fail(where, ": two arrays named '", excerpt(arrays[i].name), "'");
+    }
+}
+
+}  // namespace
+
+std::string encode_npz(std::span<const NpyArray> arrays) {
+    check_arrays(arrays, "npz");
+    std::ostringstream os;
+    write_arrays(os, arrays);
+    return std::move(os).str();
+}
+
+void write_npz(const std::filesystem::path& path, std::span<const NpyArray> arrays) {
+    check_arrays(arrays, path.string());
+    write_file_atomic(path, [&](std::ostream& os) { write_arrays(os, arrays); });
 }
 
 }  // namespace wisp

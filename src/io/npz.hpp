@@ -20,7 +20,10 @@
 // fixed date 1980-01-01 00:00, so the bytes depend only on the hair (and N).
 #include <cstdint>
 #include <filesystem>
+#include <span>
 #include <string>
+#include <type_traits>
+#include <vector>
 
 #include "core/hair.hpp"
 
@@ -38,5 +41,47 @@ std::string encode_npz(const Hair& hair, const std::string& name = "hair",
                        const NpzWriteOptions& options = {});
 void write_npz(const std::filesystem::path& path, const Hair& hair,
                const NpzWriteOptions& options = {});
+
+// One array of any other archive (a dataset sample's cameras, a depth map): the member's name
+// without ".npy", numpy's dtype ("<f4", "<f8", "<i4", "<i8", "<u4", "|u1"), the shape, and
+// the data in C order, little-endian: product(shape) elements of the dtype's size.
+struct NpyArray {
+    std::string name;
+    std::string dtype;
+    std::vector<size_t> shape;
+    const void* data = nullptr;
+    size_t bytes = 0;
+};
+
+// numpy's dtype of an arithmetic type.
+template <typename T>
+constexpr const char* npy_dtype() {
+    static_assert(std::is_arithmetic_v<T>, "npy_dtype: an arithmetic type");
+    if constexpr (std::is_floating_point_v<T>)
+        return sizeof(T) == 4 ? "<f4" : "<f8";
+    else if constexpr (sizeof(T) == 1)
+        return std::is_signed_v<T> ? "|i1" : "|u1";
+    else if constexpr (std::is_signed_v<T>)
+        return sizeof(T) == 2 ? "<i2" : sizeof(T) == 4 ? "<i4" : "<i8";
+    else
+        return sizeof(T) == 2 ? "<u2" : sizeof(T) == 4 ? "<u4" : "<u8";
+}
+
+// An NpyArray viewing `values` (which must outlive it) with the given shape.
+template <typename T>
+NpyArray npy_array(std::string name, std::vector<size_t> shape, std::span<const T> values) {
+    return {std::move(name), npy_dtype<T>(), std::move(shape), values.data(),
+            values.size() * sizeof(T)};
+}
+
+// The `.npy` bytes of one array (version 1.0, the header padded so that the data starts at a
+// multiple of 64 bytes, as numpy writes it). Throws wisp::Error naming the array if its bytes
+// do not match its shape and dtype.
+std::string encode_npy(const NpyArray& array);
+
+// An archive of the arrays, in order, as the hair's (stored, fixed dates): the bytes depend
+// only on the arrays. Throws wisp::Error as encode_npy, or for two arrays of one name.
+std::string encode_npz(std::span<const NpyArray> arrays);
+void write_npz(const std::filesystem::path& path, std::span<const NpyArray> arrays);
 
 }  // namespace wisp

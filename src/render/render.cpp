@@ -626,7 +626,7 @@ struct TileCounters {
 // Pass 5 for one tile.
 void render_tile(const Scene& scene, const HeadGeometry& head, const Bins<uint32_t>& head_bins,
                  const std::vector<HairVertex>& vertices, const Bins<uint32_t>& hair_bins, int tile,
-                 RgbImage& image, TileCounters& counters) {
+                 RgbImage& image, uint8_t* alpha, TileCounters& counters) {
     const RenderOptions& o = *scene.options;
     const int tx = tile % hair_bins.tiles_x, ty = tile / hair_bins.tiles_x;
     const int x0 = tx * kTile, y0 = ty * kTile;
@@ -722,17 +722,19 @@ void render_tile(const Scene& scene, const HeadGeometry& head, const Bins<uint32
     counters.fragments += fragments;
 
     // Resolve: what the hair lets through shows the head's samples (each face shaded once
-    // per pixel, at the pixel centre) or the background.
+    // per pixel, at the pixel centre) or the background. With `alpha`, the background is left
+    // out: the pixel's coverage (hair and head) goes to alpha and its colour is divided by it.
+    const Vec3f background = alpha ? Vec3f::Zero() : o.background;
     for (int y = y0; y < y1; ++y)
         for (int x = x0; x < x1; ++x) {
             const int p = (y - y0) * kTile + (x - x0);
             Vec3f under = Vec3f::Zero();
+            const int32_t* f = &sample_face[p * kSamples];
             if (trans[p] >= kOpaque) {
-                const int32_t* f = &sample_face[p * kSamples];
                 std::array<Vec3f, kSamples> shaded;
                 for (int s = 0; s < kSamples; ++s) {
                     if (f[s] < 0) {
-                        shaded[s] = o.background;
+                        shaded[s] = background;
                         continue;
                     }
                     int same = -1;
@@ -746,10 +748,22 @@ void render_tile(const Scene& scene, const HeadGeometry& head, const Bins<uint32
                     under += c;
                 under *= trans[p] / kSamples;
             }
-            uint8_t* out = &image.rgb[(static_cast<size_t>(y) * o.width + x) * 3];
-            out[0] = to_srgb8(accum[3 * p] + under.x());
-            out[1] = to_srgb8(accum[3 * p + 1] + under.y());
-            out[2] = to_srgb8(accum[3 * p + 2] + under.z());
+            const size_t pixel = static_cast<size_t>(y) * o.width + x;
+            Vec3f color(accum[3 * p] + under.x(), accum[3 * p + 1] + under.y(),
+                        accum[3 * p + 2] + under.z());
+            if (alpha) {
+                int empty = 0;
+                for (int s = 0; s < kSamples; ++s)
+                    empty += f[s] < 0;
+                const float cover = std::clamp(1.f - trans[p] * empty / kSamples, 0.f, 1.f);
+                const uint8_t a = static_cast<uint8_t>(std::lround(cover * 255.f));
+                alpha[pixel] = a;
+                color = a > 0 ? Vec3f(color / cover) : Vec3f::Zero();
+            }
+            uint8_t* out = &image.rgb[pixel * 3];
+            out[0] = to_srgb8(color.x());
+            out[1] = to_srgb8(color.y());
+            out[2] = to_srgb8(color.z());
         }
 }
 
@@ -804,7 +818,8 @@ Camera render_camera(const Hair& hair, const Mesh* head, const RenderOptions& o)
     return frame_view(o.view, box, o.width, o.height, o.fov_y_degrees);
 }
 
-RgbImage render(const Hair& hair, const Mesh* head, const RenderOptions& o, RenderStats* stats) {
+RgbImage render(const Hair& hair, const Mesh* head, const RenderOptions& o, RenderStats* stats,
+                std::vector<uint8_t>* alpha) {
     RenderStats local;
     RenderStats& st = stats ? *stats : local;
     st = RenderStats{};
@@ -974,10 +989,15 @@ RgbImage render(const Hair& hair, const Mesh* head, const RenderOptions& o, Rend
     image.width = o.width;
     image.height = o.height;
     image.rgb.assign(static_cast<size_t>(o.width) * o.height * 3, 0);
+    uint8_t* alpha_out = nullptr;
+    if (alpha) {
+        alpha->assign(static_cast<size_t>(o.width) * o.height, 0);
+        alpha_out = alpha->data();
+    }
     std::vector<TileCounters> counters(tiles);
     parallel_for(static_cast<size_t>(tiles), [&](size_t t) {
         render_tile(scene, head_geometry, head_bins, vertices, hair_bins, static_cast<int>(t),
-                    image, counters[t]);
+                    image, alpha_out, counters[t]);
     });
     lap("tiles");
 

@@ -131,8 +131,12 @@ Camera render_camera(const Hair& hair, const Mesh* head, const RenderOptions& op
 
 // Renders hair (and head, if not null; both cm, head space) to an 8-bit sRGB image of
 // options.width × options.height. Throws wisp::Error for an unknown view or a bad size.
+// With `alpha`, it receives #H·W coverage (0 to 255, row-major, top row first: the share of
+// the pixel that hair and head cover), the background is left out, and the image's colours
+// are straight (not premultiplied): the colour of what covers the pixel, black where nothing
+// does.
 RgbImage render(const Hair& hair, const Mesh* head, const RenderOptions& options,
-                RenderStats* stats = nullptr);
+                RenderStats* stats = nullptr, std::vector<uint8_t>* alpha = nullptr);
 
 // Renders each view of `views` at options.width × options.height and lays them out left to
 // right, top to bottom, on a grid of ceil(sqrt(n)) columns (one row for n ≤ 3).

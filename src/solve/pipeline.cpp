@@ -348,4 +348,24 @@ HairstyleResult generate_hairstyle(const Style& style, const Head& head,
     return r;
 }
 
+nlohmann::json solve_stats_json(const SolveStats& solve, const SolveSpec& spec) {
+    nlohmann::json j = {{"enabled", spec.enabled},
+                        {"order", spec.depth_first ? "depth-first" : "breadth-first"},
+                        {"joints", solve.joints},
+                        {"collision_iterations", solve.bends},
+                        {"colliding_joints", solve.collisions},
+                        {"unresolved_joints", solve.unresolved},
+                        {"projected_joints", solve.projected},
+                        {"constrained_joints", solve.constrained}};
+    nlohmann::json groups = nlohmann::json::array();
+    for (const SolveStats::Group& g : solve.groups)
+        groups.push_back({{"name", g.name},
+                          {"constraints", g.constraints},
+                          {"completed", g.completed},
+                          {"wisps", g.wisps},
+                          {"met", g.met}});
+    j["groups"] = std::move(groups);
+    return j;
+}
+
 }  // namespace wisp

@@ -6,6 +6,8 @@
 #include <span>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "core/cancel.hpp"
 #include "core/hair.hpp"
 #include "core/timer.hpp"
@@ -103,5 +105,10 @@ HairstyleResult generate_hairstyle(const Style& style, const Head& head,
 
 // The head field's cell for a head (3/4 of the solver cell, at most 0.75 cm).
 float head_field_cell(const SolveSpec& spec);
+
+// The solver's figures as `wisp generate --stats` and `wisp.generate(...).stats` give them
+// ("solver"): enabled, order, joints, collision iterations, colliding, unresolved, projected
+// and constrained joints, and per constraint group its constraints, completion and wisps.
+nlohmann::json solve_stats_json(const SolveStats& stats, const SolveSpec& spec);
 
 }  // namespace wisp

@@ -69,7 +69,7 @@ TEST(DatasetCli, ShardsJobsAndThreadsGiveByteIdenticalSamples) {
                       "/3"),
                   0);
     const auto a = tree(one / "samples"), b = tree(sharded / "samples");
-    EXPECT_EQ(a.size(), 8u * 14u);  // style, 2 hair, meta, cameras, 4 per camera × 2, complete
+    EXPECT_EQ(a.size(), 8u * 15u);  // style, 2 hair, meta, 2 cameras, 4 per camera × 2, complete
     ASSERT_EQ(a.size(), b.size());
     for (const auto& [name, bytes] : a) {
         ASSERT_TRUE(b.count(name)) << name;
@@ -133,6 +133,33 @@ TEST(DatasetCli, ASamplesStyleRegeneratesItsHair) {
               0);
     EXPECT_TRUE(slurp(d.path / "x" / "000007.hair.hair") ==
                 slurp(dir / "samples" / "000007" / "hair.hair"));
+    // Deterministic shards: owner 0/0, mode 0644, time 0, members in name order; packing
+    // again after the files' times and modes change gives the same bytes.
+    ASSERT_EQ(std::system(("tar --numeric-owner --full-time -tvf " +
+                           (dir / "pack" / "shard-000000.tar").string() + " >" + listing.string())
+                              .c_str()),
+              0);
+    const std::string verbose = slurp(listing);
+    std::istringstream lines(verbose);
+    std::string line, previous;
+    int count = 0;
+    while (std::getline(lines, line)) {
+        ++count;
+        EXPECT_EQ(line.rfind("-rw-r--r-- 0/0", 0), 0u) << line;
+        EXPECT_NE(line.find(" 1970-01-01 00:00:00 "), std::string::npos) << line;
+        const std::string member = line.substr(line.rfind(' ') + 1);
+        EXPECT_LT(previous, member);
+        previous = member;
+    }
+    EXPECT_EQ(count, 3 * 14) << verbose;  // 3 samples of 14 files (complete.json left out)
+    const std::string shard0 = slurp(dir / "pack" / "shard-000000.tar");
+    EXPECT_EQ(shard0.size() % 512, 0u);
+    ASSERT_EQ(std::system(("touch -d 2020-01-01 " + (dir / "samples" / "000003" / "*").string() +
+                           " && chmod 600 " + (dir / "samples" / "000001" / "meta.json").string())
+                              .c_str()),
+              0);
+    ASSERT_EQ(run("dataset pack " + dir.string() + " --samples-per-shard 3"), 0);
+    EXPECT_TRUE(slurp(dir / "pack" / "shard-000000.tar") == shard0);
     // verify fails until the dataset is complete, and catches a changed file.
     EXPECT_EQ(run("dataset verify " + dir.string()), 1);
     std::ofstream(dir / "samples" / "000003" / "cam0_mask.png", std::ios::app) << "x";

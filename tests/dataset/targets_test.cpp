@@ -109,17 +109,5 @@ TEST(Targets, HairBehindTheHeadIsHidden) {
     EXPECT_GT(head, 500);
 }
 
-TEST(Targets, NpyHeader) {
-    const std::string npy = encode_npy(std::vector<float>(6, 1.f), 2, 3);
-    ASSERT_GT(npy.size(), 10u);
-    EXPECT_EQ(npy.substr(0, 6), "\x93NUMPY");
-    const size_t header =
-        static_cast<unsigned char>(npy[8]) | (static_cast<unsigned char>(npy[9]) << 8);
-    EXPECT_EQ((10 + header) % 64, 0u);
-    EXPECT_NE(npy.find("'shape': (2, 3)"), std::string::npos);
-    EXPECT_EQ(npy.size(), 10 + header + 6 * sizeof(float));
-    EXPECT_EQ(npy[10 + header - 1], '\n');
-}
-
 }  // namespace
 }  // namespace wisp

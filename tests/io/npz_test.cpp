@@ -169,5 +169,41 @@ print(float(c[5, 1]), int(f['wisp_id'][9]))
     }
 }
 
+// Any arrays (a dataset sample's cameras): headers as numpy writes them, members in order,
+// sizes checked against shapes.
+TEST(Npz, ArraysOfAnyShapeAndType) {
+    const std::vector<float> depth(6, 1.5f);
+    const std::vector<double> k(9, 2.0);
+    const std::vector<int32_t> size = {512, 256};
+    const std::string npy = encode_npy(npy_array("depth", {2, 3}, std::span<const float>(depth)));
+    size_t at = 0;
+    const std::string dict = npy_dict(npy, &at);
+    EXPECT_NE(dict.find("'descr': '<f4'"), std::string::npos) << dict;
+    EXPECT_NE(dict.find("'shape': (2, 3)"), std::string::npos) << dict;
+    EXPECT_EQ(dict.back(), '\n');
+    EXPECT_EQ(npy.size(), at + 6 * sizeof(float));
+    EXPECT_EQ(get<float>(npy, at + 20), 1.5f);
+
+    const NpyArray arrays[] = {npy_array("K", {1, 3, 3}, std::span<const double>(k)),
+                               npy_array("image_size", {1, 2}, std::span<const int32_t>(size))};
+    const std::string zip = encode_npz(arrays);
+    const auto members = unzip(zip);
+    ASSERT_EQ(members.size(), 2u);
+    EXPECT_NE(npy_dict(members.at("K.npy"), &at)
+                  .find("'<f8', 'fortran_order': False, "
+                        "'shape': (1, 3, 3)"),
+              std::string::npos);
+    EXPECT_NE(npy_dict(members.at("image_size.npy"), &at).find("'shape': (1, 2)"),
+              std::string::npos);
+    EXPECT_EQ(get<int32_t>(members.at("image_size.npy"), at + 4), 256);
+    EXPECT_EQ(encode_npz(arrays), zip);
+
+    NpyArray wrong = arrays[0];
+    wrong.shape = {2, 3, 3};
+    test::expect_error([&] { encode_npy(wrong); }, "K: 72 bytes of data for 18 elements of <f8");
+    const NpyArray twice[] = {arrays[0], arrays[0]};
+    test::expect_error([&] { encode_npz(twice); }, "npz: two arrays named 'K'");
+}
+
 }  // namespace
 }  // namespace wisp
