@@ -70,7 +70,7 @@ TEST(ConstraintSections, BadSectionsNameTheirKeyAndChangeNothing) {
     EXPECT_EQ(field_of(R"([{"section": "tie", "point": [0, 1]}])"), "tie[0].point");
     EXPECT_EQ(field_of(R"([{"section": "tie", "radius": -1}])"), "tie[0].radius");
     EXPECT_EQ(field_of(R"([{"section": "tie"}, {"section": "tie", "wisps": [80]}])"),
-              "tie[1].wisps");
+              "tie[1].wisps[0]");
     EXPECT_EQ(field_of(R"([{"section": "knot"}])"), "sections[0].section");
     EXPECT_EQ(field_of(R"([{"section": "tie", "selection": "nothing-painted"}])"),
               "tie[0].selection");

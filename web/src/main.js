@@ -107,7 +107,10 @@ async function setField(path, value, { final = true, record = true } = {}) {
     redo.length = 0;
   }
   if (final) edited();
-  if (mapFields.includes(path)) painter.invalidate(path);
+  if (mapFields.includes(path)) {
+    painter.invalidate(path);
+    if (final) panels.setValues({ [path]: result.body.value });  // the map control's kind
+  }
   clearTimeout(timer);
   if (final) refreshHair(true);
   else timer = setTimeout(() => refreshHair(false), 30);
