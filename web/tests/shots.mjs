@@ -101,10 +101,11 @@ try {
     await page.evaluate(() => {
       const { viewport, constraints } = window.wispEditor;
       const c = constraints.center;
-      viewport.camera.position.set(c.x - 55, c.y + 25, c.z - 70);
-      viewport.controls.target.set(c.x, c.y - 10, c.z);
+      viewport.camera.position.set(c.x + 15, c.y + 22, c.z - 85);
+      viewport.controls.target.set(c.x, c.y - 6, c.z);
       viewport.controls.update();
     });
+    // The geometry of web/tests/tie_test.mjs: a tie on the back of the head at ear level.
     const at = await page.evaluate(() => {
       const { viewport, constraints } = window.wispEditor;
       const rect = viewport.renderer.domElement.getBoundingClientRect();
@@ -113,12 +114,13 @@ try {
         const p = c.clone().set(c.x + x * r, c.y + y * r, c.z + z * r).project(viewport.camera);
         return [rect.left + ((p.x + 1) / 2) * rect.width, rect.top + ((1 - p.y) / 2) * rect.height];
       };
-      return { tie: screen(0, 0.45, -1.15), stroke: [screen(-0.6, 0.5, -0.75), screen(0, 0.6, -0.85), screen(0.6, 0.5, -0.75)] };
+      return { tie: screen(0, 0.1, -1.2), stroke: [screen(-0.45, 0.35, -0.9), screen(0, 0.3, -0.97), screen(0.45, 0.35, -0.9)] };
     });
     await page.mouse.click(...at.tie);
     await page.waitForFunction(() => window.wispEditor.constraints.sections.length === 1);
     await settle();
-    await page.click("#tie-tools .section button:text('select')");
+    // The row re-renders with each report: select through the editor rather than the button.
+    await page.evaluate(() => window.wispEditor.constraints.select(0));
     await page.waitForFunction(() => window.wispEditor.constraints.selector.map !== null);
     await page.locator("#select-radius").evaluate((e) => { e.value = 6; e.dispatchEvent(new Event("input")); });
     await page.mouse.move(...at.stroke[0]);
@@ -131,7 +133,7 @@ try {
     await page.waitForFunction(() => window.wispEditor.constraints.sections[0]?.selection !== undefined);
     await settle();
     await page.screenshot({ path: path.join(outDir, "tie-select.png") });
-    await page.click("#tie-tools .section button:text('done')");
+    await page.evaluate(() => window.wispEditor.constraints.select(null));
     await settle();
     await page.screenshot({ path: path.join(outDir, "tie.png") });
   }
