@@ -70,7 +70,7 @@ try {
   {
     const { page, settle } = await open("long-straight", 30000);
     await page.click("#paint");
-    await page.waitForFunction(() => window.wispEditor?.painter.map !== null);
+    await page.waitForFunction(() => window.wispEditor?.painter.map !== null, null, { timeout: 300000 });
     const aim = await page.evaluate(() => {
       const { viewport, painter } = window.wispEditor;
       const rect = viewport.renderer.domElement.getBoundingClientRect();
@@ -117,11 +117,11 @@ try {
       return { tie: screen(0, 0.1, -1.2), stroke: [screen(-0.45, 0.35, -0.9), screen(0, 0.3, -0.97), screen(0.45, 0.35, -0.9)] };
     });
     await page.mouse.click(...at.tie);
-    await page.waitForFunction(() => window.wispEditor.constraints.sections.length === 1);
+    await page.waitForFunction(() => window.wispEditor.constraints.sections.length === 1, null, { timeout: 300000 });
     await settle();
     // The row re-renders with each report: select through the editor rather than the button.
     await page.evaluate(() => window.wispEditor.constraints.select(0));
-    await page.waitForFunction(() => window.wispEditor.constraints.selector.map !== null);
+    await page.waitForFunction(() => window.wispEditor.constraints.selector.map !== null, null, { timeout: 300000 });
     await page.locator("#select-radius").evaluate((e) => { e.value = 6; e.dispatchEvent(new Event("input")); });
     await page.mouse.move(...at.stroke[0]);
     await page.mouse.down();
@@ -130,7 +130,7 @@ try {
         await page.mouse.move(at.stroke[k - 1][0] + ((at.stroke[k][0] - at.stroke[k - 1][0]) * i) / 6,
           at.stroke[k - 1][1] + ((at.stroke[k][1] - at.stroke[k - 1][1]) * i) / 6);
     await page.mouse.up();
-    await page.waitForFunction(() => window.wispEditor.constraints.sections[0]?.selection !== undefined);
+    await page.waitForFunction(() => window.wispEditor.constraints.sections[0]?.selection !== undefined, null, { timeout: 300000 });
     await settle();
     await page.screenshot({ path: path.join(outDir, "tie-select.png") });
     await page.evaluate(() => window.wispEditor.constraints.select(null));
