@@ -13,6 +13,7 @@ struct EditCommands {
     CLI::App* schema = nullptr;
     std::string style, preset, head, host = "127.0.0.1";
     int port = 0;
+    bool open = false;  // --open: the URL in the desktop's browser (xdg-open)
 };
 
 // Adds the two subcommands to `app`, their options bound to `args`.

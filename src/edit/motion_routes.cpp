@@ -12,7 +12,7 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "dynamics/motion.hpp"
-#include "edit/http_reply.hpp"
+#include "edit/http_util.hpp"
 #include "edit/motion_session.hpp"
 #include "edit/wire.hpp"
 #include "groom/style_toml.hpp"

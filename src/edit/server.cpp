@@ -20,6 +20,8 @@
 #include "core/error.hpp"
 #include "core/image.hpp"
 #include "edit/motion_routes.hpp"
+#include "edit/http_util.hpp"
+#include "edit/routes_features.hpp"
 #include "edit/stage_cache.hpp"
 #include "edit/wire.hpp"
 #include "groom/maps.hpp"
@@ -63,18 +65,23 @@ std::string random_token() {
     return hex;
 }
 
-void send_json(httplib::Response& res, const nlohmann::json& j, int status = 200) {
+}  // namespace
+
+// Shared with the other route files (edit/http_util.hpp).
+void send_json(httplib::Response& res, const nlohmann::json& j, int status) {
     res.status = status;
     res.set_content(j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace),
                     "application/json");
 }
 
 void send_error(httplib::Response& res, int status, const std::string& message,
-                const std::string& field = {}) {
+                const std::string& field) {
     nlohmann::json j{{"error", excerpt(message, 1000)}};
     if (!field.empty()) j["field"] = excerpt(field, 200);
     send_json(res, j, status);
 }
+
+namespace {
 
 // Sends `bytes` as they are, without copying them into the response (a full hair is tens of
 // megabytes): the response holds the buffer until it has been written.
@@ -101,6 +108,8 @@ constexpr int kMinMapSide = 2;
 constexpr int kMaxMapSide = 1024;
 // The side of the image a constant or procedural map is rasterized to for painting.
 constexpr int kPaintSide = 256;
+
+}  // namespace
 
 // `name` as a file of the style's folder `dir`: a plain file name (letters, digits, '.', '-',
 // '_', ' '; not hidden, no separators, so nothing outside the folder), at most 128 bytes,
@@ -143,6 +152,8 @@ float query_number(const httplib::Request& req, const char* name, float fallback
         fail("must be a finite number, got '", excerpt(s), "'");
     return static_cast<float>(v);
 }
+
+namespace {
 
 // The map of `field` as the painter's [0,1] image with its [low, high] and kind (wire.hpp
 // encode_map): an image map at its own size (up to kMaxMapSide), a procedural map sampled at
@@ -214,6 +225,8 @@ struct EditServer::Impl {
     std::vector<std::string> hosts;  // allowed Host header values
     std::string document;            // the style's file name in base_dir (Save's default)
     MotionRoutes motion;             // the Motion mode's endpoints (motion_routes.hpp)
+    ConstraintSections constraints;  // the placed ties, combs and groups, as TOML reads them
+    EditState state{cache, cache_mutex, hair_requests, base_dir, document, constraints};
 
     Impl(Style style, std::filesystem::path dir, EditOptions opts)
         : options(std::move(opts)),
@@ -222,6 +235,7 @@ struct EditServer::Impl {
           motion(motion_host()) {
         if (options.token.empty()) options.token = random_token();
         document = options.document.empty() ? "untitled.toml" : options.document;
+        constraints.load(cache.style(), base_dir);
     }
 
     MotionHost motion_host() {
@@ -263,8 +277,13 @@ struct EditServer::Impl {
             write_file_atomic(m.image, encode_gray_png(*m.pixels));
             files.push_back(name);
         }
-        write_file_atomic(toml, style_to_toml(style, base_dir));
+        // The constraint sections as placed ([[tie]] …), with their painted selections.
+        constraints.write_masks(base_dir, toml_name, files);
+        Style plain = style;
+        plain.groups.clear();
+        write_file_atomic(toml, style_to_toml(plain, base_dir) + constraints.toml(toml_name));
         files.push_back(toml_name);
+        style.groups = constraints.groups(style, base_dir, toml_name);
         return style;
     }
 
@@ -384,6 +403,7 @@ struct EditServer::Impl {
                 Style style = load_preset((*j)["name"]);
                 std::lock_guard lock(cache_mutex);
                 cache.set_style(std::move(style));
+                constraints.load(cache.style(), base_dir);
                 send_json(res, {{"stale", stage_name(cache.stale())}});
             } catch (const Error& e) {
                 send_error(res, 400, e.what(), "name");
@@ -576,6 +596,7 @@ struct EditServer::Impl {
                 std::lock_guard lock(cache_mutex);
                 cache.set_style(std::move(style));
                 cache.mark_stale(Stage::kRoots);  // map files may differ under the same names
+                constraints.load(cache.style(), base_dir);
                 document = name;
                 send_json(res, {{"document", document}, {"stale", stage_name(cache.stale())}});
             } catch (const Error& e) {
@@ -602,6 +623,7 @@ struct EditServer::Impl {
         });
 
         motion.add_to(server);
+        add_feature_routes(server, state);
 
         // The front end: embedded files; "/" is index.html.
         server.Get(R"(/.*)", [](const httplib::Request& req, httplib::Response& res) {

@@ -99,6 +99,10 @@ class StageCache {
         return stale_ > Stage::kMembers ? result_.hair.strand_count() : roots_.members.size();
     }
 
+    // The last update's result: its solve stats (the groups' progress) are the current
+    // style's once stale() is past Stage::kSolve, the rest once it is Stage::kNone.
+    const HairstyleResult& result() const { return result_; }
+
     // How many times each stage ran (indexed by Stage, kHead … kColor), for tests and the
     // HUD, and how long it took the last time (ms).
     const std::array<int, kStageCount>& runs() const { return runs_; }

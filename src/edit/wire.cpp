@@ -10,6 +10,7 @@
 #include "core/error.hpp"
 #include "core/parallel.hpp"
 #include "core/rng.hpp"
+#include "groom/maps.hpp"
 #include "groom/style_schema.hpp"
 #include "groom/style_toml.hpp"
 
@@ -160,6 +161,11 @@ nlohmann::json schema_json() {
             j["min_open"] = f.lo_open;
         }
         if (f.type == FieldType::kChoice) j["choices"] = f.choices;
+        if (f.type == FieldType::kMap) {  // the map control's procedural names and its ramp
+            j["procedural"] = procedural_map_names();
+            j["map_low"] = f.map_low;
+            j["map_high"] = f.map_high;
+        }
         const std::string text = style_field_toml(defaults, f);
         j["default"] = text.empty() ? nlohmann::json() : toml_value_to_json(text);
         fields.push_back(std::move(j));

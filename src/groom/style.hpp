@@ -97,6 +97,9 @@ struct Selection {
     Kind kind = Kind::kAll;
     std::string region;          // kRegion: a procedural map name; roots where it is > 0.5
     std::filesystem::path mask;  // kMask: image in scalp UV space; roots where it is > 0.5
+    // kMask: the image already decoded, used instead of reading `mask` (a selection painted
+    // in the editor, written to `mask` on Save). Not part of the TOML text.
+    std::shared_ptr<const GrayImage> mask_pixels;
     Vec3f lo = Vec3f::Zero(), hi = Vec3f::Zero();  // kBox: head-space box, cm
     Vec3f normal = Vec3f::UnitX();                 // kHalfSpace: roots with normal·p > offset
     float offset = 0.f;

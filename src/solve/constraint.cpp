@@ -170,7 +170,8 @@ std::vector<uint32_t> select_wisps(const Selection& sel, const std::vector<Surfa
         map.procedural = sel.region;
         region = std::make_unique<MapSampler>(map, scalp);
     } else if (sel.kind == Selection::Kind::kMask) {
-        mask = std::make_unique<GrayImage>(read_gray_image(sel.mask));
+        mask = std::make_unique<GrayImage>(sel.mask_pixels ? *sel.mask_pixels
+                                                           : read_gray_image(sel.mask));
     }
     const Vec3f lo = sel.head_relative ? head.to_space(sel.lo) : sel.lo;
     const Vec3f hi = sel.head_relative ? head.to_space(sel.hi) : sel.hi;

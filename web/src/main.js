@@ -7,6 +7,9 @@ import { Panels } from "./panels.js";
 import { Painter } from "./paint.js";
 import { Viewport } from "./viewport.js";
 import { MotionMode } from "./motion.js";
+import { Constraints } from "./constraints.js";
+import { colorModes, needsAttributes, recolor, fetchAttributes, setInset, renderPicture,
+  exportFormats, exportHair } from "./views.js";
 
 const previewStrands = 20000;
 const status = document.getElementById("status");
@@ -32,17 +35,30 @@ function edited() {
   }, 1500);
 }
 
-// While a value moves: with `mastersFirst` (a value that the masters depend on), the coarse
-// masters first (GET /api/masters?preview=1, a solve of every 3rd wisp), then 20,000 strands;
-// when it stops, the whole hair.
+// The hair as the view shows it: the server's strands, coloured as the colour menu says, then
+// the HUD's figures and each constraint group's progress. While a value moves: with
+// `mastersFirst` (a value that the masters depend on), the coarse masters first
+// (GET /api/masters?preview=1, a solve of every 3rd wisp), then 20,000 strands; when it
+// stops, the whole hair.
+const colorBy = document.getElementById("color-by");
 async function refreshHair(final, { mastersFirst = false } = {}) {
   const mine = ++generation;
   const mastersOnly = document.getElementById("show-masters").checked;
   const t0 = performance.now();
   try {
+    let legend = "";
     if (mastersOnly) {
       const buffer = await getBinary(final ? "/api/masters" : "/api/masters?preview=1");
-      if (buffer && mine === generation) viewport.setHair(decodeStrands(buffer), { masters: true });
+      if (!buffer || mine !== generation) return;
+      const masters = decodeStrands(buffer);
+      // Master i is wisp i: colour by wisp (or group, length) needs no more.
+      const wisps = Int32Array.from({ length: masters.strands }, (_, i) => i);
+      const shown = recolor(masters, colorBy.value === "group" ? "color" : colorBy.value, { wisp: wisps });
+      viewport.setHair(shown.strands, { masters: true });
+      legend = shown.legend;
+      hud.dataset.strands = masters.strands;
+      hud.dataset.points = masters.points;
+      hud.dataset.total = masters.strands;
     } else {
       if (!final && mastersFirst) {
         const buffer = await getBinary("/api/masters?preview=1");
@@ -53,17 +69,31 @@ async function refreshHair(final, { mastersFirst = false } = {}) {
       const buffer = await getBinary(`/api/hair?strands=${limit}`);
       if (!buffer || mine !== generation) return;  // overtaken by a newer request
       const strands = decodeStrands(buffer);
-      viewport.setHair(strands);
+      const attributes = needsAttributes(colorBy.value) ? await fetchAttributes(limit) : null;
+      if (mine !== generation) return;
+      const shown = recolor(strands, colorBy.value, attributes);
+      viewport.setHair(shown.strands);
+      legend = shown.legend;
       hud.dataset.strands = strands.strands;
       hud.dataset.points = strands.points;
+      hud.dataset.total = strands.total;
     }
-    const stats = await getJson("/api/stats");
+    document.getElementById("legend").textContent = legend;
+    const [stats, report] = await Promise.all([getJson("/api/stats"), getJson("/api/report")]);
     const stages = Object.entries(stats.stages)
-      .map(([name, s]) => `${name} ${s.ms.toFixed(0)} ms`)
+      .map(([name, s]) => `${name} ${s.ms.toFixed(0)}`)
       .join(" · ");
-    hud.textContent = `${Number(hud.dataset.strands ?? 0).toLocaleString()} strands · ` +
-      `${Number(hud.dataset.points ?? 0).toLocaleString()} points · ${stages} · ` +
-      `round trip ${(performance.now() - t0).toFixed(0)} ms`;
+    const n = (v) => Number(v ?? 0).toLocaleString();
+    const shown = Number(hud.dataset.strands), total = Number(hud.dataset.total);
+    const figures = [
+      `${n(shown)}${total > shown ? ` of ${n(total)}` : ""} strands · ${n(hud.dataset.points)} points`,
+      `${stages} ms · round trip ${(performance.now() - t0).toFixed(0)} ms`,
+    ];
+    if (report.points_inside_head !== null) figures.push(`${n(report.points_inside_head)} points inside the head`);
+    if (report.unresolved !== null) figures.push(`${n(report.unresolved)} unresolved joints`);
+    hud.textContent = figures.join("  ·  ");
+    hud.dataset.inside = report.points_inside_head ?? "";
+    constraints.setProgress(report.groups);
     say("");
   } catch (e) {
     say(e.message);
@@ -85,7 +115,10 @@ async function setField(path, value, { final = true, record = true } = {}) {
     redo.length = 0;
   }
   if (final) edited();
-  if (mapFields.includes(path)) painter.invalidate(path);
+  if (mapFields.includes(path)) {
+    painter.invalidate(path);
+    if (final) panels.setValues({ [path]: result.body.value });  // the map control's kind
+  }
   // In Motion the view shows the moving hair: a dynamics field goes to the running tree.
   if (motion.active) return path.startsWith("dynamics.") ? motion.setDynamics(path, result.body.value) : true;
   clearTimeout(timer);
@@ -127,9 +160,11 @@ async function step(from, to, key) {
   if (!edit) return;
   const ok = edit.kind === "map"
     ? await painter.restore(edit.path, edit[key], (p, v) => setField(p, v, { record: false }))
+    : edit.kind === "constraints" ? await constraints.apply(edit[key], { record: false })
+    : edit.kind === "selection" ? await constraints.selector.restore(edit.path, edit[key])
     : await setField(edit.path, edit[key], { record: false });
   if (ok) {
-    if (edit.kind !== "map") panels.setValues({ [edit.path]: edit[key] });
+    if (!edit.kind) panels.setValues({ [edit.path]: edit[key] });
     to.push(edit);
   } else {
     from.push(edit);
@@ -150,6 +185,8 @@ window.addEventListener("keydown", (e) => {
     if (k === "p") setPainting(!painter.active);
     else if (k === "m") motion.toggle();
     else if (motion.active && k === " ") { e.preventDefault(); motion.play(!motion.state?.playing); }
+    else if (k === "t") setTying(!constraints.active);
+    else if (constraints.selector.active && k === "e") brushInput("select-erase", (el) => (el.checked = !el.checked));
     else if (painter.active && k === "e") brushInput("brush-erase", (el) => (el.checked = !el.checked));
     else if (painter.active && (k === "[" || k === "]"))
       brushInput("brush-radius", (el) => (el.value = Number(el.value) * (k === "]" ? 1.2 : 1 / 1.2)));
@@ -180,6 +217,26 @@ const painter = new Painter(viewport, {
   onError: (message) => say(message),
   onLoaded: () => brushChanged(),
 });
+const constraints = new Constraints(viewport, document.getElementById("tie-tools"), {
+  onChanged: (final) => {
+    edited();
+    refreshHair(final);
+  },
+  onEdit: (edit) => {
+    undo.push(edit);
+    redo.length = 0;
+  },
+  onError: (message) => say(message),
+});
+function selectBrushChanged() {
+  const b = constraints.selector.brush;
+  b.radius = Number(document.getElementById("select-radius").value);
+  b.erase = document.getElementById("select-erase").checked;
+}
+for (const id of ["select-radius", "select-erase"]) {
+  document.getElementById(id).addEventListener("input", selectBrushChanged);
+  document.getElementById(id).addEventListener("change", selectBrushChanged);
+}
 const fieldSelect = document.getElementById("paint-field");
 for (const path of mapFields) fieldSelect.append(new Option(path.replace("maps.", ""), path));
 fieldSelect.onchange = () => painter.load(fieldSelect.value);
@@ -211,12 +268,27 @@ for (const id of ["brush-radius", "brush-strength", "brush-value", "brush-fallof
   document.getElementById(id).addEventListener("input", brushChanged);
   document.getElementById(id).addEventListener("change", brushChanged);
 }
+// One tool at a time; its panel sits at the view's left, and the picture moves right of it.
+function toolInset() {
+  const panel = ["paint-tools", "tie-tools"].map((id) => document.getElementById(id)).find((el) => !el.hidden);
+  setInset(viewport, panel ? panel.offsetWidth + 10 : 0);
+}
 async function setPainting(on) {
+  if (on && constraints.active) await setTying(false);
   document.getElementById("paint").classList.toggle("on", on);
   document.getElementById("paint-tools").hidden = !on;
   document.getElementById("view").classList.toggle("painting", on);
   await painter.setActive(on);
+  toolInset();
 }
+async function setTying(on) {
+  if (on && painter.active) await setPainting(false);
+  document.getElementById("tie").classList.toggle("on", on);
+  document.getElementById("view").classList.toggle("painting", on);
+  await constraints.setActive(on);
+  toolInset();
+}
+document.getElementById("tie").onclick = () => setTying(!constraints.active);
 document.getElementById("paint").onclick = () => setPainting(!painter.active);
 
 // Save, Save as, Open: files of the style's folder only (the server checks the names).
@@ -249,6 +321,7 @@ open.onchange = async () => {
   undo.length = redo.length = 0;
   await loadStyle();
   painter.invalidate();
+  await constraints.load();
   refreshHair(true);
 };
 
@@ -261,11 +334,82 @@ presets.onchange = async () => {
   undo.length = redo.length = 0;
   await loadStyle();
   painter.invalidate();
+  await constraints.load();
   refreshHair(true);
   edited();
 };
 document.getElementById("show-head").onchange = (e) => viewport.showHead(e.target.checked);
 document.getElementById("show-masters").onchange = () => refreshHair(true);
+for (const [mode, text] of Object.entries(colorModes)) colorBy.append(new Option(text, mode));
+colorBy.onchange = () => refreshHair(true);
+
+// The final picture beside the live view, from wisp's own renderer.
+const picture = document.getElementById("picture");
+document.getElementById("render").onclick = async () => {
+  const t0 = performance.now();
+  say("");
+  document.getElementById("picture-time").textContent = "rendering…";
+  picture.hidden = false;
+  try {
+    const { clientWidth: w, clientHeight: h } = viewport.element;
+    const width = 512, height = Math.max(16, Math.min(1024, Math.round((512 * h) / Math.max(1, w))));
+    const url = await renderPicture(viewport, width, height);
+    const image = document.getElementById("picture-image");
+    if (image.src) URL.revokeObjectURL(image.src);
+    image.src = url;
+    document.getElementById("picture-time").textContent = `${((performance.now() - t0) / 1000).toFixed(1)} s`;
+  } catch (e) {
+    document.getElementById("picture-time").textContent = "";
+    say(e.message);
+  }
+};
+document.getElementById("picture-close").onclick = () => (picture.hidden = true);
+
+// Export: the full hair in any of wisp's formats, into the style's folder.
+const exportMenu = document.getElementById("export");
+for (const ext of exportFormats) exportMenu.append(new Option(ext, ext));
+exportMenu.onchange = async () => {
+  const ext = exportMenu.value;
+  exportMenu.value = "";
+  if (!ext) return;
+  const doc = document.getElementById("document").textContent.replace(/\.toml$/, "");
+  const name = prompt(`Export the hair as (a ${ext} file in the style's folder)`, doc + ext);
+  if (!name) return;
+  say("exporting…");
+  const result = await exportHair(name);
+  if (!result.ok) return say(result.body.error);
+  say("");
+  document.getElementById("saved").textContent = `exported ${result.body.file} (${result.body.strands.toLocaleString()} strands)`;
+};
+
+// A head OBJ: uploaded with the Head panel's scale and scalp method.
+const headFile = document.getElementById("head-file");
+document.getElementById("upload-head").onclick = () => headFile.click();
+headFile.onchange = async () => {
+  const file = headFile.files[0];
+  headFile.value = "";
+  if (!file) return;
+  const method = values["head.scalp.method"] === "hairline" ? "hairline" : "group";
+  const scale = values["head.scale"] ?? 1;
+  say("loading the head…");
+  const token = new URLSearchParams(location.search).get("token") ?? "";
+  const response = await fetch(`/api/head?name=${encodeURIComponent(file.name)}&scale=${scale}&method=${method}`, {
+    method: "POST", headers: { "X-Wisp-Token": token, "Content-Type": "text/plain" }, body: file,
+  });
+  const body = await response.json();
+  if (!response.ok) return say(`${file.name}: ${body.error}`);
+  say("");
+  undo.length = redo.length = 0;
+  await loadStyle();
+  await refreshHair(true);  // the update loads the new head (its stage runs first)
+  const head = decodeHead(await getBinary("/api/head"));
+  viewport.setHead(head);
+  const scalp = await getJson("/api/scalp");
+  painter.setScalp(scalp, head);
+  constraints.setScalp(scalp, head);
+  painter.invalidate();
+  edited();
+};
 
 // Motion (M): the style animated live by the Adaptive Wisp Tree (motion.js).
 const motion = new MotionMode(viewport, {
@@ -277,9 +421,12 @@ const motion = new MotionMode(viewport, {
 
 const head = decodeHead(await getBinary("/api/head"));
 viewport.setHead(head);
-painter.setScalp(await getJson("/api/scalp"), head);
+const scalp = await getJson("/api/scalp");
+painter.setScalp(scalp, head);
+constraints.setScalp(scalp, head);
+await constraints.load();
 await loadStyle();
 say("generating…");
 await refreshHair(true);
-window.wispEditor = { viewport, painter, motion };  // for the browser tests
+window.wispEditor = { viewport, painter, motion, constraints };  // for the browser tests
 document.body.dataset.ready = "1";

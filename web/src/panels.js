@@ -104,8 +104,10 @@ export class Panels {
       select.addEventListener("change", () => select.value && send(select.value, true));
       row.append(select);
       set = (v) => (select.value = v ?? "");
+    } else if (field.type === "map") {
+      set = this.mapControl(field, row, send);
     } else {
-      // Maps, distributions, vectors, lists and paths: their TOML form as JSON text.
+      // Distributions, vectors, lists and paths: their TOML form as JSON text.
       const text = document.createElement("input");
       text.type = "text";
       text.className = "json";
@@ -134,6 +136,80 @@ export class Panels {
       },
     });
     return row;
+  }
+
+  // A scalar map (§2.3): a constant with its slider, a procedural map by name, or an image
+  // (painted or a file), the last two with the [low, high] their [0, 1] is scaled to.
+  mapControl(field, row, send) {
+    const box = document.createElement("div");
+    box.className = "map-control";
+    box.dataset.path = field.path;
+    const kind = document.createElement("select");
+    kind.append(new Option("constant", "constant"));
+    for (const name of field.procedural ?? []) kind.append(new Option(name, name));
+    const image = new Option("image", "image");
+    kind.append(image);
+    const slider = document.createElement("input");
+    slider.type = "range";
+    const top = Math.min(field.max, Math.max(4 * (field.map_high ?? 1), 1));
+    slider.min = field.min;
+    slider.max = top;
+    slider.step = top / 500;
+    const value = document.createElement("input");
+    value.type = "number";
+    value.step = "any";
+    const low = document.createElement("input");
+    const high = document.createElement("input");
+    for (const [input, name] of [[low, "low"], [high, "high"]]) {
+      input.type = "number";
+      input.step = "any";
+      input.title = `the map's ${name} end${field.unit ? ` (${field.unit})` : ""}`;
+    }
+    const file = document.createElement("span");
+    file.className = "wide";
+    let current = null;
+    const show = (v) => {
+      current = v;
+      const constant = typeof v === "number";
+      const isImage = !constant && v && "image" in v;
+      image.hidden = !isImage;
+      kind.value = constant ? "constant" : isImage ? "image" : v?.procedural ?? "constant";
+      slider.hidden = value.hidden = !constant;
+      low.hidden = high.hidden = constant;
+      file.hidden = !isImage;
+      if (constant) {
+        slider.max = Math.max(top, v);
+        slider.value = value.value = v;
+      } else if (v) {
+        low.value = v.low ?? field.map_low;
+        high.value = v.high ?? field.map_high;
+        file.textContent = isImage ? `${v.image} (Paint)` : "";
+      }
+    };
+    kind.addEventListener("change", () => {
+      if (kind.value === "constant") {
+        const mid = typeof current === "number" ? current : Number(high.value || field.map_high);
+        send(mid, true);
+      } else if (kind.value !== "image") {
+        send({ procedural: kind.value, low: Number(low.value || field.map_low), high: Number(high.value || field.map_high) }, true);
+      }
+    });
+    slider.addEventListener("input", () => {
+      value.value = slider.value;
+      send(Number(slider.value), false);
+    });
+    slider.addEventListener("change", () => send(Number(slider.value), true));
+    value.addEventListener("change", () => send(Number(value.value), true));
+    const sendRange = () => {
+      if (current && typeof current === "object")
+        send({ ...current, low: Number(low.value), high: Number(high.value) }, true);
+    };
+    low.addEventListener("change", sendRange);
+    high.addEventListener("change", sendRange);
+    kind.className = "wide";
+    box.append(kind, slider, value, low, high, file);
+    row.append(box);
+    return show;
   }
 
   setValues(values) {

@@ -120,7 +120,7 @@ try {
   console.log(`after an erase stroke: ${after}`);
   if (after[0] > 0.15 * before[0] || after[1] > 0.15 * before[1])
     fail(`the erased density still grows ${after} roots (was ${before})`);
-  const value = await page.locator("[data-path='maps.density']").inputValue();
+  const value = await page.locator("[data-path='maps.density']").textContent();
   if (!value.includes("style.density.png")) fail(`maps.density shows ${value}, not the painted image`);
   await page.screenshot({ path: path.join(outDir, "paint-after.png") });
 

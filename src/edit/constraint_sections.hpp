@@ -1,0 +1,81 @@
+#pragma once
+// The editor's constraint sections (issue 16, placing constraints; Choe & Ko §4, §6.2): the
+// [[tie]], [[comb]] and [[group]] tables the user places, kept as the TOML reader reads them
+// so that Save writes them as a user would (`[[tie]] point = …`), and the selections painted
+// on the scalp, held as images until Save writes them beside the style.
+//
+// A section is a JSON object: "section" (group, tie, braid, updo or comb) and the section's
+// TOML keys as docs/style.md gives them ({"section": "tie", "name": "ponytail", "point": [0,
+// 3, -12], "head_relative": false}); a [[group]]'s queue is "constraint": [{…}, …]. One key
+// is the editor's own: "selection": KEY names a mask painted in the editor (set_mask), which
+// the TOML text writes as `mask = "DOC.KEY.mask.png"`.
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/error.hpp"
+#include "core/image.hpp"
+#include "groom/style.hpp"
+
+namespace wisp {
+
+// A bad section: `field` is its TOML path ("tie[0].point", "sections[2].section").
+struct SectionsError : Error {
+    SectionsError(std::string field_, const std::string& message)
+        : Error(message), field(std::move(field_)) {}
+    std::string field;
+};
+
+class ConstraintSections {
+  public:
+    // The most sections the editor holds (the reader allows 256 groups in all).
+    static constexpr size_t kMaxSections = 256;
+
+    // The sections of a style read from a file or a preset: its groups (the hairdressing
+    // sections already expanded) as [[group]] tables. Painted masks are forgotten.
+    void load(const Style& style, const std::filesystem::path& base_dir);
+
+    // Replaces the sections, checked by the style reader (parse_style) against `style`'s
+    // roots.wisps and strands; returns the groups they expand into, with the painted masks
+    // attached. Throws SectionsError naming the section's key ("tie[0].point") and the
+    // reader's reason; the sections are unchanged then.
+    std::vector<GroupSpec> set(const nlohmann::json& sections, const Style& style,
+                               const std::filesystem::path& base_dir, const std::string& document);
+    // The groups of the current sections (after a painted mask or a new document name).
+    std::vector<GroupSpec> groups(const Style& style, const std::filesystem::path& base_dir,
+                                  const std::string& document) const;
+
+    const nlohmann::json& json() const { return sections_; }
+
+    // A painted selection (scalp UV space, as a map image): KEY is letters, digits, '-' and
+    // '_', at most 32 characters (throws wisp::Error otherwise).
+    void set_mask(const std::string& key, std::shared_ptr<const GrayImage> pixels);
+    // The painted selection KEY, or null.
+    const GrayImage* mask(const std::string& key) const;
+
+    // The sections as TOML text (`[[tie]]` …), painted masks named DOC.KEY.mask.png for the
+    // document DOC.toml.
+    std::string toml(const std::string& document) const;
+    // Writes the painted masks the sections use as DOC.KEY.mask.png into `dir`, each
+    // atomically, adding their names to `files`.
+    void write_masks(const std::filesystem::path& dir, const std::string& document,
+                     std::vector<std::string>& files) const;
+
+    // DOC.KEY.mask.png
+    static std::string mask_file(const std::string& document, const std::string& key);
+
+  private:
+    std::vector<GroupSpec> parse(const nlohmann::json& sections, const Style& style,
+                                 const std::filesystem::path& base_dir,
+                                 const std::string& document) const;
+
+    nlohmann::json sections_ = nlohmann::json::array();
+    std::map<std::string, std::shared_ptr<const GrayImage>> masks_;
+};
+
+}  // namespace wisp

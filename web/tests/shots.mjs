@@ -1,0 +1,144 @@
+// The pictures of docs/edit.md: the editor with wisp's render beside the live view, painting
+// the density map, and a tie with its painted selection coloured by group. Not a test: run
+// by hand after a change to the editor's look, then look at the pictures.
+//   node web/tests/shots.mjs WISP_EXE OUT_DIR
+import { chromium } from "playwright-core";
+import { spawn } from "node:child_process";
+import { mkdirSync, mkdtempSync, rmSync } from "node:fs";
+import os from "node:os";
+import path from "node:path";
+
+const [wispArg, outDir = "."] = process.argv.slice(2);
+const wisp = path.resolve(wispArg);
+mkdirSync(outDir, { recursive: true });
+const folder = mkdtempSync(path.join(os.tmpdir(), "wisp-shots-"));
+
+async function editor(args) {
+  const server = spawn(wisp, ["edit", ...args], { cwd: folder, stdio: ["ignore", "pipe", "inherit"] });
+  const url = await new Promise((resolve, reject) => {
+    let out = "";
+    server.stdout.on("data", (d) => {
+      out += d;
+      const m = out.match(/http:\/\/\S+/);
+      if (m) resolve(m[0]);
+    });
+    server.on("exit", (code) => reject(new Error(`wisp edit exited with ${code}`)));
+  });
+  return { server, url, token: new URL(url).searchParams.get("token") };
+}
+
+const browser = await chromium.launch({
+  executablePath: process.env.WISP_CHROMIUM ?? "/usr/bin/chromium",
+  args: ["--headless", "--no-sandbox", "--disable-gpu", "--use-gl=swiftshader", "--enable-unsafe-swiftshader",
+    "--disable-dev-shm-usage"],
+});
+const servers = [];
+try {
+  const open = async (preset, strands) => {
+    const e = await editor(["--preset", preset]);
+    servers.push(e.server);
+    const page = await browser.newPage({ viewport: { width: 1100, height: 660 } });
+    page.on("pageerror", (err) => console.error("page error:", err.message));
+    await page.goto(e.url);
+    await page.waitForSelector("body[data-ready='1']", { timeout: 300000 });
+    await page.evaluate(async ([token, strands]) => {
+      await fetch("/api/set", { method: "POST", headers: { "X-Wisp-Token": token, "Content-Type": "application/json" },
+        body: JSON.stringify({ path: "roots.strands", value: strands }) });
+    }, [e.token, strands]);
+    await page.reload();
+    await page.waitForSelector("body[data-ready='1']", { timeout: 300000 });
+    const settle = async () => {
+      await page.waitForFunction(async (token) => {
+        const r = await fetch("/api/stats", { headers: { "X-Wisp-Token": token } });
+        return (await r.json()).stale === "none";
+      }, e.token, { timeout: 300000, polling: 500 });
+      await page.waitForTimeout(2500);
+    };
+    return { page, settle };
+  };
+
+  // The editor with wisp's own render beside the live view.
+  {
+    const { page, settle } = await open("wavy-bob", 30000);
+    await page.click("#render");
+    await page.waitForFunction(() => document.getElementById("picture-time").textContent.endsWith(" s"), null,
+      { timeout: 300000 });
+    await settle();
+    await page.screenshot({ path: path.join(outDir, "editor.png") });
+  }
+  // Painting the density map.
+  {
+    const { page, settle } = await open("long-straight", 30000);
+    await page.click("#paint");
+    await page.waitForFunction(() => window.wispEditor?.painter.map !== null, null, { timeout: 300000 });
+    const aim = await page.evaluate(() => {
+      const { viewport, painter } = window.wispEditor;
+      const rect = viewport.renderer.domElement.getBoundingClientRect();
+      const c = painter.center;
+      const r = Math.hypot(...painter.scalp.crown.map((v, i) => v - [c.x, c.y, c.z][i]));
+      const at = (a, dx, dz) => {
+        const p = c.clone().set(c.x + r * Math.sin(a) * dx, c.y + r * Math.cos(a), c.z + r * Math.sin(a) * dz).project(viewport.camera);
+        return [rect.left + ((p.x + 1) / 2) * rect.width, rect.top + ((1 - p.y) / 2) * rect.height];
+      };
+      return [at(0.6, 0.9, 0.4), at(0.7, 0.5, 0.85)];
+    });
+    await page.check("#brush-erase");
+    await page.mouse.move(...aim[0]);
+    await page.mouse.down();
+    for (let i = 1; i <= 8; ++i)
+      await page.mouse.move(aim[0][0] + ((aim[1][0] - aim[0][0]) * i) / 8, aim[0][1] + ((aim[1][1] - aim[0][1]) * i) / 8);
+    await page.mouse.up();
+    await settle();
+    await page.mouse.move(aim[1][0] + 30, aim[1][1] + 10);
+    await page.waitForTimeout(500);
+    await page.screenshot({ path: path.join(outDir, "paint.png") });
+  }
+  // A tie with its painted selection, coloured by group.
+  {
+    const { page, settle } = await open("long-straight", 30000);
+    await page.selectOption("#color-by", "group");
+    await page.click("#tie");
+    await page.evaluate(() => {
+      const { viewport, constraints } = window.wispEditor;
+      const c = constraints.center;
+      viewport.camera.position.set(c.x + 15, c.y + 22, c.z - 85);
+      viewport.controls.target.set(c.x, c.y - 6, c.z);
+      viewport.controls.update();
+    });
+    // The geometry of web/tests/tie_test.mjs: a tie on the back of the head at ear level.
+    const at = await page.evaluate(() => {
+      const { viewport, constraints } = window.wispEditor;
+      const rect = viewport.renderer.domElement.getBoundingClientRect();
+      const c = constraints.center, r = constraints.radius;
+      const screen = (x, y, z) => {
+        const p = c.clone().set(c.x + x * r, c.y + y * r, c.z + z * r).project(viewport.camera);
+        return [rect.left + ((p.x + 1) / 2) * rect.width, rect.top + ((1 - p.y) / 2) * rect.height];
+      };
+      return { tie: screen(0, 0.1, -1.2), stroke: [screen(-0.45, 0.35, -0.9), screen(0, 0.3, -0.97), screen(0.45, 0.35, -0.9)] };
+    });
+    await page.mouse.click(...at.tie);
+    await page.waitForFunction(() => window.wispEditor.constraints.sections.length === 1, null, { timeout: 300000 });
+    await settle();
+    // The row re-renders with each report: select through the editor rather than the button.
+    await page.evaluate(() => window.wispEditor.constraints.select(0));
+    await page.waitForFunction(() => window.wispEditor.constraints.selector.map !== null, null, { timeout: 300000 });
+    await page.locator("#select-radius").evaluate((e) => { e.value = 6; e.dispatchEvent(new Event("input")); });
+    await page.mouse.move(...at.stroke[0]);
+    await page.mouse.down();
+    for (let k = 1; k < at.stroke.length; ++k)
+      for (let i = 1; i <= 6; ++i)
+        await page.mouse.move(at.stroke[k - 1][0] + ((at.stroke[k][0] - at.stroke[k - 1][0]) * i) / 6,
+          at.stroke[k - 1][1] + ((at.stroke[k][1] - at.stroke[k - 1][1]) * i) / 6);
+    await page.mouse.up();
+    await page.waitForFunction(() => window.wispEditor.constraints.sections[0]?.selection !== undefined, null, { timeout: 300000 });
+    await settle();
+    await page.screenshot({ path: path.join(outDir, "tie-select.png") });
+    await page.evaluate(() => window.wispEditor.constraints.select(null));
+    await settle();
+    await page.screenshot({ path: path.join(outDir, "tie.png") });
+  }
+} finally {
+  await browser.close();
+  for (const s of servers) s.kill("SIGINT");
+  rmSync(folder, { recursive: true, force: true });
+}

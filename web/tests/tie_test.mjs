@@ -1,0 +1,199 @@
+// Browser test of placing a tie in `wisp edit` (registered in ctest as editor_tie_gathers): a
+// 3,000-strand style in a temporary folder, seen from behind; a click on the back of the head
+// places a tie just off it, a stroke of the selection brush picks its wisps on the scalp, and
+// the strands of that group then pass near the tie point (where before far fewer did), the
+// group's progress says so, and the hair outside the selection is left out of it. Save
+// writes [[tie]] with its mask, which `wisp generate` turns into the editor's hair byte for
+// byte; undo takes the tie away again. Screenshots go to OUT_DIR.
+//   node web/tests/tie_test.mjs WISP_EXE OUT_DIR
+import { chromium } from "playwright-core";
+import { spawn, execFileSync } from "node:child_process";
+import { mkdirSync, mkdtempSync, writeFileSync, readFileSync, existsSync, rmSync } from "node:fs";
+import os from "node:os";
+import path from "node:path";
+
+const [wispArg, outDir = "."] = process.argv.slice(2);
+const wisp = path.resolve(wispArg);
+mkdirSync(outDir, { recursive: true });
+const executablePath = process.env.WISP_CHROMIUM ?? "/usr/bin/chromium";
+
+function fail(message) {
+  console.error(`tie test: ${message}`);
+  process.exitCode = 1;
+  throw new Error(message);
+}
+
+const folder = mkdtempSync(path.join(os.tmpdir(), "wisp-tie-"));
+writeFileSync(path.join(folder, "style.toml"),
+  "[roots]\nstrands = 3000\nwisps = 150\npoints_per_strand = 16\n");
+const server = spawn(wisp, ["edit", "style.toml"], { cwd: folder, stdio: ["ignore", "pipe", "inherit"] });
+const url = await new Promise((resolve, reject) => {
+  let out = "";
+  server.stdout.on("data", (d) => {
+    out += d;
+    const m = out.match(/http:\/\/\S+/);
+    if (m) resolve(m[0]);
+  });
+  server.on("exit", (code) => reject(new Error(`wisp edit exited with ${code}`)));
+  setTimeout(() => reject(new Error("no URL within 30 s")), 30000);
+});
+
+let browser;
+try {
+  browser = await chromium.launch({
+    executablePath,
+    args: ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
+      "--use-gl=swiftshader", "--enable-unsafe-swiftshader", "--disable-dev-shm-usage"],
+  });
+  const page = await browser.newPage({ viewport: { width: 1000, height: 640 } });
+  page.on("pageerror", (e) => console.error("page error:", e.message));
+  await page.goto(url);
+  await page.waitForSelector("body[data-ready='1']", { timeout: 120000 });
+  const token = new URL(url).searchParams.get("token");
+  const settle = async () => {
+    await page.waitForFunction(async (token) => {
+      const r = await fetch("/api/stats", { headers: { "X-Wisp-Token": token } });
+      return (await r.json()).stale === "none";
+    }, token, { timeout: 120000, polling: 300 });
+    await page.waitForTimeout(1500);
+  };
+
+  // Of the strands (of group `group`, or all when null) of the full hair, how many and what
+  // fraction pass within `reach` cm of point p (a control point or a segment between two).
+  const near = (p, reach, group) => page.evaluate(async ([p, reach, group, token]) => {
+    const headers = { "X-Wisp-Token": token };
+    const hair = await (await fetch("/api/hair", { headers })).arrayBuffer();
+    const attributes = await (await fetch("/api/attributes", { headers })).arrayBuffer();
+    const [, strands] = new Uint32Array(hair, 8, 4);
+    const offsets = new Uint32Array(hair, 24, strands + 1);
+    const x = new Float32Array(hair, 24 + 4 * (strands + 1), 3 * offsets[strands]);
+    const groups = new Int32Array(attributes, 16 + 4 * strands, strands);
+    let count = 0, passing = 0;
+    for (let s = 0; s < strands; ++s) {
+      if (group !== null && groups[s] !== group) continue;
+      ++count;
+      let best = Infinity;
+      for (let i = offsets[s]; i + 1 < offsets[s + 1]; ++i) {
+        const a = [x[3 * i], x[3 * i + 1], x[3 * i + 2]], b = [x[3 * i + 3], x[3 * i + 4], x[3 * i + 5]];
+        const e = b.map((v, k) => v - a[k]), w = p.map((v, k) => v - a[k]);
+        const t = Math.max(0, Math.min(1, (w[0] * e[0] + w[1] * e[1] + w[2] * e[2]) / Math.max(1e-12, e[0] ** 2 + e[1] ** 2 + e[2] ** 2)));
+        best = Math.min(best, Math.hypot(...w.map((v, k) => v - t * e[k])));
+      }
+      if (best <= reach) ++passing;
+    }
+    return { count, passing, fraction: count ? passing / count : 0, strands };
+  }, [p, reach, group, token]);
+
+  // The view from behind and a little above; the tie tool.
+  await page.click("#tie");
+  await page.evaluate(() => {
+    const { viewport, constraints } = window.wispEditor;
+    const c = constraints.center;
+    viewport.camera.position.set(c.x + 15, c.y + 22, c.z - 85);
+    viewport.controls.target.set(c.x, c.y - 6, c.z);
+    viewport.controls.update();
+    viewport.render();
+  });
+  // A point on the back of the head at about ear level, as the pointer sees it.
+  const aim = await page.evaluate(() => {
+    const { viewport, constraints } = window.wispEditor;
+    const rect = viewport.renderer.domElement.getBoundingClientRect();
+    const c = constraints.center, r = constraints.radius;
+    const p = c.clone().set(c.x, c.y + 0.1 * r, c.z - 1.2 * r).project(viewport.camera);
+    const at = [rect.left + ((p.x + 1) / 2) * rect.width, rect.top + ((1 - p.y) / 2) * rect.height];
+    const tie = constraints.tiePoint({ clientX: at[0], clientY: at[1] });
+    return { at, tie: tie && tie.toArray() };
+  });
+  if (!aim.tie) fail("the click's point is not on or near the head");
+  const radius = 1.2, reach = radius + 1.0;
+  const baseline = await near(aim.tie, reach, null);
+  console.log(`before the tie: ${baseline.passing} of ${baseline.count} strands pass within ${reach} cm of ` +
+    `${aim.tie.map((v) => v.toFixed(1))} (${(100 * baseline.fraction).toFixed(0)}%)`);
+
+  await page.mouse.click(...aim.at);
+  await page.waitForFunction(() => window.wispEditor.constraints.sections.length === 1);
+  await settle();
+  const sections = await page.evaluate(() => window.wispEditor.constraints.sections);
+  if (sections[0].section !== "tie" || Math.hypot(...sections[0].point.map((v, k) => v - aim.tie[k])) > 0.05)
+    fail(`the tie is ${JSON.stringify(sections[0])}, not at ${aim.tie}`);
+  const all = await near(aim.tie, reach, 1);
+  console.log(`a tie of every wisp: ${all.passing} of ${all.count} strands pass near it`);
+  if (all.count !== all.strands || all.fraction < 0.8) fail(`a tie of every wisp gathered ${all.passing} of ${all.count}`);
+
+  // Its selection: a stroke of the brush over the lower back of the scalp.
+  await page.click("#tie-tools .section button:text('select')");
+  await page.waitForFunction(() => window.wispEditor.constraints.selector.map !== null);
+  await page.locator("#select-radius").evaluate((e) => { e.value = 5; e.dispatchEvent(new Event("input")); });
+  const stroke = await page.evaluate(() => {
+    const { viewport, constraints } = window.wispEditor;
+    const rect = viewport.renderer.domElement.getBoundingClientRect();
+    const c = constraints.center, r = constraints.radius;
+    const screen = (x, y, z) => {
+      const p = c.clone().set(c.x + x * r, c.y + y * r, c.z + z * r).project(viewport.camera);
+      return [rect.left + ((p.x + 1) / 2) * rect.width, rect.top + ((1 - p.y) / 2) * rect.height];
+    };
+    return [screen(-0.45, 0.35, -0.9), screen(0, 0.3, -0.97), screen(0.45, 0.35, -0.9)];
+  });
+  await page.mouse.move(...stroke[0]);
+  await page.mouse.down();
+  for (let k = 1; k < stroke.length; ++k)
+    for (let i = 1; i <= 5; ++i)
+      await page.mouse.move(stroke[k - 1][0] + ((stroke[k][0] - stroke[k - 1][0]) * i) / 5,
+        stroke[k - 1][1] + ((stroke[k][1] - stroke[k - 1][1]) * i) / 5);
+  await page.mouse.up();
+  await page.waitForFunction(() => window.wispEditor.constraints.sections[0]?.selection !== undefined);
+  await settle();
+  await page.screenshot({ path: path.join(outDir, "tie-select.png") });
+  await page.click("#tie-tools .section button:text('done')");
+  await settle();
+
+  const picked = await near(aim.tie, reach, 1);
+  const others = await near(aim.tie, reach, 0);
+  console.log(`the painted selection: ${picked.passing} of ${picked.count} strands of the tie's group pass within ` +
+    `${reach} cm (${(100 * picked.fraction).toFixed(0)}%); of the ${others.count} others, ${others.passing}`);
+  if (picked.count < 100 || others.count < 100) fail(`the selection took ${picked.count} strands of ${picked.strands}`);
+  if (picked.fraction < 0.8) fail(`the tie gathered only ${(100 * picked.fraction).toFixed(0)}% of its group`);
+  if (picked.fraction < baseline.fraction + 0.4) fail("the tie's group passes near the point no more than before");
+
+  // Its progress, from the solver and on the panel.
+  const report = await page.evaluate(async (token) =>
+    (await fetch("/api/report", { headers: { "X-Wisp-Token": token } })).json(), token);
+  const g = report.groups[0];
+  console.log(`progress: ${g.name}: ${g.wisps} wisps, met ${g.met.map((m) => m.toFixed(2))}`);
+  if (report.groups.length !== 1 || g.met[0] < 0.8) fail(`the report says ${JSON.stringify(report.groups)}`);
+  const row = await page.locator("#tie-tools .section").first().textContent();
+  if (!row.includes(`${g.wisps} wisps`) || !row.includes("met")) fail(`the panel shows '${row}'`);
+  await page.screenshot({ path: path.join(outDir, "tie.png") });
+
+  // Save: [[tie]] with its mask; `wisp generate` of it is the editor's hair.
+  await page.click("#save");
+  await page.waitForFunction(() => document.getElementById("saved").textContent.startsWith("saved"));
+  const toml = readFileSync(path.join(folder, "style.toml"), "utf8");
+  const mask = `style.${sections[0].name.replace(/ /g, "-")}.mask.png`;
+  if (!toml.includes("[[tie]]") || !toml.includes(`mask = "${mask}"`) || !existsSync(path.join(folder, mask)))
+    fail(`the saved style does not hold the tie and its mask ${mask}:\n${toml}`);
+  const exported = await page.evaluate(async (token) => (await fetch("/api/export", {
+    method: "POST", headers: { "X-Wisp-Token": token, "Content-Type": "application/json" },
+    body: JSON.stringify({ name: "editor.hair" }),
+  })).status, token);
+  if (exported !== 200) fail(`export answered ${exported}`);
+  execFileSync(wisp, ["generate", "style.toml", "-o", "cli.hair", "--quiet"], { cwd: folder, stdio: "inherit" });
+  const a = readFileSync(path.join(folder, "editor.hair")), b = readFileSync(path.join(folder, "cli.hair"));
+  if (!a.equals(b)) fail(`wisp generate of the saved tie differs from the editor's hair (${a.length} vs ${b.length} bytes)`);
+  console.log(`save: [[tie]] with ${mask}; wisp generate gives the editor's hair (${a.length} bytes, identical)`);
+
+  // Undo: the selection, the stroke, then the tie itself.
+  for (let i = 0; i < 3; ++i) {
+    await page.keyboard.press("Control+z");
+    await page.waitForTimeout(400);
+  }
+  await settle();
+  const left = await page.evaluate(() => window.wispEditor.constraints.sections.length);
+  const undone = await near(aim.tie, reach, null);
+  console.log(`undo ×3: ${left} sections; ${undone.passing} strands pass near the point`);
+  if (left !== 0 || undone.passing !== baseline.passing) fail("undo did not take the tie away");
+} finally {
+  if (browser) await browser.close();
+  server.kill("SIGINT");
+  if (!process.exitCode) rmSync(folder, { recursive: true, force: true });
+}
