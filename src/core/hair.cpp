@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <vector>
 
 #include "core/error.hpp"
 #include "core/parallel.hpp"
@@ -13,13 +15,26 @@ static_assert(sizeof(Vec3f) == 3 * sizeof(float), "points are read as a flat flo
 namespace {
 
 // Whether every coordinate of `points` is finite and within ±limit.
+// Whether every one of the n floats at f lies in [lo, hi] (NaN does not). Branch-free, so the
+// compiler vectorizes it, and in chunks of a fixed size on all cores: 3.2 M coordinates took
+// a fifth of a .usda write's wall time on one core before every writer could begin.
+bool floats_within(const float* f, size_t n, float lo, float hi) {
+    constexpr size_t kChunk = size_t{1} << 18;
+    const size_t chunks = (n + kChunk - 1) / kChunk;
+    std::vector<unsigned char> outside(chunks, 0);
+    parallel_for(chunks, [&](size_t c) {
+        const size_t end = std::min(n, (c + 1) * kChunk);
+        unsigned out = 0;  // NaN compares false: outside
+        for (size_t i = c * kChunk; i < end; ++i)
+            out |= !(f[i] >= lo && f[i] <= hi);
+        outside[c] = static_cast<unsigned char>(out);
+    });
+    return std::find(outside.begin(), outside.end(), 1) == outside.end();
+}
+
 bool coordinates_within(std::span<const Vec3f> points, float limit) {
-    const float* f = points.empty() ? nullptr : points.data()->data();
-    const size_t n = 3 * points.size();
-    unsigned outside = 0;  // NaN compares false: outside
-    for (size_t i = 0; i < n; ++i)
-        outside |= !(std::fabs(f[i]) <= limit);
-    return outside == 0;
+    return floats_within(points.empty() ? nullptr : points.data()->data(), 3 * points.size(),
+                         -limit, limit);
 }
 
 }  // namespace
@@ -59,9 +74,10 @@ void Hair::validate(const std::string& what) const {
                          ") is at (", p.x(), ", ", p.y(), ", ", p.z(), "), farther than ",
                          kMaxCoordinate, " cm from the origin on an axis (see docs/formats.md)");
             }
-    for (size_t i = 0; i < widths.size(); ++i)
-        if (!std::isfinite(widths[i]) || widths[i] < 0.f)
-            fail(what, ": width ", i, " is negative or not finite");
+    if (!floats_within(widths.data(), widths.size(), 0.f, std::numeric_limits<float>::max()))
+        for (size_t i = 0; i < widths.size(); ++i)
+            if (!std::isfinite(widths[i]) || widths[i] < 0.f)
+                fail(what, ": width ", i, " is negative or not finite");
     for (size_t i = 0; i < colors.size(); ++i)
         if (!colors[i].allFinite()) fail(what, ": color ", i, " is not finite");
     for (size_t i = 0; i < root_uv.size(); ++i)
