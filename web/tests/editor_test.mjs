@@ -3,50 +3,23 @@
 // playwright-core, and checks that hair is drawn, that a slider changes the geometry and
 // that undo restores it. Screenshots go to $WISP_EDITOR_SHOTS (default: the build folder).
 //   node web/tests/editor_test.mjs WISP_EXE OUT_DIR
-import { chromium } from "playwright-core";
-import { spawn } from "node:child_process";
-import { mkdirSync, mkdtempSync, rmSync } from "node:fs";
-import os from "node:os";
+import { failWith, launchChromium, openEditor, startEditor, tempFolder, testArguments } from "./harness.mjs";
+import { rmSync } from "node:fs";
 import path from "node:path";
 
-const [wisp, outDir = "."] = process.argv.slice(2);
-mkdirSync(outDir, { recursive: true });
-const executablePath = process.env.WISP_CHROMIUM ?? "/usr/bin/chromium";
-
-function fail(message) {
-  console.error(`editor test: ${message}`);
-  process.exitCode = 1;
-  throw new Error(message);
-}
+const { wisp, outDir } = testArguments();
+const fail = failWith("editor test");
 
 // In a folder of its own: the editor autosaves into the style's folder (the current one).
-const folder = mkdtempSync(path.join(os.tmpdir(), "wisp-editor-"));
-const server = spawn(path.resolve(wisp), ["edit", "--preset", "short"],
-  { cwd: folder, stdio: ["ignore", "pipe", "inherit"] });
-const url = await new Promise((resolve, reject) => {
-  let out = "";
-  server.stdout.on("data", (d) => {
-    out += d;
-    const m = out.match(/http:\/\/\S+/);
-    if (m) resolve(m[0]);
-  });
-  server.on("exit", (code) => reject(new Error(`wisp edit exited with ${code}`)));
-  setTimeout(() => reject(new Error("no URL within 30 s")), 30000);
-});
+const folder = tempFolder("editor");
+const { server, url, token } = await startEditor(wisp, ["--preset", "short"], folder);
 
 let browser;
 try {
-  browser = await chromium.launch({
-    executablePath,
-    args: ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
-      "--use-gl=swiftshader", "--enable-unsafe-swiftshader", "--disable-dev-shm-usage"],
-  });
-  const page = await browser.newPage({ viewport: { width: 900, height: 600 } });
-  page.on("pageerror", (e) => console.error("page error:", e.message));
+  browser = await launchChromium();
+  const page = await openEditor(browser, url);
   // A few thousand strands keep software GL quick.
-  await page.goto(url);
   await page.waitForSelector("[data-path='roots.strands']");
-  const token = new URL(url).searchParams.get("token");
   const set = (p, v) => page.evaluate(async ([p, v, token]) => {
     const r = await fetch("/api/set", { method: "POST", headers: { "X-Wisp-Token": token, "Content-Type": "application/json" }, body: JSON.stringify({ path: p, value: v }) });
     return r.status;

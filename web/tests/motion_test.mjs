@@ -8,36 +8,17 @@
 //   export  a session (mouse drag, preset) exported from the page, re-run by `wisp animate`
 //           from the exported style and motion files: the same frame files, byte for byte
 //   node web/tests/motion_test.mjs WISP_EXE OUT_DIR
-import { chromium } from "playwright-core";
-import { spawn, spawnSync } from "node:child_process";
-import { mkdirSync, mkdtempSync, readFileSync, readdirSync, rmSync } from "node:fs";
-import os from "node:os";
+import { failWith, launchChromium, openEditor, startEditor, tempFolder, testArguments } from "./harness.mjs";
+import { spawnSync } from "node:child_process";
+import { readFileSync, readdirSync, rmSync } from "node:fs";
 import path from "node:path";
 
-const [wisp, outDir = "."] = process.argv.slice(2);
+const { wisp, outDir } = testArguments();
 const which = process.env.WISP_MOTION_CASE ?? "plays";
-mkdirSync(outDir, { recursive: true });
-const executablePath = process.env.WISP_CHROMIUM ?? "/usr/bin/chromium";
+const fail = failWith(`motion test (${which})`);
 
-function fail(message) {
-  console.error(`motion test (${which}): ${message}`);
-  process.exitCode = 1;
-  throw new Error(message);
-}
-
-const folder = mkdtempSync(path.join(os.tmpdir(), "wisp-motion-"));
-const server = spawn(path.resolve(wisp), ["edit", "--preset", "long-straight"],
-  { cwd: folder, stdio: ["ignore", "pipe", "inherit"] });
-const url = await new Promise((resolve, reject) => {
-  let out = "";
-  server.stdout.on("data", (d) => {
-    out += d;
-    const m = out.match(/http:\/\/\S+/);
-    if (m) resolve(m[0]);
-  });
-  server.on("exit", (code) => reject(new Error(`wisp edit exited with ${code}`)));
-  setTimeout(() => reject(new Error("no URL within 30 s")), 30000);
-});
+const folder = tempFolder("motion");
+const { server, url, token } = await startEditor(wisp, ["--preset", "long-straight"], folder);
 
 // The roots (first point of every shown strand) of the newest frame the page drew.
 const rootsOf = (page) => page.evaluate(() => {
@@ -78,16 +59,9 @@ async function waitFrame(page, past) {
 
 let browser;
 try {
-  browser = await chromium.launch({
-    executablePath,
-    args: ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
-      "--use-gl=swiftshader", "--enable-unsafe-swiftshader", "--disable-dev-shm-usage"],
-  });
-  const page = await browser.newPage({ viewport: { width: 900, height: 600 } });
-  page.on("pageerror", (e) => console.error("page error:", e.message));
-  await page.goto(url);
+  browser = await launchChromium();
+  const page = await openEditor(browser, url);
   await page.waitForSelector("[data-path='roots.strands']");
-  const token = new URL(url).searchParams.get("token");
   const set = (p, v) => page.evaluate(async ([p, v, token]) => {
     const r = await fetch("/api/set", { method: "POST", headers: { "X-Wisp-Token": token, "Content-Type": "application/json" }, body: JSON.stringify({ path: p, value: v }) });
     return r.status;

@@ -6,56 +6,27 @@
 // draw the full hair after the stroke, and have reused its buffers (allocations counted by
 // the viewport stay a handful, not one per preview). Screenshots go to OUT_DIR.
 //   node web/tests/paint_10k_test.mjs WISP_EXE OUT_DIR
-import { chromium } from "playwright-core";
-import { spawn } from "node:child_process";
-import { mkdirSync, mkdtempSync, writeFileSync, rmSync } from "node:fs";
-import os from "node:os";
+import { failWith, launchChromium, openEditor, startEditor, tempFolder, testArguments } from "./harness.mjs";
+import { rmSync } from "node:fs";
 import path from "node:path";
 
-const [wispArg, outDir = "."] = process.argv.slice(2);
-const wisp = path.resolve(wispArg);
-mkdirSync(outDir, { recursive: true });
-const executablePath = process.env.WISP_CHROMIUM ?? "/usr/bin/chromium";
+const { wisp, outDir } = testArguments();
+const fail = failWith("paint 10k test");
 
-function fail(message) {
-  console.error(`paint 10k test: ${message}`);
-  process.exitCode = 1;
-  throw new Error(message);
-}
-
-const folder = mkdtempSync(path.join(os.tmpdir(), "wisp-paint10k-"));
-writeFileSync(path.join(folder, "style.toml"),
-  "[roots]\nstrands = 10000\nwisps = 400\npoints_per_strand = 16\n");
-const server = spawn(wisp, ["edit", "style.toml"], { cwd: folder, stdio: ["ignore", "pipe", "inherit"] });
-const url = await new Promise((resolve, reject) => {
-  let out = "";
-  server.stdout.on("data", (d) => {
-    out += d;
-    const m = out.match(/http:\/\/\S+/);
-    if (m) resolve(m[0]);
-  });
-  server.on("exit", (code) => reject(new Error(`wisp edit exited with ${code}`)));
-  setTimeout(() => reject(new Error("no URL within 30 s")), 30000);
-});
+const folder = tempFolder("paint10k", { "style.toml": "[roots]\nstrands = 10000\nwisps = 400\npoints_per_strand = 16\n" });
+const { server, url, token } = await startEditor(wisp, ["style.toml"], folder);
 
 let browser;
 let crashed = false;
 try {
-  browser = await chromium.launch({
-    executablePath,
-    args: ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
-      "--use-gl=swiftshader", "--enable-unsafe-swiftshader", "--disable-dev-shm-usage"],
-  });
-  const page = await browser.newPage({ viewport: { width: 900, height: 600 } });
-  page.on("pageerror", (e) => console.error("page error:", e.message));
+  browser = await launchChromium();
+  const page = await openEditor(browser, url);
   page.on("crash", () => { crashed = true; console.error("the page crashed"); });
-  await page.goto(url);
   await page.waitForSelector("body[data-ready='1']", { timeout: 180000 });
   await page.evaluate(() => {
     window.contextLost = 0;
     window.wispEditor.viewport.renderer.domElement.addEventListener("webglcontextlost", () => ++window.contextLost);
   });
-  const token = new URL(url).searchParams.get("token");
   const drawn = () => page.evaluate(() => window.wispEditor.viewport.stats());
   const start = await drawn();
   console.log(`before the stroke: ${JSON.stringify(start)}`);

@@ -4,50 +4,22 @@
 // it away again; Save writes the TOML and the map PNG, and `wisp generate` of the saved TOML
 // gives byte for byte the hair the editor exports. Screenshots go to OUT_DIR.
 //   node web/tests/paint_test.mjs WISP_EXE OUT_DIR
-import { chromium } from "playwright-core";
-import { spawn, execFileSync } from "node:child_process";
-import { mkdirSync, mkdtempSync, writeFileSync, readFileSync, existsSync, rmSync } from "node:fs";
-import os from "node:os";
+import { failWith, launchChromium, openEditor, startEditor, tempFolder, testArguments } from "./harness.mjs";
+import { execFileSync } from "node:child_process";
+import { readFileSync, existsSync, rmSync } from "node:fs";
 import path from "node:path";
 
-const [wispArg, outDir = "."] = process.argv.slice(2);
-const wisp = path.resolve(wispArg);  // the server runs in the style's folder
-mkdirSync(outDir, { recursive: true });
-const executablePath = process.env.WISP_CHROMIUM ?? "/usr/bin/chromium";
+const { wisp, outDir } = testArguments();
+const fail = failWith("paint test");
 
-function fail(message) {
-  console.error(`paint test: ${message}`);
-  process.exitCode = 1;
-  throw new Error(message);
-}
-
-const folder = mkdtempSync(path.join(os.tmpdir(), "wisp-paint-"));
-writeFileSync(path.join(folder, "style.toml"),
-  "[roots]\nstrands = 3000\nwisps = 150\npoints_per_strand = 16\n");
-const server = spawn(wisp, ["edit", "style.toml"], { cwd: folder, stdio: ["ignore", "pipe", "inherit"] });
-const url = await new Promise((resolve, reject) => {
-  let out = "";
-  server.stdout.on("data", (d) => {
-    out += d;
-    const m = out.match(/http:\/\/\S+/);
-    if (m) resolve(m[0]);
-  });
-  server.on("exit", (code) => reject(new Error(`wisp edit exited with ${code}`)));
-  setTimeout(() => reject(new Error("no URL within 30 s")), 30000);
-});
+const folder = tempFolder("paint", { "style.toml": "[roots]\nstrands = 3000\nwisps = 150\npoints_per_strand = 16\n" });
+const { server, url, token } = await startEditor(wisp, ["style.toml"], folder);
 
 let browser;
 try {
-  browser = await chromium.launch({
-    executablePath,
-    args: ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
-      "--use-gl=swiftshader", "--enable-unsafe-swiftshader", "--disable-dev-shm-usage"],
-  });
-  const page = await browser.newPage({ viewport: { width: 900, height: 600 } });
-  page.on("pageerror", (e) => console.error("page error:", e.message));
-  await page.goto(url);
+  browser = await launchChromium();
+  const page = await openEditor(browser, url);
   await page.waitForSelector("body[data-ready='1']", { timeout: 120000 });
-  const token = new URL(url).searchParams.get("token");
 
   // Roots of the full hair (GET /api/hair) within `radius` cm of each point.
   const rootsNear = (points, radius) => page.evaluate(async ([points, radius, token]) => {

@@ -2,44 +2,19 @@
 // the density map, and a tie with its painted selection coloured by group. Not a test: run
 // by hand after a change to the editor's look, then look at the pictures.
 //   node web/tests/shots.mjs WISP_EXE OUT_DIR
-import { chromium } from "playwright-core";
-import { spawn } from "node:child_process";
-import { mkdirSync, mkdtempSync, rmSync } from "node:fs";
-import os from "node:os";
+import { launchChromium, openEditor, startEditor, tempFolder, testArguments } from "./harness.mjs";
+import { rmSync } from "node:fs";
 import path from "node:path";
 
-const [wispArg, outDir = "."] = process.argv.slice(2);
-const wisp = path.resolve(wispArg);
-mkdirSync(outDir, { recursive: true });
-const folder = mkdtempSync(path.join(os.tmpdir(), "wisp-shots-"));
-
-async function editor(args) {
-  const server = spawn(wisp, ["edit", ...args], { cwd: folder, stdio: ["ignore", "pipe", "inherit"] });
-  const url = await new Promise((resolve, reject) => {
-    let out = "";
-    server.stdout.on("data", (d) => {
-      out += d;
-      const m = out.match(/http:\/\/\S+/);
-      if (m) resolve(m[0]);
-    });
-    server.on("exit", (code) => reject(new Error(`wisp edit exited with ${code}`)));
-  });
-  return { server, url, token: new URL(url).searchParams.get("token") };
-}
-
-const browser = await chromium.launch({
-  executablePath: process.env.WISP_CHROMIUM ?? "/usr/bin/chromium",
-  args: ["--headless", "--no-sandbox", "--disable-gpu", "--use-gl=swiftshader", "--enable-unsafe-swiftshader",
-    "--disable-dev-shm-usage"],
-});
+const { wisp, outDir } = testArguments();
+const folder = tempFolder("shots");
+const browser = await launchChromium();
 const servers = [];
 try {
   const open = async (preset, strands) => {
-    const e = await editor(["--preset", preset]);
+    const e = await startEditor(wisp, ["--preset", preset], folder, { timeoutMs: 300000 });
     servers.push(e.server);
-    const page = await browser.newPage({ viewport: { width: 1100, height: 660 } });
-    page.on("pageerror", (err) => console.error("page error:", err.message));
-    await page.goto(e.url);
+    const page = await openEditor(browser, e.url, { width: 1100, height: 660 });
     await page.waitForSelector("body[data-ready='1']", { timeout: 300000 });
     await page.evaluate(async ([token, strands]) => {
       await fetch("/api/set", { method: "POST", headers: { "X-Wisp-Token": token, "Content-Type": "application/json" },

@@ -1,0 +1,72 @@
+// What the editor's browser tests (and shots.mjs) share: their arguments (WISP_EXE OUT_DIR),
+// a failure that names the test, a temporary folder of their own (the editor autosaves into
+// the style's folder), `wisp edit` started there with its URL and token, Debian's Chromium
+// launched headless on software GL (SwiftShader), and a page opened on the editor.
+import { chromium } from "playwright-core";
+import { spawn } from "node:child_process";
+import { mkdirSync, mkdtempSync, writeFileSync } from "node:fs";
+import os from "node:os";
+import path from "node:path";
+
+// { wisp, outDir } from `node TEST.mjs WISP_EXE OUT_DIR`; OUT_DIR (the screenshots) is made.
+export function testArguments() {
+  const [wispArg, outDir = "."] = process.argv.slice(2);
+  if (!wispArg) throw new Error("usage: node TEST.mjs WISP_EXE [OUT_DIR]");
+  mkdirSync(outDir, { recursive: true });
+  return { wisp: path.resolve(wispArg), outDir };
+}
+
+// fail(message): says "NAME: message" on stderr, marks the run failed and throws.
+export function failWith(name) {
+  return (message) => {
+    console.error(`${name}: ${message}`);
+    process.exitCode = 1;
+    throw new Error(message);
+  };
+}
+
+// A new folder under the system's temporary one, with `files` ({ name: text }) written in it.
+export function tempFolder(prefix, files = {}) {
+  const folder = mkdtempSync(path.join(os.tmpdir(), `wisp-${prefix}-`));
+  for (const [name, text] of Object.entries(files)) writeFileSync(path.join(folder, name), text);
+  return folder;
+}
+
+// `wisp edit ARGS` in `folder`; resolves to { server, url, token } once it prints its URL.
+export async function startEditor(wisp, args, folder, { timeoutMs = 30000 } = {}) {
+  const server = spawn(wisp, ["edit", ...args], { cwd: folder, stdio: ["ignore", "pipe", "inherit"] });
+  const url = await new Promise((resolve, reject) => {
+    const timer = setTimeout(() => reject(new Error(`wisp edit printed no URL within ${timeoutMs / 1000} s`)), timeoutMs);
+    let out = "";
+    server.stdout.on("data", (d) => {
+      out += d;
+      const m = out.match(/http:\/\/\S+/);
+      if (m) {
+        clearTimeout(timer);
+        resolve(m[0]);
+      }
+    });
+    server.on("exit", (code) => {
+      clearTimeout(timer);
+      reject(new Error(`wisp edit exited with ${code}`));
+    });
+  });
+  return { server, url, token: new URL(url).searchParams.get("token") };
+}
+
+// Chromium ($WISP_CHROMIUM, else Debian's), headless, on software GL.
+export function launchChromium() {
+  return chromium.launch({
+    executablePath: process.env.WISP_CHROMIUM ?? "/usr/bin/chromium",
+    args: ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
+      "--use-gl=swiftshader", "--enable-unsafe-swiftshader", "--disable-dev-shm-usage"],
+  });
+}
+
+// A page of `viewport` size on the editor at `url`, its script errors reported.
+export async function openEditor(browser, url, viewport = { width: 900, height: 600 }) {
+  const page = await browser.newPage({ viewport });
+  page.on("pageerror", (e) => console.error("page error:", e.message));
+  await page.goto(url);
+  return page;
+}
