@@ -31,6 +31,7 @@
 #include "geometry/builtin_head.hpp"
 #include "groom/generate.hpp"
 #include "groom/style_toml.hpp"
+#include "io/frame_files.hpp"
 #include "io/hair_io.hpp"
 #include "io/usda.hpp"
 #include "render/camera.hpp"
@@ -478,26 +479,6 @@ struct AnimateArgs {
     int precision = 0;           // .usda: --precision; 0: shortest exact
     LookArgs look;
 };
-
-// `name` with a run of '#': itself, or with "_####" before the extension.
-std::string numbered_pattern(const std::string& name) {
-    if (name.find('#') != std::string::npos) return name;
-    const std::filesystem::path p(name);
-    return (p.parent_path() / (p.stem().string() + "_####" + p.extension().string())).string();
-}
-
-// `name` with its run of '#' replaced by the zero-padded frame number; without one,
-// "_####" goes before the extension.
-std::string numbered(const std::string& name, int frame) {
-    std::string pattern = numbered_pattern(name);
-    const size_t first = pattern.find('#');
-    size_t last = first;
-    while (last < pattern.size() && pattern[last] == '#')
-        ++last;
-    std::string digits = std::to_string(frame);
-    if (digits.size() < last - first) digits.insert(0, last - first - digits.size(), '0');
-    return pattern.substr(0, first) + digits + pattern.substr(last);
-}
 
 // Runs a program found on PATH with `args` and waits; returns its exit status (127 when it
 // cannot be started).

@@ -16,6 +16,7 @@
 #include "edit/motion_session.hpp"
 #include "edit/wire.hpp"
 #include "groom/style_toml.hpp"
+#include "io/frame_files.hpp"
 #include "io/hair_io.hpp"
 #include "io/usda.hpp"
 
@@ -65,18 +66,6 @@ Vec3f vec3(const nlohmann::json& j, const char* name, const Vec3f& fallback, dou
 
 nlohmann::json vec_json(const Vec3f& v) {
     return {v.x(), v.y(), v.z()};
-}
-
-// `pattern` with its run of '#' replaced by the zero-padded frame number (as `wisp animate`
-// names per-frame files).
-std::string numbered(const std::string& pattern, int frame) {
-    const size_t first = pattern.find('#');
-    size_t last = first;
-    while (last < pattern.size() && pattern[last] == '#')
-        ++last;
-    std::string digits = std::to_string(frame);
-    if (digits.size() < last - first) digits.insert(0, last - first - digits.size(), '0');
-    return pattern.substr(0, first) + digits + pattern.substr(last);
 }
 
 // The dynamics fields a running session takes on its next step (AwtSimulation::set_params);
