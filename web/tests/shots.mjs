@@ -79,6 +79,7 @@ try {
       viewport.camera.position.set(c.x + 15, c.y + 22, c.z - 85);
       viewport.controls.target.set(c.x, c.y - 6, c.z);
       viewport.controls.update();
+      viewport.renderNow();  // the camera's matrices, which the aim projects with, now
     });
     // The geometry of web/tests/tie_test.mjs: a tie on the back of the head at ear level.
     const at = await page.evaluate(() => {

@@ -64,13 +64,16 @@ try {
     viewport.camera.position.set(c.x + 15, c.y + 22, c.z - 85);
     viewport.controls.target.set(c.x, c.y - 6, c.z);
     viewport.controls.update();
-    viewport.render();
+    // At once: the view draws on the next animation frame, and the camera's matrices, which
+    // the aim below projects with, are brought up to date by drawing.
+    viewport.renderNow();
   });
   // A point on the back of the head at about ear level, as the pointer sees it.
   const aim = await page.evaluate(() => {
     const { viewport, constraints } = window.wispEditor;
     const rect = viewport.renderer.domElement.getBoundingClientRect();
     const c = constraints.center, r = constraints.radius;
+    viewport.camera.updateMatrixWorld();
     const p = c.clone().set(c.x, c.y + 0.1 * r, c.z - 1.2 * r).project(viewport.camera);
     const at = [rect.left + ((p.x + 1) / 2) * rect.width, rect.top + ((1 - p.y) / 2) * rect.height];
     const tie = constraints.tiePoint({ clientX: at[0], clientY: at[1] });
