@@ -3,7 +3,7 @@
 // playwright-core, and checks that hair is drawn, that a slider changes the geometry and
 // that undo restores it. Screenshots go to $WISP_EDITOR_SHOTS (default: the build folder).
 //   node web/tests/editor_test.mjs WISP_EXE OUT_DIR
-import { failWith, launchChromium, openEditor, startEditor, tempFolder, testArguments } from "./harness.mjs";
+import { failWith, launchChromium, openEditor, startEditor, styleSetter, tempFolder, testArguments } from "./harness.mjs";
 import { rmSync } from "node:fs";
 import path from "node:path";
 
@@ -20,10 +20,7 @@ try {
   const page = await openEditor(browser, url);
   // A few thousand strands keep software GL quick.
   await page.waitForSelector("[data-path='roots.strands']");
-  const set = (p, v) => page.evaluate(async ([p, v, token]) => {
-    const r = await fetch("/api/set", { method: "POST", headers: { "X-Wisp-Token": token, "Content-Type": "application/json" }, body: JSON.stringify({ path: p, value: v }) });
-    return r.status;
-  }, [p, v, token]);
+  const set = styleSetter(page, token);
   if (await set("roots.strands", 3000) !== 200) fail("could not set roots.strands");
   await set("roots.wisps", 150);
   await page.reload();

@@ -70,3 +70,15 @@ export async function openEditor(browser, url, viewport = { width: 900, height: 
   await page.goto(url);
   return page;
 }
+
+// set(path, value): POST /api/set from the page, as the panels do; resolves to the status.
+export function styleSetter(page, token) {
+  return (p, v) => page.evaluate(async ([p, v, token]) => {
+    const r = await fetch("/api/set", {
+      method: "POST",
+      headers: { "X-Wisp-Token": token, "Content-Type": "application/json" },
+      body: JSON.stringify({ path: p, value: v }),
+    });
+    return r.status;
+  }, [p, v, token]);
+}

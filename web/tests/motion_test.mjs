@@ -8,7 +8,7 @@
 //   export  a session (mouse drag, preset) exported from the page, re-run by `wisp animate`
 //           from the exported style and motion files: the same frame files, byte for byte
 //   node web/tests/motion_test.mjs WISP_EXE OUT_DIR
-import { failWith, launchChromium, openEditor, startEditor, tempFolder, testArguments } from "./harness.mjs";
+import { failWith, launchChromium, openEditor, startEditor, styleSetter, tempFolder, testArguments } from "./harness.mjs";
 import { spawnSync } from "node:child_process";
 import { readFileSync, readdirSync, rmSync } from "node:fs";
 import path from "node:path";
@@ -62,10 +62,7 @@ try {
   browser = await launchChromium();
   const page = await openEditor(browser, url);
   await page.waitForSelector("[data-path='roots.strands']");
-  const set = (p, v) => page.evaluate(async ([p, v, token]) => {
-    const r = await fetch("/api/set", { method: "POST", headers: { "X-Wisp-Token": token, "Content-Type": "application/json" }, body: JSON.stringify({ path: p, value: v }) });
-    return r.status;
-  }, [p, v, token]);
+  const set = styleSetter(page, token);
   // A small style keeps the simulation and software GL quick.
   if (await set("roots.wisps", 60) !== 200) fail("could not set roots.wisps");
   if (await set("roots.strands", 1500) !== 200) fail("could not set roots.strands");
