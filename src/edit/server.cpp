@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <fstream>
+#include <initializer_list>
 #include <mutex>
 #include <string_view>
 #include <thread>
@@ -48,6 +49,11 @@ bool editor_front_end_built() {
 }
 
 namespace {
+
+// The hair formats Export writes (every one `wisp` writes but scenes); GET /api/export
+// gives them to the front end's menu.
+const std::initializer_list<std::string_view> kExportFormats = {".usda", ".hair", ".obj",
+                                                                ".ply",  ".data", ".npz"};
 
 // The most strands a /api/hair request may ask for (the style's own count bounds it too).
 constexpr size_t kMaxStrandsSent = 10'000'000;
@@ -603,6 +609,13 @@ struct EditServer::Impl {
                 send_error(res, 400, e.what(), "name");
             }
         });
+        // The formats Export writes, for the front end's menu.
+        server.Get("/api/export", [](const httplib::Request&, httplib::Response& res) {
+            nlohmann::json formats = nlohmann::json::array();
+            for (const std::string_view ext : kExportFormats)
+                formats.push_back(ext);
+            send_json(res, {{"formats", formats}});
+        });
         server.Post("/api/export", [this](const httplib::Request& req, httplib::Response& res) {
             const auto j = body(req, res);
             if (!j) return;
@@ -610,8 +623,7 @@ struct EditServer::Impl {
                 return send_error(res, 400, "must be a file name such as hair.usda", "name");
             std::filesystem::path file;
             try {
-                file = file_in_folder(base_dir, (*j)["name"],
-                                      {".usda", ".hair", ".obj", ".ply", ".data", ".npz"});
+                file = file_in_folder(base_dir, (*j)["name"], kExportFormats);
             } catch (const Error& e) {
                 return send_error(res, 400, e.what(), "name");
             }

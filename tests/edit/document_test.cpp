@@ -254,6 +254,18 @@ TEST_F(EditDocumentTest, AutosaveWritesASidecarThatReadsBackToTheSameHair) {
         EXPECT_EQ(name.rfind("folder", 0), 0u) << name;
 }
 
+// The Export menu is built from GET /api/export: every format it lists, Export writes.
+TEST_F(EditDocumentTest, EveryFormatTheExportMenuListsIsWritten) {
+    const std::string r = get("/api/export");
+    ASSERT_EQ(status_of(r), 200) << r;
+    const auto formats = nlohmann::json::parse(body_of(r))["formats"];
+    EXPECT_EQ(formats.size(), 6u);
+    for (const auto& ext : formats) {
+        const std::string name = "menu" + ext.get<std::string>();
+        EXPECT_FALSE(exported(name).empty()) << name;
+    }
+}
+
 TEST_F(EditDocumentTest, HostileRequestsGetA400AndChangeNothing) {
     ASSERT_EQ(status_of(get("/api/hair?strands=1")), 200);  // nothing stale from here on
     const std::string style_before = body_of(get("/api/style"));

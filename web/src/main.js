@@ -9,7 +9,7 @@ import { Viewport } from "./viewport.js";
 import { MotionMode } from "./motion.js";
 import { Constraints } from "./constraints.js";
 import { colorModes, needsAttributes, recolor, fetchAttributes, setInset, renderPicture,
-  exportFormats, exportHair } from "./views.js";
+  exportHair } from "./views.js";
 
 const previewStrands = 20000;
 const status = document.getElementById("status");
@@ -367,7 +367,7 @@ document.getElementById("picture-close").onclick = () => (picture.hidden = true)
 
 // Export: the full hair in any of wisp's formats, into the style's folder.
 const exportMenu = document.getElementById("export");
-for (const ext of exportFormats) exportMenu.append(new Option(ext, ext));
+for (const ext of (await getJson("/api/export")).formats) exportMenu.append(new Option(ext, ext));
 exportMenu.onchange = async () => {
   const ext = exportMenu.value;
   exportMenu.value = "";

@@ -143,7 +143,6 @@ export async function renderPicture(viewport, width, height) {
 }
 
 // Export: the full hair in one of wisp's formats, into the style's folder.
-export const exportFormats = [".usda", ".hair", ".obj", ".ply", ".data", ".npz"];
 export async function exportHair(name) {
   return postJson("/api/export", { name });
 }
