@@ -387,25 +387,35 @@ export class MotionMode {
     const response = await request("GET", `/api/motion/stream?tree=${this.streamTree ? 1 : 0}`, undefined, this.abort.signal);
     if (!response.ok) throw new Error((await response.json()).error ?? response.statusText);
     const reader = response.body.getReader();
-    let pending = new Uint8Array(0);
+    // The chunks read, joined only once they hold what the next step needs (a frame of
+    // 20,000 strands is megabytes in many chunks: joining at every chunk would copy it often).
+    const chunks = [];
+    let size = 0, need = 4;
     for (;;) {
       const { done, value } = await reader.read();
       if (done || !this.active) return;
-      const joined = new Uint8Array(pending.length + value.length);
-      joined.set(pending);
-      joined.set(value, pending.length);
-      pending = joined;
+      chunks.push(value);
+      size += value.length;
+      if (size < need) continue;
+      const pending = chunks.length === 1 ? chunks[0] : new Uint8Array(size);
+      if (chunks.length > 1) chunks.reduce((at, c) => (pending.set(c, at), at + c.length), 0);
       // Length-prefixed messages; only the newest complete one is drawn.
       let at = 0, newest = null;
+      need = 4;
       while (pending.length - at >= 4) {
         const length = new DataView(pending.buffer, pending.byteOffset + at, 4).getUint32(0, true);
-        if (pending.length - at - 4 < length) break;
+        if (pending.length - at - 4 < length) {
+          need = 4 + length;
+          break;
+        }
         const message = pending.slice(at + 4, at + 4 + length).buffer;
         if (newest) this.flashOnly(newest);
         newest = message;
         at += 4 + length;
       }
-      pending = pending.slice(at);
+      chunks.length = 0;
+      size = pending.length - at;
+      if (size) chunks.push(pending.subarray(at));
       if (newest) this.message(newest);
     }
   }
