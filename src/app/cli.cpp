@@ -2,8 +2,6 @@
 #include "app/dataset_command.hpp"
 #include "app/edit_command.hpp"
 
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -28,6 +26,7 @@
 #include "core/error.hpp"
 #include "core/parallel.hpp"
 #include "dynamics/animate.hpp"
+#include "dynamics/animation_pictures.hpp"
 #include "geometry/builtin_head.hpp"
 #include "groom/generate.hpp"
 #include "groom/style_toml.hpp"
@@ -42,20 +41,6 @@
 
 namespace wisp {
 namespace {
-
-// Points enclosing what a clip `clip` seconds long shows: the corners of `box` (frame 0's
-// hair and body) turned about `centre` by every head rotation since frame 0 (sampled).
-Mesh clip_envelope(const Motion& motion, double clip, const Box3& box, const Vec3f& centre) {
-    Mesh envelope;
-    const Mat3f start = motion.head.at(0).rotation.transpose();
-    constexpr int kSamples = 48;
-    for (int i = 0; i <= kSamples; ++i) {
-        const Mat3f turn = motion.head.at(clip * i / kSamples).rotation * start;
-        for (int k = 0; k < 8; ++k)
-            envelope.vertices.push_back(centre + turn * (box.corner(k) - centre));
-    }
-    return envelope;
-}
 
 constexpr const char* kVersion = "0.1.0";
 // Errors are printed on one line, control characters escaped, at most this long: the net
@@ -468,7 +453,8 @@ struct AnimateArgs {
     int frames = 48;
     double fps = 24;
     std::vector<std::string> outputs;
-    std::string png, mp4, view = "three-quarter", size = "640x640";
+    std::string png, mp4, view = "three-quarter",
+                          size = cat(kAnimationPictureSide, "x", kAnimationPictureSide);
     std::string stats, seed, head, links;
     std::vector<std::string> ties;
     float head_scale = 1.f;
@@ -479,20 +465,6 @@ struct AnimateArgs {
     int precision = 0;           // .usda: --precision; 0: shortest exact
     LookArgs look;
 };
-
-// Runs a program found on PATH with `args` and waits; returns its exit status (127 when it
-// cannot be started).
-int run_program(const std::vector<std::string>& args) {
-    std::vector<char*> argv;
-    for (const std::string& a : args)
-        argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    pid_t pid = 0;
-    if (posix_spawnp(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0) return 127;
-    int status = 0;
-    if (waitpid(pid, &status, 0) < 0) return 127;
-    return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
-}
 
 bool is_style_file(const std::string& path) {
     const std::string ext = std::filesystem::path(path).extension().string();
@@ -661,8 +633,8 @@ int run_animate(const AnimateArgs& args) {
     }
     RenderOptions look = png.options;
     look.view = png.views[0];
-    std::optional<Camera> first_camera;
-    Vec3f first_centre = Vec3f::Zero();
+    AnimationPictures pictures(look, *head.mesh, frame, motion,
+                               static_cast<double>(args.frames) / args.fps);
     HairWriteOptions write_options;
     Progress progress("frame", args.frames, args.quiet);
 
@@ -679,28 +651,7 @@ int run_animate(const AnimateArgs& args) {
                 write_hair(numbered(per_frame[k], f), hair, write_options);
                 series[k]->added(static_cast<size_t>(f));
             }
-            if (!png_pattern.empty()) {
-                const Mesh body = pose_body(*head.mesh, frame, pose);
-                // One camera for the clip, following the head's translation so a running
-                // or jumping character stays in view without the framing jittering. It
-                // frames frame 0's hair and body turned by every head rotation the clip
-                // goes through, so a lean or a nod stays in the picture.
-                const Vec3f centre = pose.head.apply(frame.center);
-                if (!first_camera) {
-                    const Mesh envelope =
-                        clip_envelope(motion, static_cast<double>(args.frames) / args.fps,
-                                      framing_bounds(hair, &body), centre);
-                    first_camera = render_camera(Hair{}, &envelope, look);
-                    first_centre = centre;
-                }
-                RenderOptions o = look;
-                const Vec3f shift = centre - first_centre;
-                o.look_at =
-                    LookAt{first_camera->eye + shift,
-                           first_camera->eye + first_camera->forward + shift, first_camera->up};
-                o.fov_y_degrees = first_camera->fov_y_degrees;
-                write_png(numbered(png_pattern, f), render(hair, &body, o));
-            }
+            if (!png_pattern.empty()) pictures.write(numbered(png_pattern, f), hair, pose);
             progress.step(f + 1);
         });
     for (auto& writer : usda)
@@ -720,30 +671,7 @@ int run_animate(const AnimateArgs& args) {
                            " …)")));
     if (!args.png.empty()) info(args.quiet, cat("wisp: wrote ", numbered(args.png, 0), " …"));
     if (!args.mp4.empty()) {
-        // ffmpeg writes beside the target and the file is renamed when complete.
-        const std::filesystem::path target(args.mp4);
-        const std::filesystem::path tmp =
-            target.parent_path() /
-            (target.stem().string() + ".tmp-" + std::to_string(::getpid()) + ".mp4");
-        std::string input = png_pattern;
-        const size_t first = input.find('#');
-        size_t last = first;
-        while (last < input.size() && input[last] == '#')
-            ++last;
-        input =
-            input.substr(0, first) + "%0" + std::to_string(last - first) + "d" + input.substr(last);
-        const int status =
-            run_program({"ffmpeg", "-y", "-loglevel", "error", "-framerate", cat(args.fps), "-i",
-                         input, "-c:v", "libx264", "-pix_fmt", "yuv420p", "-vf",
-                         "pad=ceil(iw/2)*2:ceil(ih/2)*2", tmp.string()});
-        if (status != 0) {
-            std::error_code ec;
-            std::filesystem::remove(tmp, ec);
-            fail(args.mp4, status == 127 ? ": ffmpeg was not found on PATH (scripts/setup "
-                                           "installs it)"
-                                         : cat(": ffmpeg failed with status ", status));
-        }
-        std::filesystem::rename(tmp, target);
+        encode_mp4(numbered_pattern(png_pattern), args.fps, args.mp4);
         info(args.quiet, cat("wisp: wrote ", args.mp4));
     }
     if (!args.stats.empty()) {

@@ -40,7 +40,8 @@ std::vector<Sphere> body_spheres_for(const Mesh& body, const HeadFrame& head, co
 Animator::Animator(const Hair& rest, const Mesh& body, const HeadFrame& head, const Motion& motion,
                    const DynamicsSpec& spec, PrototypeSpec::Kind prototype,
                    const AnimateSettings& settings)
-    : rest_(rest), frame_stats_(settings.frame_stats) {
+    : rest_(rest), frame_stats_(settings.frame_stats), max_frame_events_(settings.frame_events) {
+    frame_events_.reserve(max_frame_events_);
     if (!(settings.fps > 0) || !std::isfinite(settings.fps) || settings.fps > 1000)
         fail("animate: fps must be in (0, 1000], got ", settings.fps);
     AwtParams params = awt_params(spec, prototype, settings.single_level);
@@ -87,6 +88,7 @@ void Animator::set_dynamics(const DynamicsSpec& spec, PrototypeSpec::Kind protot
 
 void Animator::advance() {
     AwtSimulation& sim = *sim_;
+    frame_events_.clear();
     if (++frame_ > 0)
         for (int s = 0; s < stats_.steps_per_frame; ++s) {
             Stopwatch step;
@@ -99,6 +101,11 @@ void Animator::advance() {
             stats_.pair_tests += last.pair_tests;
             stats_.hair_contacts += last.hair_contacts;
             stats_.body_contacts += last.body_contacts;
+            // Where each happened at its own step: a frame of several steps flashes them all.
+            const std::span<const Vec3f> x = sim.positions();
+            for (const AwtEvent& e : sim.last_events())
+                if (frame_events_.size() < max_frame_events_)
+                    frame_events_.push_back({x[e.node], e.kind});
             const double e = sim.kinetic_energy();
             if (!std::isfinite(e))
                 fail("animate: the simulation diverged at t = ", sim.time(),

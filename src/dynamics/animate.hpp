@@ -32,6 +32,16 @@ struct AnimateSettings {
     // Record the per-frame lists of AnimationStats (active nodes per level, splits, merges):
     // off for a live session that runs without end.
     bool frame_stats = true;
+    // Keep the split and merge events of every step of the frame (Animator::frame_events),
+    // at most this many per frame (the rest are counted, not kept); 0: none kept.
+    size_t frame_events = 0;
+};
+
+// A split or merge where it happened: the node's position at the step it happened (cm,
+// world).
+struct PlacedAwtEvent {
+    Vec3f at;
+    AwtEvent::Kind kind;
 };
 
 struct AnimationStats {
@@ -102,6 +112,9 @@ class Animator {
 
     const Hierarchy& hierarchy() const { return hierarchy_; }
     const AwtSimulation& simulation() const { return *sim_; }
+    // The splits and merges of every step of the last advance(), in step order, at most
+    // AnimateSettings::frame_events of them (the first ones); empty when that is 0.
+    const std::vector<PlacedAwtEvent>& frame_events() const { return frame_events_; }
     // Totals and means so far.
     AnimationStats stats() const;
 
@@ -116,6 +129,8 @@ class Animator {
     bool frame_stats_ = true;
     double step_total_ = 0, skin_total_ = 0;
     int skins_ = 0;
+    size_t max_frame_events_ = 0;
+    std::vector<PlacedAwtEvent> frame_events_;  // reserved once: no allocation per frame
     uint64_t splits_before_ = 0, merges_before_ = 0;
 };
 

@@ -2,8 +2,13 @@
 
 #include <httplib.h>
 
+#include <sys/socket.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstring>
 #include <mutex>
 #include <optional>
 
@@ -11,6 +16,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "dynamics/animation_pictures.hpp"
 #include "dynamics/motion.hpp"
 #include "edit/http_util.hpp"
 #include "edit/motion_session.hpp"
@@ -85,6 +91,10 @@ std::string pose_text(const RigidTransform& t) {
     return out + cat(t.translation.x(), " ", t.translation.y(), " ", t.translation.z());
 }
 
+// The server's socket send buffer, bytes (the kernel doubles it): about a frame of the
+// default 20,000 strands, much less than the kernel's autotuned buffer (up to 4 MB).
+constexpr int kStreamSendBuffer = 64 * 1024;
+
 // What a session starts from: the style and its hair when Motion was switched on.
 struct Start {
     Style style;
@@ -106,6 +116,10 @@ struct MotionRoutes::Impl {
     bool wind_changed_while_playing = false;
     bool dynamics_changed_while_playing = false;
     std::mutex export_mutex;  // one export at a time
+    // The export's progress (GET /api/motion/export): frames written of all, and the stage.
+    std::atomic<int> export_done{0}, export_frames{0};
+    std::atomic<bool> exporting{false};
+    std::atomic<const char*> export_stage{""};
 
     std::shared_ptr<MotionSession> current() {
         std::lock_guard lock(mutex);
@@ -233,7 +247,26 @@ struct MotionRoutes::Impl {
         wind_changed_while_playing = dynamics_changed_while_playing = false;
     }
 
-    nlohmann::json export_animation(const std::string& name) {
+    // {"name": "take.usda", "png": bool, "mp4": bool}: the animation, and with "png" its
+    // frames as take_####.png, with "mp4" as take.mp4, rendered as `wisp animate --png
+    // --mp4` renders them (animation_pictures.hpp).
+    nlohmann::json export_animation(const nlohmann::json& j) {
+        if (!j.contains("name") || !j["name"].is_string())
+            throw BadField{"name", "must be a file name such as take.usda"};
+        const std::string name = j["name"];
+        bool pictures[2] = {false, false};  // png, mp4
+        for (int k = 0; k < 2; ++k) {
+            const char* key = k ? "mp4" : "png";
+            if (!j.contains(key)) continue;
+            if (!j[key].is_boolean()) throw BadField{key, "must be true or false"};
+            pictures[k] = j[key];
+        }
+        const bool png = pictures[0], mp4 = pictures[1];
+        // Before any work, as `wisp animate` checks its outputs first.
+        if (mp4 && !program_on_path("ffmpeg"))
+            throw BadField{"mp4",
+                           "ffmpeg was not found on PATH, so no MP4 can be made (scripts/setup "
+                           "installs it); export without MP4, or with PNG frames only"};
         std::shared_ptr<MotionSession> m = current();
         std::shared_ptr<const Start> s;
         MotionSessionSettings at;
@@ -260,10 +293,21 @@ struct MotionRoutes::Impl {
         const std::string base = std::filesystem::path(name).stem().string();
         const std::string pattern = per_frame ? base + "_####" + ext : name;
 
-        std::lock_guard exporting(export_mutex);
+        std::lock_guard one_export(export_mutex);
         // Paused first, so the recording and the frame count agree.
         m->pause();
         const int frames = static_cast<int>(m->frames_published());
+        struct Progress {
+            Impl& impl;
+            ~Progress() {
+                impl.exporting = false;
+                impl.export_stage = "";
+            }
+        } progress{*this};
+        export_done = 0;
+        export_frames = frames;
+        export_stage = "animating";
+        exporting = true;
         std::vector<std::string> files;
         const std::string motion_name = base + ".motion.json";
         const std::filesystem::path motion_path = host.file_in_folder(motion_name, {".json"});
@@ -290,20 +334,63 @@ struct MotionRoutes::Impl {
                 (out.parent_path() / pattern.substr(0, first)).string(), pattern.substr(last),
                 static_cast<int>(last - first));
         }
+        // The pictures: PNG frames beside the animation, or for an MP4 alone in a temporary
+        // folder, removed however the export ends (as `wisp animate --mp4` does).
+        struct TempDir {
+            std::filesystem::path path;
+            ~TempDir() {
+                std::error_code ec;
+                if (!path.empty()) std::filesystem::remove_all(path, ec);
+            }
+        } png_dir;
+        const std::string png_name = base + "_####.png", mp4_name = base + ".mp4";
+        std::string png_pattern;
+        std::filesystem::path mp4_path;
+        if (png) png_pattern = (out.parent_path() / png_name).string();
+        if (mp4) {
+            mp4_path = host.file_in_folder(mp4_name, {".mp4"});
+            if (!png) {
+                png_dir.path =
+                    std::filesystem::temp_directory_path() / cat("wisp-edit-export-", ::getpid());
+                std::filesystem::create_directories(png_dir.path);
+                png_pattern = (png_dir.path / "frame_####.png").string();
+            }
+        }
+        std::optional<AnimationPictures> pictures_out;
+        if (!png_pattern.empty()) {
+            RenderOptions look;  // `wisp animate`'s: its defaults of --view, --size and the look
+            look.width = look.height = kAnimationPictureSide;
+            pictures_out.emplace(look, s->body, s->frame, motion, frames / at.fps);
+            export_stage = "rendering";
+        }
         animate(s->rest, s->body, s->frame, motion, style.dynamics, style.prototype.kind,
-                animate_settings, [&](int f, const Hair& hair, const FramePose&) {
+                animate_settings, [&](int f, const Hair& hair, const FramePose& pose) {
                     if (clips) {
                         clips->add(hair);
                     } else {
                         write_hair(out.parent_path() / numbered(pattern, f), hair);
                         series->added(static_cast<size_t>(f));
                     }
+                    if (pictures_out) pictures_out->write(numbered(png_pattern, f), hair, pose);
+                    export_done = f + 1;
                 });
         if (clips) clips->finish();
         if (series) series->keep();
         files.push_back(per_frame ? numbered(pattern, 0) : name);
+        if (png) files.push_back(numbered(png_name, 0));
+        if (mp4) {
+            export_stage = "encoding";
+            try {
+                encode_mp4(png_pattern, at.fps, mp4_path);
+            } catch (const Error& e) {
+                throw BadField{"mp4", e.what()};
+            }
+            files.push_back(mp4_name);
+        }
         std::string command = "wisp animate '" + style_name + "' --motion '" + motion_name + "' " +
                               m->replay_arguments() + " -o '" + name + "'";
+        if (png) command += " --png '" + png_name + "'";
+        if (mp4) command += " --mp4 '" + mp4_name + "'";
         if (at.single_level) command += " --single-level";
         nlohmann::json result{{"files", files}, {"frames", frames}, {"command", command}};
         if (wind_changed || dynamics_changed)
@@ -315,7 +402,62 @@ struct MotionRoutes::Impl {
         return result;
     }
 
+    // The frame stream: a message (motion_session.hpp) whenever the simulation published a
+    // frame and the client took the last one. Each call of the provider sends the newest
+    // frame, so a slow client skips frames (TCP holds what is in flight, nothing queues
+    // here) and the simulation never waits for it. The provider waits at most
+    // kStreamWaitMs for a frame, so a server stopping (httplib checks between calls) ends
+    // open streams promptly; a session replaced (start, reset, stop) ends them too.
+    void stream(const httplib::Request& req, httplib::Response& res) {
+        constexpr int kStreamWaitMs = 100;
+        struct Stream {
+            std::shared_ptr<MotionSession> session;
+            bool tree = false;
+            std::optional<uint32_t> after;
+            uint64_t events = 0;
+            std::string message;
+        };
+        auto st = std::make_shared<Stream>();
+        st->session = current();
+        if (req.has_param("tree")) {
+            const std::string t = req.get_param_value("tree");
+            if (t != "0" && t != "1")
+                throw BadField{"tree", "must be 0 or 1, got '" + excerpt(t) + "'"};
+            st->tree = t == "1";
+        }
+        if (st->tree) st->session->tree();  // from now on every frame encodes its tree
+        // Events from the current frame on: the ones before it flashed long ago.
+        st->events = st->session->events_published();
+        res.set_header("Cache-Control", "no-store");
+        res.set_chunked_content_provider(
+            "application/octet-stream", [this, st](size_t, httplib::DataSink& sink) {
+                {
+                    std::lock_guard lock(mutex);
+                    if (session != st->session) {
+                        sink.done();
+                        return true;
+                    }
+                }
+                if (!st->session->stream_message(st->after, st->tree, kStreamWaitMs, st->events,
+                                                 st->message))
+                    return true;  // nothing new yet: asked again unless the server stops
+                uint32_t frame = 0;
+                std::memcpy(&frame, st->message.data() + 16, 4);
+                st->after = frame;
+                return sink.write(st->message.data(), st->message.size());
+            });
+    }
+
     void add_to(httplib::Server& server) {
+        // Small send buffers (the connections inherit the listening socket's): a frame stream
+        // then has a frame or two in flight, not the megabytes of frames the kernel would
+        // queue for a slow page, which gets the newest frame instead. Loopback is fast enough
+        // that the other answers do not notice.
+        server.set_socket_options([](socket_t sock) {
+            httplib::default_socket_options(sock);
+            const int bytes = kStreamSendBuffer;
+            setsockopt(sock, SOL_SOCKET, SO_SNDBUF, &bytes, sizeof bytes);
+        });
         // Runs `f`; a BadField or wisp::Error is a 400 naming the field.
         const auto guarded = [](auto f) {
             return [f](const httplib::Request& req, httplib::Response& res) {
@@ -459,6 +601,10 @@ struct MotionRoutes::Impl {
                 res.set_header("X-Wisp-Body", pose_text(f->body));
                 res.set_content(f->bytes, "application/octet-stream");
             }));
+        server.Get("/api/motion/stream",
+                   guarded([this](const httplib::Request& req, httplib::Response& res) {
+                       stream(req, res);
+                   }));
         server.Get("/api/motion/tree",
                    guarded([this](const httplib::Request&, httplib::Response& res) {
                        const MotionFrame tree = current()->tree();
@@ -484,11 +630,15 @@ struct MotionRoutes::Impl {
                     }));
         server.Post("/api/motion/export",
                     guarded([this](const httplib::Request& req, httplib::Response& res) {
-                        const nlohmann::json j = body_of(req);
-                        if (!j.contains("name") || !j["name"].is_string())
-                            throw BadField{"name", "must be a file name such as take.usda"};
-                        send_json(res, export_animation(j["name"]));
+                        send_json(res, export_animation(body_of(req)));
                     }));
+        server.Get("/api/motion/export",
+                   guarded([this](const httplib::Request&, httplib::Response& res) {
+                       send_json(res, {{"exporting", exporting.load()},
+                                       {"stage", export_stage.load()},
+                                       {"done", export_done.load()},
+                                       {"frames", export_frames.load()}});
+                   }));
     }
 };
 

@@ -32,15 +32,26 @@
 //                             gets the newest and skips the rest: the simulation never waits.
 //                             Headers X-Wisp-Head, X-Wisp-Body: the poses, 12 numbers each
 //                             (rotation row by row, translation cm), head space → world
+//   GET  /api/motion/stream?tree=1   the frames as they come (chunked, binary): a message
+//                             (motion_session.hpp: the frame, the poses, the tree with
+//                             tree=1, the splits and merges since the last message) for the
+//                             newest frame whenever the client has taken the last one, so a
+//                             slow client skips frames and the simulation never waits. Ends
+//                             when the session is replaced or stopped, or the server stops.
 //   GET  /api/motion/tree     the newest frame's tree (encode_tree)
 //   POST /api/motion/record   {"name": "take.json"}: the recording as a motion file
 //   POST /api/motion/export   {"name": "take.usda"} (value clips) or "take.hair" (frames
 //                             take_0000.hair …; .obj and .ply too): the style as
 //                             take.style.toml (with its painted maps), the recording as
 //                             take.motion.json, and the recorded frames of the whole hair
-//                             written by `wisp animate`'s writers from those files →
+//                             written by `wisp animate`'s writers from those files; with
+//                             "png": true the frames as take_####.png and with "mp4": true
+//                             as take.mp4 too, rendered as `wisp animate --png --mp4` does
+//                             (a 400 naming "mp4" when ffmpeg is not on PATH) →
 //                             {"files", "frames", "command"}: the command line that gives
-//                             the same frames (add --png/--mp4 to it for pictures)
+//                             the same files
+//   GET  /api/motion/export   the export's progress: {"exporting", "stage" (animating,
+//                             rendering, encoding), "done", "frames"}
 #include <filesystem>
 #include <functional>
 #include <initializer_list>
@@ -83,6 +94,8 @@ class MotionRoutes {
     MotionRoutes(const MotionRoutes&) = delete;
     MotionRoutes& operator=(const MotionRoutes&) = delete;
 
+    // Adds the routes, and small socket send buffers for every connection (so a frame stream
+    // holds little in flight; see the .cpp).
     void add_to(httplib::Server& server);
 
   private:

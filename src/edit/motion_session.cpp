@@ -18,18 +18,32 @@ void put(std::string& out, T value) {
     out.append(bytes, sizeof(T));
 }
 
+void put_event(std::string& out, const PlacedAwtEvent& e) {
+    for (int c = 0; c < 3; ++c)
+        put<float>(out, e.at[c]);
+    put<float>(out, e.kind == AwtEvent::Kind::kSplit ? 0.f : 1.f);
+}
+
+void put_pose(std::string& out, const RigidTransform& t) {
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c)
+            put<float>(out, t.rotation(r, c));
+    for (int c = 0; c < 3; ++c)
+        put<float>(out, t.translation[c]);
+}
+
 }  // namespace
 
-void encode_tree(uint32_t frame, const AwtSimulation& sim, std::string& out) {
+void encode_tree(uint32_t frame, const AwtSimulation& sim, std::span<const PlacedAwtEvent> events,
+                 std::string& out) {
     const Hierarchy& h = sim.hierarchy();
     const std::vector<uint32_t>& active = sim.active();
     const std::span<const Vec3f> x = sim.positions();
     const std::vector<uint32_t> per_level = sim.active_per_level();
-    const std::vector<AwtEvent>& events = sim.last_events();
     out.clear();
     out.reserve(28 + active.size() * 32 + per_level.size() * 4 + events.size() * 16);
     out += "WISPTREE";
-    put<uint32_t>(out, 1);
+    put<uint32_t>(out, 2);  // 2: the events of every step of the frame, not the last step's
     put<uint32_t>(out, frame);
     put<uint32_t>(out, static_cast<uint32_t>(active.size()));
     put<uint32_t>(out, static_cast<uint32_t>(per_level.size()));
@@ -46,11 +60,8 @@ void encode_tree(uint32_t frame, const AwtSimulation& sim, std::string& out) {
         put<uint32_t>(out, h.level[h.gc_of(n)]);
     for (const uint32_t count : per_level)
         put<uint32_t>(out, count);
-    for (const AwtEvent& e : events) {
-        for (int c = 0; c < 3; ++c)
-            put<float>(out, x[e.node][c]);
-        put<float>(out, e.kind == AwtEvent::Kind::kSplit ? 0.f : 1.f);
-    }
+    for (const PlacedAwtEvent& e : events)
+        put_event(out, e);
 }
 
 MotionSession::MotionSession(const Hair& rest, const Mesh& body, const HeadFrame& head,
@@ -68,6 +79,7 @@ MotionSession::MotionSession(const Hair& rest, const Mesh& body, const HeadFrame
     animate.single_level = settings.single_level;
     animate.wisp_held = std::move(settings.wisp_held);
     animate.frame_stats = false;
+    animate.frame_events = kMotionEventsKept;
     animator_ = std::make_unique<Animator>(rest_, body_, head_, live_.motion(), dynamics, prototype,
                                            animate);
     dt_ = animator_->stats().dt;
@@ -86,6 +98,7 @@ MotionSession::MotionSession(const Hair& rest, const Mesh& body, const HeadFrame
     frame_.body = animator_->pose().body;
     active_per_level_ = animator_->simulation().active_per_level();
     stats_ = animator_->stats();
+    events_.resize(kMotionEventsKept);
     thread_ = std::thread([this] { run(); });
 }
 
@@ -175,9 +188,46 @@ std::optional<MotionFrame> MotionSession::frame_after(std::optional<uint32_t> af
     return frame_;
 }
 
+bool MotionSession::stream_message(std::optional<uint32_t> after, bool tree, int wait_ms,
+                                   uint64_t& events_from, std::string& out) const {
+    std::unique_lock lock(mutex_);
+    const auto ready = [&] { return !after || frame_.index > *after || stop_; };
+    if (!changed_.wait_for(lock, std::chrono::milliseconds(std::max(0, wait_ms)), ready) ||
+        (after && frame_.index <= *after))
+        return false;
+    const uint64_t end = frame_.events_end;
+    const uint64_t first =
+        std::max(std::min(events_from, end), end - std::min<uint64_t>(end, kMotionEventsKept));
+    const std::string_view tree_bytes =
+        tree && tree_.index == frame_.index ? std::string_view(tree_.bytes) : std::string_view();
+    out.clear();
+    put<uint32_t>(out, 0);  // the length, below
+    out += "WISPMOTN";
+    put<uint32_t>(out, 1);
+    put<uint32_t>(out, frame_.index);
+    put<uint32_t>(out, static_cast<uint32_t>(frame_.bytes.size()));
+    put<uint32_t>(out, static_cast<uint32_t>(tree_bytes.size()));
+    put<uint32_t>(out, static_cast<uint32_t>(end - first));
+    put_pose(out, frame_.head);
+    put_pose(out, frame_.body);
+    out += frame_.bytes;
+    out += tree_bytes;
+    for (uint64_t n = first; n < end; ++n)
+        put_event(out, events_[n % kMotionEventsKept]);
+    const auto length = static_cast<uint32_t>(out.size() - 4);
+    std::memcpy(out.data(), &length, 4);
+    events_from = end;
+    return true;
+}
+
 uint32_t MotionSession::frames_published() const {
     std::lock_guard lock(mutex_);
     return frame_.index + 1;
+}
+
+uint64_t MotionSession::events_published() const {
+    std::lock_guard lock(mutex_);
+    return frame_.events_end;
 }
 
 std::string MotionSession::error() const {
@@ -202,7 +252,7 @@ MotionFrame MotionSession::tree() {
         changed_.wait(lock, [&] { return !advancing_ || stop_; });
         tree_wanted_ = true;
         tree_.index = frame_.index;
-        encode_tree(frame_.index, animator_->simulation(), tree_.bytes);
+        encode_tree(frame_.index, animator_->simulation(), animator_->frame_events(), tree_.bytes);
     }
     return tree_;
 }
@@ -262,7 +312,7 @@ void MotionSession::advance_locked(std::unique_lock<std::mutex>& lock) {
         body = pose.body;
         if (tree)
             encode_tree(static_cast<uint32_t>(animator_->frame()), animator_->simulation(),
-                        tree_bytes);
+                        animator_->frame_events(), tree_bytes);
     } catch (const Error& e) {
         error = e.what();
     }
@@ -279,6 +329,9 @@ void MotionSession::advance_locked(std::unique_lock<std::mutex>& lock) {
         frame_.body = body;
         active_per_level_ = std::move(active);
         stats_ = std::move(stats);
+        // The animator is idle until this thread advances it again.
+        for (const PlacedAwtEvent& e : animator_->frame_events())
+            events_[frame_.events_end++ % kMotionEventsKept] = e;
         if (tree) {
             tree_.index = frame_.index;
             tree_.bytes.swap(tree_bytes);

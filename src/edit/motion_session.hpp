@@ -16,6 +16,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <string>
 #include <thread>
 #include <vector>
@@ -39,7 +40,23 @@ struct MotionFrame {
     // Head space → world at this frame, of the head and the body (the view poses the mesh as
     // pose_body does).
     RigidTransform head, body;
+    // The session's splits and merges numbered from 0 (every step's): this frame's end here.
+    uint64_t events_end = 0;
 };
+
+// One message of the frame stream (GET /api/motion/stream), little-endian, every part a
+// multiple of 4 bytes:
+//   uint32 length                  the bytes that follow
+//   "WISPMOTN"                     8 bytes
+//   uint32 version (1), frame index, frame bytes F, tree bytes T, events E
+//   float32 head[12], body[12]     head space → world: rotation row by row, translation cm
+//   frame[F]                       encode_frame
+//   tree[T]                        encode_tree of the same frame (T = 0 unless asked for)
+//   float32 events[4·E]            every step's splits and merges since the stream's last
+//                                  message (frames skipped included, the newest
+//                                  kMotionEventsKept at most): x, y, z (cm, world), kind (0
+//                                  split, 1 merge)
+constexpr size_t kMotionEventsKept = 4096;
 
 // The active part of the Adaptive Wisp Tree for the tree view (Bertails et al. Fig. 4):
 //   "WISPTREE"                 8 bytes
@@ -49,10 +66,12 @@ struct MotionFrame {
 //   float32 radius[N]          cm, the node's cross-section radius
 //   uint32 level[N]            0 = coarsest
 //   uint32 per_level[L]        active nodes per level (AwtSimulation::active_per_level)
-//   float32 events[4·E]        the last step's splits and merges: x, y, z (cm, world), kind
-//                              (0 split, 1 merge)
+//   float32 events[4·E]        `events`: the splits and merges of every step of the frame
+//                              (Animator::frame_events): x, y, z (cm, world), kind (0 split,
+//                              1 merge)
 // little-endian. Call after sim.sync(). Reuses `out`'s memory.
-void encode_tree(uint32_t frame, const AwtSimulation& sim, std::string& out);
+void encode_tree(uint32_t frame, const AwtSimulation& sim, std::span<const PlacedAwtEvent> events,
+                 std::string& out);
 
 class MotionSession {
   public:
@@ -89,7 +108,16 @@ class MotionSession {
     // The newest published frame if its index is past `after` (or any frame when `after` is
     // empty), waiting up to `wait_ms` for one.
     std::optional<MotionFrame> frame_after(std::optional<uint32_t> after, int wait_ms) const;
+    // The frame stream's next message (the format above) into `out`: the newest frame if its
+    // index is past `after` (any frame when empty), waiting up to `wait_ms` for one; with its
+    // tree when `tree` (call tree() once first), and the events numbered from `events_from`
+    // on, which moves past them. False when no frame came. The newest frame only: a slow
+    // stream skips frames, never queues them.
+    bool stream_message(std::optional<uint32_t> after, bool tree, int wait_ms,
+                        uint64_t& events_from, std::string& out) const;
     uint32_t frames_published() const;
+    // The splits and merges published so far (MotionFrame::events_end of the newest frame).
+    uint64_t events_published() const;
     // An error that stopped the simulation (it diverged), or empty.
     std::string error() const;
     // Active nodes per level and split/merge counts of the newest frame.
@@ -145,6 +173,9 @@ class MotionSession {
     bool single_level_;
     double dt_;  // the simulation's step, s
     MotionFrame frame_;
+    // The newest kMotionEventsKept events, event n at n % kMotionEventsKept (frame_.events_end
+    // of them so far).
+    std::vector<PlacedAwtEvent> events_;
     std::string spare_;  // the frame before, its memory reused for the next
     std::vector<uint32_t> active_per_level_;
     AnimationStats stats_;

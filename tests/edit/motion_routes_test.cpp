@@ -7,9 +7,14 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/socket.h>
+
+#include <array>
+#include <atomic>
 #include <chrono>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <thread>
 
 #include <nlohmann/json.hpp>
@@ -38,6 +43,35 @@ uint32_t frame_index(const std::string& bytes) {
     uint32_t f = 0;
     std::memcpy(&f, bytes.data() + 12, 4);
     return f;
+}
+
+// Reads GET `path` as a frame stream: its length-prefixed messages, each given to `on` until
+// it returns false.
+httplib::Result read_stream(httplib::Client& client, const httplib::Headers& headers,
+                            const std::string& path,
+                            const std::function<bool(const std::string&)>& on) {
+    std::string pending;
+    return client.Get(path, headers, [&](const char* data, size_t n) {
+        pending.append(data, n);
+        while (pending.size() >= 4) {
+            uint32_t length = 0;
+            std::memcpy(&length, pending.data(), 4);
+            if (pending.size() < 4 + size_t(length)) break;
+            const std::string message = pending.substr(4, length);
+            pending.erase(0, 4 + size_t(length));
+            if (!on(message)) return false;
+        }
+        return true;
+    });
+}
+
+// version, frame, frame bytes, tree bytes, events of a stream message.
+std::array<uint32_t, 5> message_header(const std::string& message) {
+    EXPECT_EQ(message.substr(0, 8), "WISPMOTN");
+    std::array<uint32_t, 5> h{};
+    std::memcpy(h.data(), message.data() + 8, 20);
+    EXPECT_EQ(message.size(), 124 + size_t(h[2]) + h[3] + 16 * size_t(h[4]));
+    return h;
 }
 
 class MotionRoutesTest : public ::testing::Test {
@@ -271,6 +305,78 @@ TEST_F(MotionRoutesTest, StepsDragsDrawsTheTreeAndExportsWhatWisAnimateReplays) 
     EXPECT_EQ(frame_positions(r->body), rest);
     EXPECT_EQ(post("/api/motion/stop")->status, 200);
     expect_bad("/api/motion/play", "{}", "session");
+}
+
+// A client reading the stream slowly gets the newest frame each time it is ready: the frame
+// numbers increase with gaps, and the simulation runs on at its own rate.
+TEST_F(MotionRoutesTest, AStreamSkipsFramesForASlowReaderAndNeverSlowsTheSimulation) {
+    // All 400 strands: 48 KB a frame, so TCP holds a frame or two in flight, not dozens.
+    ASSERT_EQ(post("/api/motion/start", R"({"fps": 50})")->status, 200);
+    ASSERT_EQ(post("/api/motion/preset", R"({"name": "shake"})")->status, 200);
+    ASSERT_EQ(post("/api/motion/play")->status, 200);
+    httplib::Client slow("127.0.0.1", server_->port());
+    slow.set_read_timeout(60, 0);
+    slow.set_socket_options([](socket_t sock) {
+        const int size = 16384;
+        setsockopt(sock, SOL_SOCKET, SO_RCVBUF, &size, sizeof size);
+    });
+    std::vector<uint32_t> frames;
+    read_stream(slow, headers_, "/api/motion/stream", [&](const std::string& message) {
+        const std::array<uint32_t, 5> h = message_header(message);
+        EXPECT_EQ(h[3], 0u);  // no tree asked for
+        EXPECT_EQ(frame_index(message.substr(124, h[2])), h[1]);
+        frames.push_back(h[1]);
+        std::this_thread::sleep_for(std::chrono::milliseconds(120));
+        return frames.size() < 12;
+    });
+    const uint32_t published = nlohmann::json::parse(get("/api/motion")->body)["frame"];
+    ASSERT_EQ(frames.size(), 12u);
+    size_t gaps = 0;
+    for (size_t i = 1; i < frames.size(); ++i) {
+        EXPECT_GT(frames[i], frames[i - 1]);
+        gaps += frames[i] > frames[i - 1] + 1;
+    }
+    EXPECT_GE(gaps, 5u) << "frames " << ::testing::PrintToString(frames);
+    // The simulation did not wait for the reader: it published several frames per frame read.
+    EXPECT_GT(published, 3 * frames.size()) << "frames " << ::testing::PrintToString(frames);
+    ASSERT_EQ(post("/api/motion/pause")->status, 200);
+
+    auto r = get("/api/motion/stream?tree=2");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 400);
+    r = client_->Get("/api/motion/stream");  // no token
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 403);
+}
+
+// Ctrl-C (the server stopping) with a stream open: the stream ends and stop() returns at
+// once, not when the client goes.
+TEST_F(MotionRoutesTest, StoppingTheServerEndsAnOpenStreamPromptly) {
+    ASSERT_EQ(post("/api/motion/start", R"({"strands": 100})")->status, 200);
+    ASSERT_EQ(post("/api/motion/play")->status, 200);
+    std::atomic<int> messages{0};
+    std::thread reader([&] {
+        httplib::Client c("127.0.0.1", server_->port());
+        c.set_read_timeout(60, 0);
+        read_stream(c, headers_, "/api/motion/stream?tree=1", [&](const std::string& message) {
+            const std::array<uint32_t, 5> h = message_header(message);
+            EXPECT_EQ(message.substr(124 + h[2], 8), "WISPTREE");
+            ++messages;
+            return true;
+        });
+    });
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (messages < 3 && std::chrono::steady_clock::now() < deadline)
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    EXPECT_GE(messages.load(), 3);
+    const auto start = std::chrono::steady_clock::now();
+    server_->stop();
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    reader.join();
+    // A stream waits at most 0.1 s for a frame between httplib's checks; 5 s is a wide margin
+    // for a loaded machine, and far under the 30 s write timeout a stuck stream would take.
+    EXPECT_LT(seconds, 5.0);
 }
 
 }  // namespace

@@ -177,5 +177,56 @@ TEST(MotionSession, AFlungHeadNeverSendsNonFinitePositions) {
     EXPECT_TRUE(live->error().empty()) << live->error();
 }
 
+// The stream's message carries every step's splits and merges since the last one (frames
+// skipped included), and a frame's tree carries all of its steps' events.
+TEST(MotionSession, StreamMessagesCarryTheEventsOfEveryStep) {
+    auto live = session();
+    uint64_t from = live->events_published();
+    EXPECT_EQ(from, 0u);
+    std::string message;
+    ASSERT_TRUE(live->stream_message(std::nullopt, false, 0, from, message));
+    live->play_preset("shake");
+    for (int i = 0; i < 15; ++i)
+        live->step();
+    ASSERT_TRUE(live->stream_message(0u, false, 0, from, message));
+    uint32_t length = 0, header[5];
+    std::memcpy(&length, message.data(), 4);
+    ASSERT_EQ(length + size_t(4), message.size());
+    ASSERT_EQ(message.substr(4, 8), "WISPMOTN");
+    std::memcpy(header, message.data() + 12, sizeof header);
+    const uint32_t frame_bytes = header[2], tree_bytes = header[3], events = header[4];
+    EXPECT_EQ(header[1], 15u);
+    EXPECT_EQ(tree_bytes, 0u);
+    EXPECT_EQ(message.size(), 128 + frame_bytes + 16 * size_t(events));
+    // Frames 1 to 15, several steps each, read once: every split and merge of every step.
+    const AnimationStats stats = live->stats();
+    ASSERT_GT(stats.steps, 15u);
+    ASSERT_GT(stats.splits + stats.merges, 0u) << "the shake splits nothing: a weak test";
+    ASSERT_LT(stats.splits + stats.merges, kMotionEventsKept);
+    EXPECT_EQ(events, stats.splits + stats.merges);
+    EXPECT_EQ(from, stats.splits + stats.merges);
+    for (uint32_t e = 0; e < events; ++e) {
+        float event[4];
+        std::memcpy(event, message.data() + 128 + frame_bytes + 16 * e, 16);
+        EXPECT_TRUE(std::isfinite(event[0]) && std::isfinite(event[1]) && std::isfinite(event[2]));
+        EXPECT_TRUE(event[3] == 0.f || event[3] == 1.f);
+    }
+    EXPECT_FALSE(live->stream_message(15u, false, 0, from, message));  // nothing new
+
+    // The tree of the next frame: that frame's events, all of its steps'.
+    live->tree();
+    const uint64_t before = live->events_published();
+    live->step();
+    const MotionFrame tree = live->tree();
+    uint32_t tree_header[5];
+    std::memcpy(tree_header, tree.bytes.data() + 8, sizeof tree_header);
+    EXPECT_EQ(tree_header[1], 16u);
+    EXPECT_EQ(tree_header[4], live->events_published() - before);
+    ASSERT_TRUE(live->stream_message(15u, true, 0, from, message));
+    std::memcpy(header, message.data() + 12, sizeof header);
+    EXPECT_EQ(header[3], tree.bytes.size());
+    EXPECT_EQ(message.substr(128 + header[2], 8), "WISPTREE");
+}
+
 }  // namespace
 }  // namespace wisp

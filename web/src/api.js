@@ -2,11 +2,12 @@
 // binary strand and head arrays (src/edit/wire.hpp), all little-endian.
 const token = new URLSearchParams(location.search).get("token") ?? "";
 
-export async function request(method, path, body) {
+export async function request(method, path, body, signal) {
   const response = await fetch(path, {
     method,
     headers: { "X-Wisp-Token": token, ...(body ? { "Content-Type": "application/json" } : {}) },
     body: body ? JSON.stringify(body) : undefined,
+    signal,
   });
   return response;
 }

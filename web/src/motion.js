@@ -5,8 +5,11 @@
 // coloured by level; splits and merges flash where they happen) with a live plot of the
 // active nodes per level.
 //
-// Frames are polled: GET /api/motion/frame?after=N&wait=MS answers with the newest frame past
-// N, so a slow browser skips frames and the simulation never waits for it. Dragging the head
+// Frames are streamed: GET /api/motion/stream sends a message (the frame, the poses, the tree
+// when shown, the splits and merges since the last message; src/edit/motion_session.hpp) for
+// the newest frame whenever this page has read the last one, so a slow browser skips frames
+// and the simulation never waits for it. If the stream breaks, the page polls instead
+// (GET /api/motion/frame?after=N&wait=MS, the newest frame past N). Dragging the head
 // with the mouse turns it about the neck (Shift: moves it); the server keys the drag at its
 // frame boundaries, so a recording replays exactly in `wisp animate`.
 import * as THREE from "three";
@@ -74,7 +77,9 @@ class TreeView {
     }
   }
 
-  set(tree) {
+  // tree: decodeTree's; events: float32 x, y, z, kind (0 split, 1 merge) to flash, every step's
+  // since the last tree drawn (the stream's), or the tree's own (its frame's steps).
+  set(tree, events = tree.events) {
     if (tree.nodes > this.capacity) this.grow(Math.max(tree.nodes, 2 * this.capacity));
     const m = new THREE.Matrix4(), q = new THREE.Quaternion(), s = new THREE.Vector3();
     const p = new THREE.Vector3(), a = new THREE.Vector3(), d = new THREE.Vector3();
@@ -103,8 +108,8 @@ class TreeView {
       if (mesh.instanceColor) mesh.instanceColor.needsUpdate = true;
     }
     const now = performance.now();
-    for (let e = 0; e < tree.events.length / 4; ++e)
-      this.flashes.push({ at: new THREE.Vector3().fromArray(tree.events, 4 * e), kind: tree.events[4 * e + 3], born: now });
+    for (let e = 0; e < events.length / 4; ++e)
+      this.flashes.push({ at: new THREE.Vector3().fromArray(events, 4 * e), kind: events[4 * e + 3], born: now });
     this.flashes = this.flashes.filter((f) => now - f.born < 400).slice(-512);
     this.flashes.forEach((f, i) => {
       const t = (now - f.born) / 400;
@@ -206,6 +211,10 @@ export class MotionMode {
         <button id="motion-record" title="Write the recording as a motion file (NAME.motion.json)">record</button>
         <button id="motion-export" title="Write the style, the recording and the animation as wisp animate does">export</button>
       </div>
+      <div class="row checks">
+        <label title="Also render every frame to NAME_####.png, as wisp animate --png does"><input type="checkbox" id="motion-png" /> PNG frames</label>
+        <label title="Also encode the frames to NAME.mp4 with ffmpeg, as wisp animate --mp4 does"><input type="checkbox" id="motion-mp4" /> MP4</label>
+      </div>
       <div id="motion-info"></div>
       <div class="hint">drag the head to turn it · Shift-drag to move it · off the head to orbit</div>`;
     document.getElementById("view").append(tools);
@@ -240,9 +249,23 @@ export class MotionMode {
     });
     $("motion-export").onclick = () => this.run(async () => {
       this.info("exporting…");
-      const r = await post("/api/motion/export", { name: $("motion-name").value });
-      this.exported = r;
-      this.info(`${r.files.join(", ")} · ${r.command}${r.warning ? ` · ${r.warning}` : ""}`);
+      // The server renders the pictures while this request runs: its progress meanwhile.
+      let finished = false;
+      const progress = setInterval(async () => {
+        const p = await request("GET", "/api/motion/export").then((r) => r.json()).catch(() => null);
+        if (p?.exporting && !finished) this.info(`exporting: ${p.stage}, frame ${p.done} of ${p.frames}…`);
+      }, 300);
+      try {
+        const r = await post("/api/motion/export", { name: $("motion-name").value, png: $("motion-png").checked, mp4: $("motion-mp4").checked });
+        this.exported = r;
+        this.info(`${r.files.join(", ")} · ${r.command}${r.warning ? ` · ${r.warning}` : ""}`);
+      } catch (e) {
+        this.info(`export: ${e.message}`);
+        throw e;
+      } finally {
+        finished = true;
+        clearInterval(progress);
+      }
     });
     this.plot = new Plot($("motion-plot"));
   }
@@ -296,12 +319,15 @@ export class MotionMode {
     this.tools.hidden = false;
     this.setShow(this.show);
     await this.wind();
-    this.poll();
+    this.hudTimer = setInterval(() => this.refresh(), 250);
+    this.receive();
   }
 
   async exit() {
     if (!this.active) return;
     this.active = false;
+    clearInterval(this.hudTimer);
+    this.abort?.abort();
     this.button.classList.remove("on");
     this.tools.hidden = true;
     this.tree.group.visible = false;
@@ -332,27 +358,137 @@ export class MotionMode {
     document.getElementById("motion-show").value = show;
     if (this.viewport.hair) this.viewport.hair.visible = show !== "tree";
     this.tree.group.visible = this.active && show !== "strands";
+    // A stream without the tree reopens with it.
+    if (show !== "strands" && this.transport === "stream" && !this.streamTree) this.abort?.abort();
     this.viewport.render();
+  }
+
+  // The frames: streamed, the stream reopened when it ends (a reset replaces the session), or
+  // polled from the first time it breaks.
+  async receive() {
+    while (this.active) {
+      try {
+        this.transport = "stream";
+        await this.stream();
+      } catch (e) {
+        if (!this.active) return;
+        if (e.name === "AbortError") continue;
+        console.warn(`motion: the frame stream broke (${e.message}); polling`);
+        this.transport = "poll";
+        return this.poll();
+      }
+    }
+  }
+
+  // Reads the frame stream until it ends; throws when it breaks.
+  async stream() {
+    this.abort = new AbortController();
+    this.streamTree = this.show !== "strands";
+    const response = await request("GET", `/api/motion/stream?tree=${this.streamTree ? 1 : 0}`, undefined, this.abort.signal);
+    if (!response.ok) throw new Error((await response.json()).error ?? response.statusText);
+    const reader = response.body.getReader();
+    // The chunks read, joined only once they hold what the next step needs (a frame of
+    // 20,000 strands is megabytes in many chunks: joining at every chunk would copy it often).
+    const chunks = [];
+    let size = 0, need = 4;
+    for (;;) {
+      const { done, value } = await reader.read();
+      if (done || !this.active) return;
+      chunks.push(value);
+      size += value.length;
+      if (size < need) continue;
+      const pending = chunks.length === 1 ? chunks[0] : new Uint8Array(size);
+      if (chunks.length > 1) chunks.reduce((at, c) => (pending.set(c, at), at + c.length), 0);
+      // Length-prefixed messages; only the newest complete one is drawn.
+      let at = 0, newest = null;
+      need = 4;
+      while (pending.length - at >= 4) {
+        const length = new DataView(pending.buffer, pending.byteOffset + at, 4).getUint32(0, true);
+        if (pending.length - at - 4 < length) {
+          need = 4 + length;
+          break;
+        }
+        const message = pending.slice(at + 4, at + 4 + length).buffer;
+        if (newest) this.flashOnly(newest);
+        newest = message;
+        at += 4 + length;
+      }
+      chunks.length = 0;
+      size = pending.length - at;
+      if (size) chunks.push(pending.subarray(at));
+      if (newest) this.message(newest);
+    }
+  }
+
+  // "WISPMOTN" (src/edit/motion_session.hpp): frame, poses, tree, events.
+  decodeMessage(buffer) {
+    const magic = new TextDecoder().decode(new Uint8Array(buffer, 0, 8));
+    if (magic !== "WISPMOTN") throw new Error("not a motion stream message");
+    const [, frame, frameBytes, treeBytes, events] = new Uint32Array(buffer, 8, 5);
+    const head = Array.from(new Float32Array(buffer, 28, 12)), body = Array.from(new Float32Array(buffer, 76, 12));
+    const at = 124;
+    return {
+      frame, head, body,
+      frameBuffer: buffer.slice(at, at + frameBytes),
+      tree: treeBytes ? decodeTree(buffer.slice(at + frameBytes, at + frameBytes + treeBytes)) : null,
+      events: new Float32Array(buffer, at + frameBytes + treeBytes, 4 * events),
+    };
+  }
+
+  message(buffer) {
+    const m = this.decodeMessage(buffer);
+    this.draw(m.head, m.body, m.frameBuffer);
+    if (m.tree && this.show !== "strands") {
+      this.lastTree = m.tree;
+      this.tree.set(m.tree, this.eventsWith(m.events));
+      this.viewport.render();
+    }
+  }
+
+  // A message overtaken in the same read: its events still flash with the next tree.
+  flashOnly(buffer) {
+    const m = this.decodeMessage(buffer);
+    this.heldEvents = this.eventsWith(m.events);
+  }
+
+  eventsWith(events) {
+    if (!this.heldEvents?.length) return events;
+    const all = new Float32Array(this.heldEvents.length + events.length);
+    all.set(this.heldEvents);
+    all.set(events, this.heldEvents.length);
+    this.heldEvents = null;
+    return all;
+  }
+
+  // The state for the HUD and the plot, four times a second.
+  async refresh() {
+    if (this.refreshing || !this.active) return;
+    this.refreshing = true;
+    try {
+      const response = await request("GET", "/api/motion");
+      if (response.ok) {
+        this.state = await response.json();
+        this.hud();
+      }
+    } catch {
+      // The next tick tries again.
+    } finally {
+      this.refreshing = false;
+    }
   }
 
   // Frames as fast as the server makes them and this page takes them: each request asks for
   // the newest frame past the last one drawn.
   async poll() {
-    let stateAt = 0;
+    const pose = (text) => text?.trim().split(/\s+/).map(Number);
     while (this.active) {
       try {
         const response = await request("GET", `/api/motion/frame?after=${this.last}&wait=500`);
         if (!this.active) break;
         if (response.status === 200)
-          this.draw(response.headers.get("X-Wisp-Head"), response.headers.get("X-Wisp-Body"), await response.arrayBuffer());
+          this.draw(pose(response.headers.get("X-Wisp-Head")), pose(response.headers.get("X-Wisp-Body")), await response.arrayBuffer());
         else if (!response.ok) throw new Error((await response.json()).error);
         if (this.show !== "strands") await this.drawTree();
-        const now = performance.now();
-        if (now - stateAt > 250 || response.status !== 200) {
-          stateAt = now;
-          this.state = await (await request("GET", "/api/motion")).json();
-          this.hud();
-        }
       } catch (e) {
         this.say(e.message);
         await new Promise((r) => setTimeout(r, 500));
@@ -383,16 +519,16 @@ export class MotionMode {
   }
 
   // The head mesh posed as the server's pose_body does: above the chin with the head, below
-  // the neck's base with the body, blended linearly between.
-  poseMesh(headText, bodyText) {
-    const matrix = (text) => {
-      const v = text.trim().split(/\s+/).map(Number);
+  // the neck's base with the body, blended linearly between. head, body: 12 numbers each, the
+  // rotation row by row and the translation (cm).
+  poseMesh(headPose, bodyPose) {
+    const matrix = (v) => {
       return new THREE.Matrix4().set(v[0], v[1], v[2], v[9], v[3], v[4], v[5], v[10], v[6], v[7], v[8], v[11], 0, 0, 0, 1);
     };
     const geometry = this.viewport.head.geometry;
     const attribute = geometry.getAttribute("position");
     if (!this.restHead || this.restHead.length !== attribute.array.length) this.restHead = attribute.array.slice();
-    const h = matrix(headText), b = matrix(bodyText);
+    const h = matrix(headPose), b = matrix(bodyPose);
     const c = this.state?.head_center ?? [0, 0, 0], r = this.state?.head_radius ?? 10;
     const top = c[1] - 0.8 * r, bottom = c[1] - 1.6 * r;
     const p = new THREE.Vector3(), q = new THREE.Vector3(), rest = this.restHead, out = attribute.array;

@@ -2,7 +2,8 @@
 // edit` on a small long-haired style in a temporary folder, loads the page in Debian's
 // Chromium (headless, software GL) with playwright-core, and runs one case
 // ($WISP_MOTION_CASE):
-//   plays   a preset plays: the frame index advances and the drawn positions change
+//   plays   a preset plays: the frame index advances and the drawn positions change, the
+//           frames coming by the stream (GET /api/motion/stream)
 //   drag    dragging the head with the mouse turns it, and the roots go with it
 //   tree    the tree view draws spheres and cylinders coloured by level, and the plot
 //   export  a session (mouse drag, preset) exported from the page, re-run by `wisp animate`
@@ -87,6 +88,9 @@ try {
     if (!(b.frame > a.frame)) fail("the frame index did not advance");
     if (moved(a.p, b.p) < 0.05) fail("the positions did not change between frames");
     if (a.p.some((v) => !Number.isFinite(v))) fail("a position is not finite");
+    const transport = await page.evaluate(() => window.wispEditor.motion.transport);
+    console.log(`frames came by ${transport}`);
+    if (transport !== "stream") fail(`the frames came by ${transport}, not the stream`);
     await page.screenshot({ path: path.join(outDir, "motion-shake.png") });
     const hud = await page.locator("#hud").textContent();
     console.log(hud);
