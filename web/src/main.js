@@ -185,7 +185,14 @@ window.addEventListener("keydown", (e) => {
     if (k === "p") setPainting(!painter.active);
     else if (k === "m") motion.toggle();
     else if (motion.active && k === " ") { e.preventDefault(); motion.play(!motion.state?.playing); }
-    else if (k === "t") setTying(!constraints.active);
+    else if (k === "t" || k === "c") {
+      const tool = k === "t" ? "tie" : "comb";
+      if (constraints.active && constraints.tool === tool) setTying(false);
+      else {
+        constraints.setTool(tool);
+        setTying(true);
+      }
+    }
     else if (constraints.selector.active && k === "e") brushInput("select-erase", (el) => (el.checked = !el.checked));
     else if (painter.active && k === "e") brushInput("brush-erase", (el) => (el.checked = !el.checked));
     else if (painter.active && (k === "[" || k === "]"))
@@ -289,6 +296,8 @@ async function setTying(on) {
   toolInset();
 }
 document.getElementById("tie").onclick = () => setTying(!constraints.active);
+for (const button of document.querySelectorAll("#tie-tools [data-tool]"))
+  button.onclick = () => constraints.setTool(button.dataset.tool);
 document.getElementById("paint").onclick = () => setPainting(!painter.active);
 
 // Save, Save as, Open: files of the style's folder only (the server checks the names).
