@@ -53,7 +53,7 @@ async function refreshHair(final, { mastersFirst = false } = {}) {
       const masters = decodeStrands(buffer);
       // Master i is wisp i: colour by wisp (or group, length) needs no more.
       const wisps = Int32Array.from({ length: masters.strands }, (_, i) => i);
-      const shown = recolor(masters, colorBy.value === "group" ? "color" : colorBy.value, { wisp: wisps });
+      const shown = recolor(masters, ["group", "progress"].includes(colorBy.value) ? "color" : colorBy.value, { wisp: wisps });
       viewport.setHair(shown.strands, { masters: true });
       legend = shown.legend;
       hud.dataset.strands = masters.strands;
@@ -419,6 +419,27 @@ headFile.onchange = async () => {
   painter.invalidate();
   edited();
 };
+
+// The server's progress on long runs (the full hair, a render, an export), as server-sent
+// events (GET /api/events): a bar over the view while one runs. The browser reconnects a
+// dropped stream by itself.
+const progressBar = document.getElementById("progress");
+let progressTimer = null;
+const events = new EventSource(`/api/events?token=${encodeURIComponent(new URLSearchParams(location.search).get("token") ?? "")}`);
+events.addEventListener("progress", (message) => {
+  const e = JSON.parse(message.data);
+  clearTimeout(progressTimer);
+  progressBar.hidden = false;
+  progressBar.classList.toggle("failed", Boolean(e.error));
+  const fraction = e.total ? e.done / e.total : 1;
+  progressBar.querySelector(".fill").style.width = `${(100 * fraction).toFixed(0)}%`;
+  progressBar.querySelector("span").textContent = e.finished
+    ? `${e.task} ${e.error ? `failed: ${e.error}` : "done"}`
+    : `${e.task}: ${e.step} (${e.done + 1} of ${e.total})`;
+  progressBar.dataset.task = e.task;
+  progressBar.dataset.finished = e.finished ? "1" : "";
+  if (e.finished) progressTimer = setTimeout(() => (progressBar.hidden = true), e.error ? 2500 : 600);
+});
 
 // Motion (M): the style animated live by the Adaptive Wisp Tree (motion.js).
 const motion = new MotionMode(viewport, {

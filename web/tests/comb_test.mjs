@@ -126,6 +126,34 @@ try {
     fail(`the comb did not turn the hair along it: alignment ${before.mean.toFixed(2)} → ${after.mean.toFixed(2)}`);
   await page.screenshot({ path: path.join(outDir, "comb.png") });
 
+  // Colour by constraint progress: each strand's is its wisp's share of the queue met, and
+  // per wisp they make up the group's progress in the report.
+  await page.selectOption("#color-by", "progress");
+  await page.waitForFunction(() => document.getElementById("legend").textContent.includes("constraints met"));
+  const progress = await page.evaluate(async (token) => {
+    const headers = { "X-Wisp-Token": token };
+    const buffer = await (await fetch("/api/attributes", { headers })).arrayBuffer();
+    const [version, count] = new Uint32Array(buffer, 8, 2);
+    const wisp = new Int32Array(buffer, 16, count), group = new Int32Array(buffer, 16 + 4 * count, count);
+    const progress = new Float32Array(buffer, 16 + 8 * count, count);
+    const report = await (await fetch("/api/report", { headers })).json();
+    const met = new Map();
+    let bad = 0;
+    for (let s = 0; s < count; ++s) {
+      if ((group[s] > 0) !== (progress[s] >= 0) || progress[s] > 1) ++bad;
+      if (group[s] === 1) met.set(wisp[s], progress[s]);
+    }
+    const metWisps = [...met.values()].filter((t) => t >= 1).length;
+    return { version, bad, wisps: met.size, fraction: metWisps / Math.max(1, met.size), report: report.groups[0] };
+  }, token);
+  console.log(`progress: ${progress.wisps} wisps, ${(100 * progress.fraction).toFixed(1)}% met the comb; the report says ` +
+    `${progress.report.wisps} wisps, met ${progress.report.met}`);
+  if (progress.version !== 2 || progress.bad) fail(`the attributes' progress is wrong (${JSON.stringify(progress)})`);
+  if (progress.wisps !== progress.report.wisps || Math.abs(progress.fraction - progress.report.met[0]) > 1e-6)
+    fail(`the strands' progress does not add up to the group's: ${JSON.stringify(progress)}`);
+  await page.screenshot({ path: path.join(outDir, "comb-progress.png") });
+  await page.selectOption("#color-by", "color");
+
   // Drag the middle control point down the head; it stays just off the scalp.
   const middle = Math.floor(comb.trajectory.length / 2);
   const [from] = await page.evaluate((p) => {
@@ -164,6 +192,11 @@ try {
     body: JSON.stringify({ name: "editor.hair" }),
   })).status, token);
   if (exported !== 200) fail(`export answered ${exported}`);
+  // The export's progress came to the page as server-sent events (GET /api/events).
+  await page.waitForFunction(() => {
+    const bar = document.getElementById("progress");
+    return bar.dataset.task === "export" && bar.dataset.finished === "1";
+  }, null, { timeout: 10000 }).catch(() => fail("the page got no progress events of the export"));
   execFileSync(wisp, ["generate", "style.toml", "-o", "cli.hair", "--quiet"], { cwd: folder, stdio: "inherit" });
   const a = readFileSync(path.join(folder, "editor.hair")), b = readFileSync(path.join(folder, "cli.hair"));
   if (!a.equals(b)) fail(`wisp generate of the saved comb differs from the editor's hair (${a.length} vs ${b.length} bytes)`);
