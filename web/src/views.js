@@ -94,7 +94,7 @@ export function recolor(strands, mode, attributes) {
       if (t >= 1) ++done;
     }
     legend = grouped
-      ? `constraints met: none (red) … all (green) · ${Math.round((100 * done) / grouped)}% of the constrained strands met all · hair in no group dark`
+      ? `constraints met: none (red) … all (green), ${Math.round((100 * done) / grouped)}% met all · no group: dark`
       : "no constraint groups: place a tie or a comb";
   } else {
     const ids = attributes?.[mode];
