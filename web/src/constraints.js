@@ -356,30 +356,32 @@ export class Constraints {
       }
       row.append(bar);
       // A slider of one of the section's numbers (of its constraint `path`, -1: its own).
-      const slider = (key, path, min, max, step, fallback, title) => {
+      const slider = (key, path, min, max, step, fallback, title, unit = "") => {
         const input = document.createElement("input");
         input.type = "range";
         Object.assign(input, { min, max, step, title });
         const spec = path < 0 ? s : s.constraint[path];
         input.value = spec[key] ?? fallback;
         input.dataset.key = key;
+        const label = document.createElement("label");
+        const show = () => (label.textContent = `${key} ${Number(input.value).toFixed(step < 0.1 ? 2 : 1)}${unit}`);
+        show();
+        input.oninput = show;
         input.onchange = () => {
           const next = structuredClone(this.sections);
           (path < 0 ? next[i] : next[i].constraint[path])[key] = Number(input.value);
           this.apply(next);
         };
-        const label = document.createElement("label");
-        label.textContent = key;
         row.append(label, input);
       };
       if (s.section === "tie")
-        slider("radius", -1, 0.3, 5, 0.1, defaultTieRadius, "the tie's tolerance radius (cm): how tight it gathers the hair");
+        slider("radius", -1, 0.3, 5, 0.1, defaultTieRadius, "the tie's tolerance radius (cm): how tight it gathers the hair", " cm");
       if (s.section === "comb" && s.head_relative === false) {
-        slider("radius", -1, 0.5, 10, 0.1, defaultComb.radius, "the comb's reach (cm): hair this close to its path turns along it");
+        slider("radius", -1, 0.5, 10, 0.1, defaultComb.radius, "the comb's reach (cm): hair this close to its path turns along it", " cm");
         slider("weight", -1, 0.05, 1, 0.05, defaultComb.weight, "how firmly the comb overrides gravity (w of eq. 7)");
       }
       for (const { path } of s.section === "group" ? pathsOf(s) : [])
-        slider("radius", path, 0.3, 6, 0.1, defaultTrajectory.radius, "the path's tolerance radius (cm): how tightly the hair keeps to it");
+        slider("radius", path, 0.3, 6, 0.1, defaultTrajectory.radius, "the path's tolerance radius (cm): how tightly the hair keeps to it", " cm");
       this.list.append(row);
     });
   }
