@@ -32,6 +32,10 @@ void put_u32(std::string& out, uint32_t v) {
     out.append(reinterpret_cast<const char*>(&v), 4);
 }
 
+void put_f32(std::string& out, float v) {
+    out.append(reinterpret_cast<const char*>(&v), 4);
+}
+
 // [x, y, z] of finite numbers within ±1e6, or throws naming `field`.
 Vec3f json_vec3(const nlohmann::json& j, const char* field) {
     if (!j.contains(field) || !j[field].is_array() || j[field].size() != 3)
@@ -177,12 +181,27 @@ void add_feature_routes(httplib::Server& server, EditState& s) {
         const std::vector<uint32_t> order = strand_order(total);
         const size_t count = std::min(limit, total);
         std::string out = "WISPATTR";
-        put_u32(out, 1);
+        put_u32(out, 2);
         put_u32(out, static_cast<uint32_t>(count));
         for (size_t i = 0; i < count; ++i)
             put_u32(out, static_cast<uint32_t>(hair->wisp.empty() ? -1 : hair->wisp[order[i]]));
         for (size_t i = 0; i < count; ++i)
             put_u32(out, static_cast<uint32_t>(hair->group.empty() ? 0 : hair->group[order[i]]));
+        // The solve's figures are the current style's once the solve is up to date, which
+        // update_preview made it.
+        const SolveStats& solve = s.cache.result().solve;
+        for (size_t i = 0; i < count; ++i) {
+            const size_t strand = order[i];
+            const int group = hair->group.empty() ? 0 : hair->group[strand];
+            const int wisp = hair->wisp.empty() ? -1 : hair->wisp[strand];
+            float progress = -1.f;
+            if (group > 0 && size_t(group) <= solve.groups.size() && wisp >= 0 &&
+                size_t(wisp) < solve.wisp_met.size()) {
+                const int queue = solve.groups[group - 1].constraints;
+                progress = queue > 0 ? float(solve.wisp_met[wisp]) / float(queue) : 1.f;
+            }
+            put_f32(out, progress);
+        }
         res.set_content(out, "application/octet-stream");
     });
 
@@ -222,7 +241,11 @@ void add_feature_routes(httplib::Server& server, EditState& s) {
             return send_error(res, 400, e.what(), field);
         }
         std::lock_guard lock(s.cache_mutex);
-        const HairstyleResult& r = s.cache.update();
+        // Progress: the stale stages, then the picture.
+        ProgressEvents::Task task(s.events, "render",
+                                  kStageCount - static_cast<int>(s.cache.stale()) + 1);
+        const HairstyleResult& r = *s.cache.update(CancelToken(), task.stages());
+        task.step("render");
         const RgbImage picture = render(r.hair, s.cache.head().mesh.get(), options);
         res.set_content(encode_png(picture), "image/png");
     });

@@ -14,15 +14,20 @@
 //                               "points_inside_head", "groups": [{name, wisps, constraints,
 //                               completed, met: [fraction per constraint]}]}: the last
 //                               update's figures (null where that stage is stale)
-//   GET  /api/attributes?strands=N  "WISPATTR", uint32 version (1), strands S', then int32
-//                               wisp[S'], int32 group[S'] of the strands /api/hair?strands=N
-//                               sends, in its order (group 0: in none)
+//   GET  /api/attributes?strands=N  "WISPATTR", uint32 version (2), strands S', then int32
+//                               wisp[S'], int32 group[S'], float32 progress[S'] of the
+//                               strands /api/hair?strands=N sends, in its order (group 0: in
+//                               none); progress: the fraction of its group's queue the
+//                               strand's wisp met (SolveStats::wisp_met, the count the
+//                               groups' progress is made of), -1 for a strand in no group
 //   POST /api/render            {"eye", "target", "up": [x, y, z] cm, "fov": degrees,
 //                               "width", "height": 16…1024}: wisp's renderer's picture of the
 //                               full hair from that camera, as a PNG
 //   POST /api/head?name=x.obj&scale=S&method=M   body: an OBJ head mesh, read by the OBJ
 //                               reader and written atomically into the style's folder; the
-//                               style's head becomes it → {"stale", "values"}
+//                               style's head becomes it → {"stale", "values"}. The body may
+//                               be up to EditOptions::max_head_body (64 MiB; other routes
+//                               1 MiB)
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
@@ -30,6 +35,7 @@
 #include <string>
 
 #include "edit/constraint_sections.hpp"
+#include "edit/progress_events.hpp"
 #include "edit/stage_cache.hpp"
 
 // httplib.h is left to the .cpp, after Eigen: its <resolv.h> defines `_res`, a name Eigen's
@@ -48,6 +54,7 @@ struct EditState {
     const std::filesystem::path& base_dir;  // the style's folder
     std::string& document;                  // the style's file name in base_dir
     ConstraintSections& constraints;
+    ProgressEvents& events;  // the long runs' progress (GET /api/events)
 };
 
 void add_feature_routes(httplib::Server& server, EditState& state);

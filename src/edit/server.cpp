@@ -11,6 +11,7 @@
 #include <fstream>
 #include <initializer_list>
 #include <mutex>
+#include <optional>
 #include <string_view>
 #include <thread>
 #include <vector>
@@ -22,6 +23,7 @@
 #include "core/image.hpp"
 #include "edit/http_util.hpp"
 #include "edit/motion_routes.hpp"
+#include "edit/progress_events.hpp"
 #include "edit/routes_features.hpp"
 #include "edit/stage_cache.hpp"
 #include "edit/wire.hpp"
@@ -232,7 +234,8 @@ struct EditServer::Impl {
     std::string document;            // the style's file name in base_dir (Save's default)
     MotionRoutes motion;             // the Motion mode's endpoints (motion_routes.hpp)
     ConstraintSections constraints;  // the placed ties, combs and groups, as TOML reads them
-    EditState state{cache, cache_mutex, hair_requests, base_dir, document, constraints};
+    ProgressEvents events;           // the long runs' progress (GET /api/events)
+    EditState state{cache, cache_mutex, hair_requests, base_dir, document, constraints, events};
 
     Impl(Style style, std::filesystem::path dir, EditOptions opts)
         : options(std::move(opts)),
@@ -311,6 +314,7 @@ struct EditServer::Impl {
                 return false;
             }
         }
+        if (!body_allowed(req, res)) return false;
         if (req.path.rfind("/api/", 0) == 0) {
             const std::string token = req.has_header("X-Wisp-Token")
                                           ? req.get_header_value("X-Wisp-Token")
@@ -321,6 +325,30 @@ struct EditServer::Impl {
                            "wisp edit printed)");
                 return false;
             }
+        }
+        return true;
+    }
+
+    // The body's size, before it is read: a head upload (POST /api/head) may be up to
+    // max_head_body bytes, any other request max_body; the server reads no more than the
+    // larger (set_payload_max_length), so each route's limit is checked here from the
+    // declared length, and a body of undeclared length (chunked) is refused.
+    bool body_allowed(const httplib::Request& req, httplib::Response& res) const {
+        const bool head = req.method == "POST" && req.path == "/api/head";
+        const size_t limit = head ? options.max_head_body : options.max_body;
+        if (req.has_header("Transfer-Encoding")) {
+            send_error(res, 411, "refused: a request body must give its Content-Length");
+            return false;
+        }
+        const std::string length = req.get_header_value("Content-Length");
+        if (length.empty()) return true;
+        char* end = nullptr;
+        const unsigned long long n = std::strtoull(length.c_str(), &end, 10);
+        if (*end || length[0] == '-' || n > limit) {
+            send_error(res, 413,
+                       cat("refused: the body is ", excerpt(length), " bytes; at most ", limit,
+                           head ? " for a head upload" : ""));
+            return false;
         }
         return true;
     }
@@ -336,7 +364,7 @@ struct EditServer::Impl {
     }
 
     void routes() {
-        server.set_payload_max_length(options.max_body);
+        server.set_payload_max_length(std::max(options.max_body, options.max_head_body));
         server.set_read_timeout(5, 0);
         server.set_write_timeout(30, 0);
         server.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
@@ -432,8 +460,13 @@ struct EditServer::Impl {
             // this one, even while its stages run.
             const uint64_t ticket = ++hair_requests;
             std::lock_guard lock(cache_mutex);
-            std::shared_ptr<const std::string> bytes =
-                cache.hair_bytes(limit, CancelToken(hair_requests, ticket));
+            // The full hair's stale stages report their progress (a preview is quick).
+            std::optional<ProgressEvents::Task> task;
+            if (limit >= cache.strands_in_all() && cache.stale() != Stage::kNone)
+                task.emplace(events, "update", kStageCount - static_cast<int>(cache.stale()));
+            std::shared_ptr<const std::string> bytes = cache.hair_bytes(
+                limit, CancelToken(hair_requests, ticket), task ? task->stages() : StageProgress{});
+            if (!bytes && task) task->fail("superseded by a newer request");
             if (!bytes) return send_error(res, 409, "superseded by a newer request");
             send_shared(res, std::move(bytes));
         });
@@ -628,7 +661,10 @@ struct EditServer::Impl {
                 return send_error(res, 400, e.what(), "name");
             }
             std::lock_guard lock(cache_mutex);
-            const HairstyleResult& r = cache.update();
+            ProgressEvents::Task task(events, "export",
+                                      kStageCount - static_cast<int>(cache.stale()) + 1);
+            const HairstyleResult& r = *cache.update(CancelToken(), task.stages());
+            task.step("write");
             write_hair(file, r.hair);
             send_json(res,
                       {{"file", file.filename().string()}, {"strands", r.hair.strand_count()}});
@@ -636,6 +672,7 @@ struct EditServer::Impl {
 
         motion.add_to(server);
         add_feature_routes(server, state);
+        add_progress_route(server, events);
 
         // The front end: embedded files; "/" is index.html.
         server.Get(R"(/.*)", [](const httplib::Request& req, httplib::Response& res) {
@@ -687,6 +724,7 @@ void EditServer::start() {
 
 void EditServer::stop() {
     if (!impl_ || !impl_->thread.joinable()) return;
+    impl_->events.close();  // the progress streams end, freeing their threads
     impl_->server.stop();
     impl_->thread.join();
 }

@@ -2,7 +2,8 @@
 // The editor's HTTP server (cpp-httplib): the front end (web/, embedded at build time) and
 // a JSON and binary API over a StageCache. Security (issue 16): bound to 127.0.0.1 unless
 // told otherwise; requests whose Host or Origin is not the server's own are refused (DNS
-// rebinding); every /api/ request carries the per-launch token; bodies are size-limited;
+// rebinding); every /api/ request carries the per-launch token; bodies are size-limited
+// (1 MiB, a head upload 64 MiB: EditOptions);
 // a bad value is a 400 naming the field and the reason.
 //
 // API (every path under /api/ needs `X-Wisp-Token: TOKEN` or `?token=TOKEN`):
@@ -37,6 +38,7 @@
 //   POST /api/open            {"name": "x.toml"}: a style file of the folder, with its maps
 //   POST /api/export          {"name": "x.hair"}: the full hair in any format `wisp` writes
 //                             by extension (.usda .hair .obj .ply .data .npz)
+//   GET  /api/events          progress of long runs, text/event-stream: edit/progress_events.hpp
 //   /api/motion/…             the Motion mode (issue 17): edit/motion_routes.hpp
 #include <cstddef>
 #include <filesystem>
@@ -52,7 +54,10 @@ struct EditOptions {
     int port = 0;                    // 0: a free port
     std::string token;               // empty: 128 random bits from /dev/urandom, in hex
     size_t max_body = 1 << 20;       // bytes of a request body
-    std::string document;            // the style's file name in base_dir ("untitled.toml")
+    // Bytes of a head upload's body (POST /api/head, an OBJ: realistic heads are megabytes);
+    // every other route keeps max_body.
+    size_t max_head_body = size_t(64) << 20;
+    std::string document;  // the style's file name in base_dir ("untitled.toml")
 };
 
 class EditServer {

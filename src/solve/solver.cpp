@@ -89,6 +89,7 @@ class Solver {
         for (size_t g = 0; g < in.groups.size(); ++g)
             met_count_[g].assign(in.groups[g].queue.size(), 0);
         stats_.held_length.assign(w_count, 0.f);
+        stats_.wisp_met.assign(w_count, 0);
         following_.assign(w_count, nullptr);
         follow_arc_.assign(w_count, 0.f);
         // Each wisp keeps its own place across a followed trajectory's tube (so a braid's
@@ -351,6 +352,7 @@ class Solver {
             if (c->hold) stats_.held_length[w] = reached;
             const size_t k = static_cast<size_t>(c - in_.groups[group_of_[w]].queue.data());
             ++met_count_[group_of_[w]][k];
+            ++stats_.wisp_met[w];
             wisp_stage_[w] = static_cast<uint32_t>(k + 1);
         }
     }

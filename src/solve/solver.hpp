@@ -3,6 +3,7 @@
 // constraint-based styler (§4): finds every master's joint angles under the styling force
 // field, bending stiffness and density-field collisions.
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,10 @@ struct SolveStats {
         std::vector<float> met;  // #constraints
     };
     std::vector<Group> groups;
+    // Per wisp: how many constraints of its group's queue it met (0 for a wisp in no group),
+    // counted where `Group::met` is: over a group's wisps they sum to Σ_k met[k]·wisps (the
+    // editor's colour by constraint progress).
+    std::vector<uint16_t> wisp_met;
     // Per wisp: the arc length from the root (cm) through which a holding constraint
     // (Constraint::hold: a tie, a bun) holds it, the end of the last such segment; 0: none.
     std::vector<float> held_length;

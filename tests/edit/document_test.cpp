@@ -266,6 +266,37 @@ TEST_F(EditDocumentTest, EveryFormatTheExportMenuListsIsWritten) {
     }
 }
 
+// A realistic head is over the 1 MiB every other route allows: the MakeHuman base mesh
+// (1.7 MB, decimetres) uploads as a head, while the same bytes sent to another route, or a
+// head over its own 64 MiB, are refused before they are read.
+TEST_F(EditDocumentTest, AHeadOverTheBodyLimitUploadsButOnlyAsAHead) {
+    const fs::path obj = WISP_SHARED_DIR "/data/heads/makehuman/makehuman_hm08_base.obj";
+    if (!fs::exists(obj)) GTEST_SKIP() << obj << " not present";
+    const std::string bytes = file_bytes(obj);
+    ASSERT_GT(bytes.size(), size_t(1) << 20);
+    EXPECT_EQ(status_of(request("POST", "/api/map?field=maps.density", bytes, "image/png")), 413);
+    const std::string r = request("POST", "/api/head?name=makehuman.obj&scale=10&method=hairline",
+                                  bytes, "text/plain");
+    ASSERT_EQ(status_of(r), 200) << r.substr(0, 400);
+    EXPECT_EQ(file_bytes(folder_ / "makehuman.obj"), bytes);
+    EXPECT_EQ(json(r)["values"]["head.obj"], "makehuman.obj");
+    EXPECT_EQ(status_of(get("/api/hair?strands=100")), 200);
+    // Over the head's limit: refused from the declared length, nothing written.
+    const std::string huge =
+        http_exchange(port_, "POST /api/head?name=huge.obj HTTP/1.1\r\nHost: " + host_ +
+                                 "\r\nX-Wisp-Token: " + server_->token() +
+                                 "\r\nContent-Length: " + std::to_string((size_t(64) << 20) + 1) +
+                                 "\r\nConnection: close\r\n\r\nv 0 0 0\n");
+    EXPECT_EQ(status_of(huge), 413) << huge;
+    EXPECT_FALSE(fs::exists(folder_ / "huge.obj"));
+    // A body of undeclared length is refused.
+    const std::string chunked = http_exchange(
+        port_,
+        "POST /api/set HTTP/1.1\r\nHost: " + host_ + "\r\nX-Wisp-Token: " + server_->token() +
+            "\r\nTransfer-Encoding: chunked\r\nConnection: close\r\n\r\n2\r\n{}\r\n0\r\n\r\n");
+    EXPECT_EQ(status_of(chunked), 411) << chunked;
+}
+
 TEST_F(EditDocumentTest, HostileRequestsGetA400AndChangeNothing) {
     ASSERT_EQ(status_of(get("/api/hair?strands=1")), 200);  // nothing stale from here on
     const std::string style_before = body_of(get("/api/style"));

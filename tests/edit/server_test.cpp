@@ -219,6 +219,53 @@ TEST_F(EditServerTest, SurvivesAHostileSweepWithItsStateIntact) {
     EXPECT_EQ(status_of(get("/api/hair?strands=10")), 200);
 }
 
+// GET /api/events streams the progress of a long run as server-sent events: a picture
+// rendered while the stream is open shows as its stages and its own step, then finished;
+// without the token the stream is refused; stopping the server ends the stream.
+TEST_F(EditServerTest, ProgressArrivesAsServerSentEvents) {
+    EXPECT_EQ(status_of(http_exchange(port_, "GET /api/events HTTP/1.1\r\nHost: " + host_ +
+                                                 "\r\nConnection: close\r\n\r\n")),
+              403);
+    ASSERT_EQ(status_of(post("/api/set", R"({"path": "solve.stiffness", "value": 0.4})")), 200);
+    const int fd = socket(AF_INET, SOCK_STREAM, 0);
+    ASSERT_GE(fd, 0);
+    timeval timeout{30, 0};
+    setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_port = htons(static_cast<uint16_t>(port_));
+    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    ASSERT_EQ(connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
+    const std::string request =
+        "GET /api/events?token=" + server_->token() + " HTTP/1.1\r\nHost: " + host_ + "\r\n\r\n";
+    ASSERT_EQ(send(fd, request.data(), request.size(), MSG_NOSIGNAL), ssize_t(request.size()));
+    std::string stream;
+    const auto read_until = [&](const std::string& what) {
+        char buffer[4096];
+        while (stream.find(what) == std::string::npos) {
+            const ssize_t n = recv(fd, buffer, sizeof buffer, 0);
+            if (n <= 0) return false;
+            stream.append(buffer, static_cast<size_t>(n));
+        }
+        return true;
+    };
+    ASSERT_TRUE(read_until(": connected")) << stream;
+    EXPECT_NE(stream.find("text/event-stream"), std::string::npos) << stream;
+    const std::string picture = post(
+        "/api/render", R"({"eye": [0, 10, 80], "target": [0, 5, 0], "width": 16, "height": 16})");
+    ASSERT_EQ(status_of(picture), 200) << picture.substr(0, 300);
+    ASSERT_TRUE(read_until(R"("finished":true)")) << stream;
+    for (const char* step : {R"("step":"solve")", R"("step":"color")", R"("step":"render")"})
+        EXPECT_NE(stream.find(step), std::string::npos) << step << " in " << stream;
+    EXPECT_NE(stream.find("event: progress\ndata: {"), std::string::npos) << stream;
+    EXPECT_NE(stream.find(R"("task":"render")"), std::string::npos) << stream;
+    server_->stop();  // ends the stream rather than waiting on it
+    char rest[4096];
+    while (recv(fd, rest, sizeof rest, 0) > 0) {
+    }
+    close(fd);
+}
+
 TEST(EditServer, StopsAndFreesItsPort) {
     Style style = load_preset("short");
     style.wisps = 10;

@@ -281,6 +281,22 @@ TEST(Solver, BraidGroupFollowsItsTrajectory) {
     }
     ASSERT_GT(count, 0u);
     EXPECT_LT(sum / count, 3.f * path.radius);
+    // Each wisp's progress is the group's, one wisp at a time: the counts sum to the
+    // group's met fractions times its wisps, and wisps outside the group met nothing.
+    ASSERT_EQ(r.solve.wisp_met.size(), r.masters.roots.size());
+    const SolveStats::Group& group = r.solve.groups.at(0);
+    double met = 0;
+    for (const float m : group.met)
+        met += double(m) * double(group.wisps);
+    size_t in_group = 0, outside = 0;
+    std::vector<bool> selected(r.solve.wisp_met.size(), false);
+    for (uint32_t w : wisps)
+        selected[w] = true;
+    for (size_t w = 0; w < selected.size(); ++w)
+        (selected[w] ? in_group : outside) += r.solve.wisp_met[w];
+    EXPECT_NEAR(double(in_group), met, 0.5);
+    EXPECT_GT(in_group, wisps.size());  // most wisps met both constraints
+    EXPECT_EQ(outside, 0u);
 }
 
 TEST(Constraint, ForcesFollowSectionFour) {

@@ -1,12 +1,18 @@
 // Placing constraints (Choe & Ko §4, §6.2): ties put with a click on or near the head and
-// dragged by their handle, each tie's wisps picked by painting a selection on the scalp with
-// the map painter's brush, and each group's progress (the wisps that met each constraint).
+// dragged by their handle; combs and trajectories drawn as a stroke over the head (its
+// points lifted onto a surface just off the scalp) and reshaped by dragging their control
+// points; each constraint's wisps picked by painting a selection on the scalp with the map
+// painter's brush, and each group's progress (the wisps that met each constraint).
 //
 // The sections are kept by the server as the TOML reader reads them (GET/POST
 // /api/constraints: [[tie]], [[comb]], [[group]] tables as JSON); a tie placed here is
 // `{section: "tie", name, point: [x, y, z] cm, radius cm, head_relative: false,
 // selection: KEY}`, where KEY names a selection painted here (POST /api/selection), which
-// Save writes as DOC.KEY.mask.png and the TOML as `mask = "DOC.KEY.mask.png"`.
+// Save writes as DOC.KEY.mask.png and the TOML as `mask = "DOC.KEY.mask.png"`. A comb is
+// `{section: "comb", name, trajectory: [[x, y, z], …] cm, smooth: true, radius, weight,
+// head_relative: false}`; a trajectory is a [[group]] whose queue is one trajectory
+// constraint, `{section: "group", name, head_relative: false, constraint: [{kind:
+// "trajectory", trajectory, smooth: true, radius, weight}]}`.
 import * as THREE from "three";
 import { getJson, postJson, postBinary, decodeMap, encodeGrayPng } from "./api.js";
 import { Painter } from "./paint.js";
@@ -15,6 +21,53 @@ import { groupColor } from "./views.js";
 // How far off the scalp a tie clicked on the head sits (cm): ties hold hair just off it.
 const tieLift = 1.5;
 const defaultTieRadius = 1.2;  // cm: the reader's 0.12 head units on the built-in head
+// A drawn stroke: its points sit this far off the scalp (cm), where the hair's outer layer
+// lies; a point is kept every `strokeStep` cm, and the stroke becomes one control point per
+// `controlSpacing` cm of its length (3 to 8 of them).
+const strokeLift = 1.5;
+const strokeStep = 0.4;
+const controlSpacing = 4;
+// The reader's comb defaults in cm on the built-in head (0.4 head units), a firmer weight:
+// a drawn stroke should show; a trajectory's tube is 1.5 cm wide and followed exactly.
+const defaultComb = { radius: 3, weight: 0.8 };
+const defaultTrajectory = { radius: 1.5, weight: 1 };
+// What each tool does, for the panel's hint.
+const toolHints = {
+  tie: "click on or near the head: a tie · drag its handle to move it",
+  comb: "drag over the head: a comb stroke, in the direction to comb · drag a control point to reshape it",
+  trajectory: "drag from the roots outward: a path the hair follows · drag a control point to reshape it",
+};
+
+// The points of a stroke resampled to `n` points evenly spaced along it.
+function resample(points, n) {
+  const lengths = [0];
+  for (let i = 1; i < points.length; ++i) lengths.push(lengths[i - 1] + points[i].distanceTo(points[i - 1]));
+  const total = lengths[lengths.length - 1];
+  const out = [];
+  let i = 1;
+  for (let k = 0; k < n; ++k) {
+    const at = (total * k) / (n - 1);
+    while (i < points.length - 1 && lengths[i] < at) ++i;
+    const span = lengths[i] - lengths[i - 1];
+    const t = span > 0 ? Math.min(1, Math.max(0, (at - lengths[i - 1]) / span)) : 0;
+    out.push(points[i - 1].clone().lerp(points[i], t));
+  }
+  return out;
+}
+
+// [x, y, z] rounded to 0.01 cm, as the sections keep positions.
+const rounded = (p) => p.toArray().map((v) => Math.round(v * 100) / 100);
+
+// The control points a section draws and lets drag: a comb's path, a group's trajectory
+// and direction constraints (in cm only: head-relative ones are left as the file has them).
+// [{ path: -1 (the comb's own) or the constraint's index, points: [[x, y, z], …] }]
+function pathsOf(s) {
+  if (s.head_relative !== false) return [];
+  if (s.section === "comb" && Array.isArray(s.trajectory)) return [{ path: -1, points: s.trajectory }];
+  if (s.section !== "group" || !Array.isArray(s.constraint)) return [];
+  return s.constraint.flatMap((c, k) => (c.kind === "trajectory" || c.kind === "direction") &&
+    Array.isArray(c.trajectory) && c.head_relative !== true ? [{ path: k, points: c.trajectory }] : []);
+}
 
 // The map painter's brush and overlay on a group's selection: 1 where the group takes the
 // wisps whose master root lies there, 0 elsewhere.
@@ -67,6 +120,7 @@ export class Constraints {
     this.sections = [];
     this.progress = [];  // GET /api/report's groups
     this.active = false;
+    this.tool = "tie";  // what a click or a drag on the head makes: tie, comb or trajectory
     this.selecting = null;  // the index of the section whose selection is being painted
     this.raycaster = new THREE.Raycaster();
     this.handles = new THREE.Group();
@@ -119,8 +173,18 @@ export class Constraints {
   async setActive(on) {
     this.active = on;
     this.panel.hidden = !on;
+    this.setTool(this.tool);
     if (!on) await this.select(null);
     this.draw();
+  }
+
+  // tie, comb or trajectory: what a click or a drag on the head makes.
+  setTool(tool) {
+    this.tool = tool;
+    for (const b of this.panel.querySelectorAll("[data-tool]")) b.classList.toggle("on", b.dataset.tool === tool);
+    const hint = this.panel.querySelector(".tool-hint");
+    if (hint) hint.textContent = toolHints[tool];
+    this.viewport.element.classList.toggle("stroking", this.active && tool !== "tie");
   }
 
   // Paints the selection of section i (null: stops painting).
@@ -190,7 +254,49 @@ export class Constraints {
       handle.userData.ring = ring;
       this.handles.add(handle, ring);
     });
+    this.sections.forEach((s, i) => {
+      for (const { path, points } of pathsOf(s)) this.drawPath(i, path, points);
+    });
     this.viewport.render();
+  }
+
+  // A comb's or trajectory's path: the curve through its control points (a Catmull-Rom
+  // curve, as the solver draws it when `smooth`), a faint tube of its radius (the comb's
+  // reach, the trajectory's tolerance), an arrowhead at its end (the direction it combs)
+  // and a handle on each control point.
+  drawPath(i, path, points) {
+    const s = this.sections[i];
+    const spec = path < 0 ? s : s.constraint[path];
+    const [r, g, b] = groupColor(this.groupIndex(i));
+    const color = new THREE.Color(r, g, b);
+    const p = points.map((q) => new THREE.Vector3(...q));
+    if (p.length < 2) return;
+    const curve = spec.smooth === false ? new THREE.CurvePath() : new THREE.CatmullRomCurve3(p, false, "catmullrom", 0.5);
+    if (spec.smooth === false) for (let k = 1; k < p.length; ++k) curve.add(new THREE.LineCurve3(p[k - 1], p[k]));
+    const samples = curve.getSpacedPoints(Math.max(8, 12 * (p.length - 1)));
+    const overlay = (material) => Object.assign(material, { depthTest: false, transparent: true });
+    const line = new THREE.Line(new THREE.BufferGeometry().setFromPoints(samples),
+      overlay(new THREE.LineBasicMaterial({ color, opacity: 0.95 })));
+    line.renderOrder = 19;
+    const radius = spec.radius ?? (path < 0 ? defaultComb.radius : defaultTrajectory.radius);
+    const tube = new THREE.Mesh(new THREE.TubeGeometry(curve, samples.length, radius, 10, false),
+      overlay(new THREE.MeshBasicMaterial({ color, opacity: 0.1, depthWrite: false })));
+    tube.renderOrder = 18;
+    const end = samples[samples.length - 1], before = samples[samples.length - 2];
+    const arrow = new THREE.Mesh(new THREE.ConeGeometry(0.5, 1.4, 14),
+      overlay(new THREE.MeshBasicMaterial({ color, opacity: 0.95 })));
+    arrow.position.copy(end);
+    arrow.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), end.clone().sub(before).normalize());
+    arrow.renderOrder = 20;
+    this.handles.add(tube, line, arrow);
+    p.forEach((q, k) => {
+      const handle = new THREE.Mesh(new THREE.SphereGeometry(k === 0 ? 0.45 : 0.38, 16, 10),
+        overlay(new THREE.MeshBasicMaterial({ color: k === 0 ? 0xffffff : color, opacity: 0.95 })));
+      handle.position.copy(q);
+      handle.userData = { section: i, path, point: k };
+      handle.renderOrder = 21;
+      this.handles.add(handle);
+    });
   }
 
   // 1 + the index of section i's first group in the style (Hair::group's numbering).
@@ -249,23 +355,33 @@ export class Constraints {
         bar.textContent = "…";
       }
       row.append(bar);
-      if (s.section === "tie") {
-        const radius = document.createElement("input");
-        radius.type = "range";
-        radius.min = 0.3;
-        radius.max = 5;
-        radius.step = 0.1;
-        radius.value = s.radius ?? defaultTieRadius;
-        radius.title = "the tie's tolerance radius (cm): how tight it gathers the hair";
-        radius.onchange = () => {
+      // A slider of one of the section's numbers (of its constraint `path`, -1: its own).
+      const slider = (key, path, min, max, step, fallback, title, unit = "") => {
+        const input = document.createElement("input");
+        input.type = "range";
+        Object.assign(input, { min, max, step, title });
+        const spec = path < 0 ? s : s.constraint[path];
+        input.value = spec[key] ?? fallback;
+        input.dataset.key = key;
+        const label = document.createElement("label");
+        const show = () => (label.textContent = `${key} ${Number(input.value).toFixed(step < 0.1 ? 2 : 1)}${unit}`);
+        show();
+        input.oninput = show;
+        input.onchange = () => {
           const next = structuredClone(this.sections);
-          next[i].radius = Number(radius.value);
+          (path < 0 ? next[i] : next[i].constraint[path])[key] = Number(input.value);
           this.apply(next);
         };
-        const label = document.createElement("label");
-        label.textContent = "radius";
-        row.append(label, radius);
+        row.append(label, input);
+      };
+      if (s.section === "tie")
+        slider("radius", -1, 0.3, 5, 0.1, defaultTieRadius, "the tie's tolerance radius (cm): how tight it gathers the hair", " cm");
+      if (s.section === "comb" && s.head_relative === false) {
+        slider("radius", -1, 0.5, 10, 0.1, defaultComb.radius, "the comb's reach (cm): hair this close to its path turns along it", " cm");
+        slider("weight", -1, 0.05, 1, 0.05, defaultComb.weight, "how firmly the comb overrides gravity (w of eq. 7)");
       }
+      for (const { path } of s.section === "group" ? pathsOf(s) : [])
+        slider("radius", path, 0.3, 6, 0.1, defaultTrajectory.radius, "the path's tolerance radius (cm): how tightly the hair keeps to it", " cm");
       this.list.append(row);
     });
   }
@@ -288,12 +404,26 @@ export class Constraints {
     return p.distanceTo(this.center) < 1.8 * this.radius ? p : null;
   }
 
+  // Where a stroke or a dragged control point goes: `strokeLift` off the head where the
+  // pointer is over it; off it, the pointer's ray's point nearest the head's centre, put
+  // as far from the centre as the head's surface plus the lift (the stroke runs on round
+  // the silhouette); null when the pointer is far from the head.
+  surfacePoint(e) {
+    const ray = this.ray(e);
+    const hits = this.viewport.head ? this.raycaster.intersectObject(this.viewport.head) : [];
+    if (hits[0]) return hits[0].point.clone().addScaledVector(hits[0].face.normal, strokeLift);
+    const p = ray.closestPointToPoint(this.center, new THREE.Vector3());
+    const d = p.distanceTo(this.center);
+    if (d > 1.6 * this.radius) return null;
+    return this.center.clone().addScaledVector(p.sub(this.center).normalize(), Math.max(d, this.radius + strokeLift));
+  }
+
   down(e) {
     if (!this.active || e.button !== 0 || this.selector.active) return;
     this.ray(e);
     const hit = this.raycaster.intersectObjects(this.handles.children.filter((h) => h.userData.section !== undefined))[0];
     if (hit) {
-      // Drag a tie's handle in the plane facing the camera.
+      // Drag a tie's handle in the plane facing the camera; a control point over the head.
       e.preventDefault();
       e.stopImmediatePropagation();
       this.viewport.controls.enabled = false;
@@ -301,27 +431,79 @@ export class Constraints {
       this.drag = { handle: hit.object, plane: new THREE.Plane().setFromNormalAndCoplanarPoint(normal, hit.object.position) };
       return;
     }
+    if (this.tool !== "tie") {
+      const p = this.surfacePoint(e);
+      if (!p) return;
+      e.preventDefault();
+      e.stopImmediatePropagation();
+      this.viewport.controls.enabled = false;
+      this.stroke = { points: [p], line: new THREE.Line(new THREE.BufferGeometry(),
+        new THREE.LineBasicMaterial({ color: 0xd7a05b, depthTest: false, transparent: true })) };
+      this.stroke.line.renderOrder = 22;
+      this.handles.add(this.stroke.line);
+      return;
+    }
     this.press = { x: e.clientX, y: e.clientY };
   }
 
   move(e) {
+    if (this.stroke) {
+      const p = this.surfacePoint(e);
+      const last = this.stroke.points[this.stroke.points.length - 1];
+      if (!p || p.distanceTo(last) < strokeStep) return;
+      this.stroke.points.push(p);
+      this.stroke.line.geometry.setFromPoints(this.stroke.points);
+      this.viewport.render();
+      return;
+    }
     if (!this.drag) return;
-    const p = this.ray(e).intersectPlane(this.drag.plane, new THREE.Vector3());
+    const { handle } = this.drag;
+    const p = handle.userData.path !== undefined
+      ? this.surfacePoint(e) ?? this.ray(e).intersectPlane(this.drag.plane, new THREE.Vector3())
+      : this.ray(e).intersectPlane(this.drag.plane, new THREE.Vector3());
     if (!p) return;
-    this.drag.handle.position.copy(p);
-    this.drag.handle.userData.ring.position.copy(p);
+    handle.position.copy(p);
+    handle.userData.ring?.position.copy(p);
     this.drag.moved = true;
     this.viewport.render();
   }
 
+  // The stroke drawn becomes a comb or a trajectory through its resampled control points.
+  finishStroke() {
+    const { points, line } = this.stroke;
+    this.stroke = null;
+    this.viewport.controls.enabled = true;
+    this.handles.remove(line);
+    let length = 0;
+    for (let k = 1; k < points.length; ++k) length += points[k].distanceTo(points[k - 1]);
+    if (length < 2) {
+      this.viewport.render();
+      return this.onError("drag further over the head to draw a stroke");
+    }
+    const n = Math.max(3, Math.min(8, Math.round(length / controlSpacing) + 1));
+    const trajectory = resample(points, n).map(rounded);
+    const kind = this.tool;
+    const count = this.sections.filter((s) => (kind === "comb" ? s.section === "comb" : pathsOf(s).length && s.section === "group")).length + 1;
+    let name = `${kind} ${count}`;
+    for (let k = count + 1; this.sections.some((s) => s.name === name); ++k) name = `${kind} ${k}`;
+    const section = kind === "comb"
+      ? { section: "comb", name, trajectory, smooth: true, ...defaultComb, head_relative: false }
+      : { section: "group", name, head_relative: false,
+        constraint: [{ kind: "trajectory", trajectory, smooth: true, ...defaultTrajectory }] };
+    this.apply([...this.sections, section]);
+  }
+
   up(e) {
+    if (this.stroke) return this.finishStroke();
     if (this.drag) {
       const { handle, moved } = this.drag;
       this.drag = null;
       this.viewport.controls.enabled = true;
       if (!moved) return;
       const next = structuredClone(this.sections);
-      next[handle.userData.section].point = handle.position.toArray().map((v) => Math.round(v * 100) / 100);
+      const { section, path, point } = handle.userData;
+      if (path === undefined) next[section].point = rounded(handle.position);
+      else (path < 0 ? next[section] : next[section].constraint[path]).trajectory[point] = rounded(handle.position);
       this.apply(next);
       return;
     }

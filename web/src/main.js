@@ -53,7 +53,7 @@ async function refreshHair(final, { mastersFirst = false } = {}) {
       const masters = decodeStrands(buffer);
       // Master i is wisp i: colour by wisp (or group, length) needs no more.
       const wisps = Int32Array.from({ length: masters.strands }, (_, i) => i);
-      const shown = recolor(masters, colorBy.value === "group" ? "color" : colorBy.value, { wisp: wisps });
+      const shown = recolor(masters, ["group", "progress"].includes(colorBy.value) ? "color" : colorBy.value, { wisp: wisps });
       viewport.setHair(shown.strands, { masters: true });
       legend = shown.legend;
       hud.dataset.strands = masters.strands;
@@ -185,7 +185,14 @@ window.addEventListener("keydown", (e) => {
     if (k === "p") setPainting(!painter.active);
     else if (k === "m") motion.toggle();
     else if (motion.active && k === " ") { e.preventDefault(); motion.play(!motion.state?.playing); }
-    else if (k === "t") setTying(!constraints.active);
+    else if (k === "t" || k === "c") {
+      const tool = k === "t" ? "tie" : "comb";
+      if (constraints.active && constraints.tool === tool) setTying(false);
+      else {
+        constraints.setTool(tool);
+        setTying(true);
+      }
+    }
     else if (constraints.selector.active && k === "e") brushInput("select-erase", (el) => (el.checked = !el.checked));
     else if (painter.active && k === "e") brushInput("brush-erase", (el) => (el.checked = !el.checked));
     else if (painter.active && (k === "[" || k === "]"))
@@ -289,6 +296,8 @@ async function setTying(on) {
   toolInset();
 }
 document.getElementById("tie").onclick = () => setTying(!constraints.active);
+for (const button of document.querySelectorAll("#tie-tools [data-tool]"))
+  button.onclick = () => constraints.setTool(button.dataset.tool);
 document.getElementById("paint").onclick = () => setPainting(!painter.active);
 
 // Save, Save as, Open: files of the style's folder only (the server checks the names).
@@ -410,6 +419,27 @@ headFile.onchange = async () => {
   painter.invalidate();
   edited();
 };
+
+// The server's progress on long runs (the full hair, a render, an export), as server-sent
+// events (GET /api/events): a bar over the view while one runs. The browser reconnects a
+// dropped stream by itself.
+const progressBar = document.getElementById("progress");
+let progressTimer = null;
+const events = new EventSource(`/api/events?token=${encodeURIComponent(new URLSearchParams(location.search).get("token") ?? "")}`);
+events.addEventListener("progress", (message) => {
+  const e = JSON.parse(message.data);
+  clearTimeout(progressTimer);
+  progressBar.hidden = false;
+  progressBar.classList.toggle("failed", Boolean(e.error));
+  const fraction = e.total ? e.done / e.total : 1;
+  progressBar.querySelector(".fill").style.width = `${(100 * fraction).toFixed(0)}%`;
+  progressBar.querySelector("span").textContent = e.finished
+    ? `${e.task} ${e.error ? `failed: ${e.error}` : "done"}`
+    : `${e.task}: ${e.step} (${e.done + 1} of ${e.total})`;
+  progressBar.dataset.task = e.task;
+  progressBar.dataset.finished = e.finished ? "1" : "";
+  if (e.finished) progressTimer = setTimeout(() => (progressBar.hidden = true), e.error ? 2500 : 600);
+});
 
 // Motion (M): the style animated live by the Adaptive Wisp Tree (motion.js).
 const motion = new MotionMode(viewport, {

@@ -1,5 +1,6 @@
-// Views of the hair: colour by the strands' own colour, their wisp, their constraint group or
-// their length; the view's inset beside a tool panel; and the final picture from wisp's own
+// Views of the hair: colour by the strands' own colour, their wisp, their constraint group,
+// their length or their constraint progress (how much of its group's queue each strand's
+// wisp met, from the solver's count that the groups' progress is made of); the view's inset beside a tool panel; and the final picture from wisp's own
 // renderer of the live view's camera (POST /api/render).
 import { getBinary, postJson } from "./api.js";
 
@@ -8,10 +9,21 @@ export const colorModes = {
   wisp: "wisp",
   group: "group",
   length: "length",
+  progress: "constraint progress",
 };
 
-// The modes that need each strand's wisp and group (GET /api/attributes).
-export const needsAttributes = (mode) => mode === "wisp" || mode === "group";
+// The modes that need each strand's wisp, group or progress (GET /api/attributes).
+export const needsAttributes = (mode) => mode === "wisp" || mode === "group" || mode === "progress";
+
+// Constraint progress t in [0, 1] (the fraction of the queue met): red for none, amber
+// half way, green for all of it; linear RGB.
+export function progressColor(t) {
+  if (t < 0) return [0.06, 0.06, 0.065];
+  const stops = [[0.8, 0.06, 0.04], [0.9, 0.45, 0.03], [0.12, 0.75, 0.16]];
+  const x = Math.min(1, t) * (stops.length - 1);
+  const i = Math.min(stops.length - 2, Math.floor(x)), f = x - i;
+  return stops[i].map((c, k) => c + (stops[i + 1][k] - c) * f);
+}
 
 // Linear RGB of a hue (degrees) at full saturation, a little darkened.
 function hue(h, value = 0.75) {
@@ -72,6 +84,18 @@ export function recolor(strands, mode, attributes) {
     }
     for (let s = 0; s < n; ++s) colors.set(ramp(hi > lo ? (lengths[s] - lo) / (hi - lo) : 1), 3 * s);
     legend = n ? `length ${lo.toFixed(1)} cm (dark) … ${hi.toFixed(1)} cm (yellow)` : "";
+  } else if (mode === "progress") {
+    const progress = attributes?.progress;
+    let grouped = 0, done = 0;
+    for (let s = 0; s < n; ++s) {
+      const t = progress && s < progress.length ? progress[s] : -1;
+      colors.set(progressColor(t), 3 * s);
+      if (t >= 0) ++grouped;
+      if (t >= 1) ++done;
+    }
+    legend = grouped
+      ? `constraints met: none (red) … all (green), ${Math.round((100 * done) / grouped)}% met all · no group: dark`
+      : "no constraint groups: place a tie or a comb";
   } else {
     const ids = attributes?.[mode];
     for (let s = 0; s < n; ++s) {
@@ -89,14 +113,15 @@ export function recolor(strands, mode, attributes) {
   return { strands: { ...strands, colors }, legend };
 }
 
-// "WISPATTR": each strand's wisp and group, in /api/hair's order.
+// "WISPATTR": each strand's wisp, group and constraint progress, in /api/hair's order.
 export async function fetchAttributes(limit) {
   const buffer = await getBinary(`/api/attributes?strands=${limit}`);
   if (!buffer) return null;
-  const [, count] = new Uint32Array(buffer, 8, 2);
+  const [version, count] = new Uint32Array(buffer, 8, 2);
   return {
     wisp: new Int32Array(buffer, 16, count),
     group: new Int32Array(buffer, 16 + 4 * count, count),
+    progress: version >= 2 ? new Float32Array(buffer, 16 + 8 * count, count) : null,
   };
 }
 

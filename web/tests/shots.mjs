@@ -1,5 +1,6 @@
 // The pictures of docs/edit.md: the editor with wisp's render beside the live view, painting
-// the density map, and a tie with its painted selection coloured by group. Not a test: run
+// the density map, a tie with its painted selection coloured by group, and a comb stroke
+// (then coloured by constraint progress). Not a test: run
 // by hand after a change to the editor's look, then look at the pictures.
 //   node web/tests/shots.mjs WISP_EXE OUT_DIR
 import { launchChromium, openEditor, startEditor, tempFolder, testArguments } from "./harness.mjs";
@@ -112,6 +113,45 @@ try {
     await page.evaluate(() => window.wispEditor.constraints.select(null));
     await settle();
     await page.screenshot({ path: path.join(outDir, "tie.png") });
+  }
+  // A comb stroke across the back of the head, left to right; then coloured by progress.
+  {
+    const { page, settle } = await open("long-straight", 30000);
+    await page.click("#tie");
+    await page.click("#tie-tools [data-tool='comb']");
+    await page.evaluate(() => {
+      const { viewport, constraints } = window.wispEditor;
+      const c = constraints.center;
+      viewport.camera.position.set(c.x + 10, c.y + 20, c.z - 85);
+      viewport.controls.target.set(c.x, c.y - 6, c.z);
+      viewport.controls.update();
+      viewport.renderNow();
+    });
+    // The geometry of web/tests/comb_test.mjs.
+    const stroke = await page.evaluate(() => {
+      const { viewport, constraints } = window.wispEditor;
+      const rect = viewport.renderer.domElement.getBoundingClientRect();
+      const c = constraints.center, r = constraints.radius;
+      return [[0.7, 0.1, -0.75], [0.35, 0.15, -0.95], [0, 0.15, -1.0], [-0.35, 0.15, -0.95], [-0.7, 0.1, -0.75]].map(([x, y, z]) => {
+        const p = c.clone().set(c.x + x * r, c.y + y * r, c.z + z * r).project(viewport.camera);
+        return [rect.left + ((p.x + 1) / 2) * rect.width, rect.top + ((1 - p.y) / 2) * rect.height];
+      });
+    });
+    await page.mouse.move(...stroke[0]);
+    await page.mouse.down();
+    for (let k = 1; k < stroke.length; ++k)
+      for (let i = 1; i <= 6; ++i)
+        await page.mouse.move(stroke[k - 1][0] + ((stroke[k][0] - stroke[k - 1][0]) * i) / 6,
+          stroke[k - 1][1] + ((stroke[k][1] - stroke[k - 1][1]) * i) / 6);
+    await page.mouse.up();
+    await page.waitForFunction(() => window.wispEditor.constraints.sections.length === 1, null, { timeout: 300000 });
+    await settle();
+    await page.screenshot({ path: path.join(outDir, "comb.png") });
+    await page.selectOption("#color-by", "progress");
+    await page.waitForFunction(() => document.getElementById("legend").textContent.includes("constraints met"), null,
+      { timeout: 300000 });
+    await page.waitForTimeout(1500);
+    await page.screenshot({ path: path.join(outDir, "comb-progress.png") });
   }
 } finally {
   await browser.close();
