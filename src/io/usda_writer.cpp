@@ -210,52 +210,14 @@ void points_array(Out& out, const Hair& hair, const char* indent, bool z_up = fa
 // The bounds of the points in the layer's axes grown by the largest half width. With a
 // precision, each bound also takes in what it reads back as when rounded: rounding is
 // monotonic, so every rounded point then lies inside (the extent itself is written exact).
-// The hair's bounds and its widest width, on all cores in chunks of a fixed size (min and
-// max are exact, so the result is the serial one at any thread count): serial, this came
-// before every writer could start.
-struct PointsExtent {
-    Box3 box;
-    float max_width = 0.f;
-};
-
-PointsExtent points_extent(const Hair& hair) {
-    constexpr size_t kChunk = size_t{1} << 16;
-    const size_t n = hair.points.size();
-    const size_t chunks = (n + kChunk - 1) / kChunk;
-    std::vector<PointsExtent> part(chunks);
-    parallel_for(chunks, [&](size_t c) {
-        const size_t begin = c * kChunk, end = std::min(n, begin + kChunk);
-        float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-        const float* f = hair.points[begin].data();
-        for (size_t i = 0; i < end - begin; ++i)
-            for (int k = 0; k < 3; ++k) {
-                lo[k] = std::min(lo[k], f[3 * i + k]);
-                hi[k] = std::max(hi[k], f[3 * i + k]);
-            }
-        part[c].box.lo = Vec3f(lo[0], lo[1], lo[2]);
-        part[c].box.hi = Vec3f(hi[0], hi[1], hi[2]);
-        if (!hair.widths.empty())
-            for (size_t i = begin; i < end; ++i)
-                part[c].max_width = std::max(part[c].max_width, hair.widths[i]);
-    });
-    PointsExtent e;
-    for (const PointsExtent& p : part) {
-        e.box.extend(p.box);
-        e.max_width = std::max(e.max_width, p.max_width);
-    }
-    return e;
-}
-
 Box3 extent_of(const Hair& hair, bool z_up = false, int precision = 0) {
-    const PointsExtent e = points_extent(hair);
-    Box3 b = e.box;
+    Box3 b = hair.bounds();
     if (z_up && !b.empty()) {
         const Box3 y = b;
         b.lo = Vec3f(y.lo.x(), -y.hi.z(), y.lo.y());
         b.hi = Vec3f(y.hi.x(), -y.lo.z(), y.hi.y());
     }
-    float half = hair.default_width * 0.5f;
-    if (!hair.widths.empty()) half = e.max_width * 0.5f;
+    const float half = hair.max_width() * 0.5f;
     if (!b.empty()) {
         b.lo -= Vec3f::Constant(half);
         b.hi += Vec3f::Constant(half);
