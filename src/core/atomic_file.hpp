@@ -20,10 +20,9 @@ class AtomicFile {
     AtomicFile& operator=(const AtomicFile&) = delete;
 
     std::ostream& stream() { return out_; }
-    // Writes n bytes at `offset` of the file (pwrite: no file position, so any thread may
-    // write its own range while others write theirs; the kernel's copy into the page cache
-    // then runs on every core). Throws wisp::Error naming the file if it cannot. For writers
-    // that compute where each block goes; do not mix with stream().
+    // Writes n bytes at `offset` of the file (pwrite: no shared file position, so blocks may
+    // be written in any order and from any thread). Throws wisp::Error naming the file if it
+    // cannot. For writers that compute where each block goes; do not mix with stream().
     void write_at(const char* data, size_t n, uint64_t offset);
     // Flushes, checks for write errors, and renames onto the target.
     void commit();

@@ -142,10 +142,11 @@ struct Out {
 // Formats strands in blocks: body(strand, text) appends one strand's text. The blocks are
 // formatted on the worker threads while the finished ones are placed in order (a TBB pipeline
 // with a serial, in-order stage), so the bytes never depend on the thread count. Into a file,
-// that stage only gives each block its offset, after the blocks before it, and the blocks
-// are written at their offsets in parallel: the kernel's copy of the text (a fifth of the
-// CPU time) runs on every core, overlapped with formatting. A block's buffer comes from a
-// pool of `tokens` (the blocks in flight) and goes back once the block is written.
+// that stage only gives each block its offset, after the blocks before it, and the last stage
+// writes blocks at their offsets one at a time but in any order (ext4 holds the file's lock
+// for a buffered write: parallel writes only made a thread sleep on it), so a thread never
+// waits for an earlier block to be written: it formats the next one instead. A block's buffer
+// comes from a pool of `tokens` (the blocks in flight) and goes back once it is written.
 template <typename Body>
 void format_strands(Out& out, const Hair& hair, size_t bytes_per_point, Body&& body) {
     constexpr size_t kBlock = 512;
@@ -202,10 +203,11 @@ void format_strands(Out& out, const Hair& hair, size_t bytes_per_point, Body&& b
         free_parts.push_back(b.part);
     };
     tbb::parallel_pipeline(
-        tokens, tbb::make_filter<void, Block>(tbb::filter_mode::serial_in_order, take_block) &
-                    tbb::make_filter<Block, Block>(tbb::filter_mode::parallel, format_block) &
-                    tbb::make_filter<Block, Block>(tbb::filter_mode::serial_in_order, place_block) &
-                    tbb::make_filter<Block, void>(tbb::filter_mode::parallel, write_block));
+        tokens,
+        tbb::make_filter<void, Block>(tbb::filter_mode::serial_in_order, take_block) &
+            tbb::make_filter<Block, Block>(tbb::filter_mode::parallel, format_block) &
+            tbb::make_filter<Block, Block>(tbb::filter_mode::serial_in_order, place_block) &
+            tbb::make_filter<Block, void>(tbb::filter_mode::serial_out_of_order, write_block));
 }
 
 // Head space (Y up) to the layer's axes: Z up turns +Y into +Z, (x, y, z) -> (x, -z, y), the
