@@ -1,6 +1,8 @@
 #include "core/atomic_file.hpp"
 
+#include <fcntl.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -12,6 +14,8 @@
 #include <iterator>
 #include <memory>
 #include <mutex>
+#include <system_error>
+#include <thread>
 
 #include "core/error.hpp"
 
@@ -118,6 +122,36 @@ void unregister_temporary(int slot) {
     if (slot >= 0) g_temporaries[slot].state.store(0);
 }
 
+// Puts the file `from` in place of `to`, atomically. Over an existing file the two names are
+// exchanged (renameat2's RENAME_EXCHANGE) and the old file, now at `from`, is unlinked:
+// rename(2) over an existing file on ext4 also starts writing the new file back inside the
+// call (auto_da_alloc, a guard for programs that replace files without fsync; wisp does not
+// promise durability on power loss), 120–310 ms for a 174 MB .usda on a loaded machine. The
+// old file's pages are freed when its last descriptor closes (15–20 ms for the same): a
+// descriptor held across the unlink is closed on a thread of its own, so that work overlaps
+// whatever comes next (at exit, the kernel closes it). Where exchange is not supported, or
+// `to` is not a regular file, a plain rename (which fails on a folder, as it should).
+void replace_file(const std::filesystem::path& from, const std::filesystem::path& to) {
+    struct stat target {};
+    if (::lstat(to.c_str(), &target) == 0 && S_ISREG(target.st_mode)) {
+        const int old = ::open(to.c_str(), O_PATH | O_NOFOLLOW | O_CLOEXEC);
+        if (::renameat2(AT_FDCWD, from.c_str(), AT_FDCWD, to.c_str(), RENAME_EXCHANGE) == 0) {
+            ::unlink(from.c_str());
+            if (old < 0) return;
+            try {
+                std::thread([old] { ::close(old); }).detach();
+            } catch (const std::system_error&) {  // no thread to be had: close it here
+                ::close(old);
+            }
+            return;
+        }
+        if (old >= 0) ::close(old);
+    }
+    std::error_code ec;
+    std::filesystem::rename(from, to, ec);
+    if (ec) fail(to.string(), ": cannot rename temporary file: ", ec.message());
+}
+
 }  // namespace
 
 AtomicFile::AtomicFile(std::filesystem::path path) : path_(std::move(path)) {
@@ -130,13 +164,21 @@ AtomicFile::AtomicFile(std::filesystem::path path) : path_(std::move(path)) {
     }
     slot_ = register_temporary(tmp_);  // before the file exists: a signal never misses it
     out_.open(tmp_, std::ios::binary | std::ios::trunc);
-    if (!out_) {
+    if (out_) fd_ = ::open(tmp_.c_str(), O_WRONLY | O_CLOEXEC);
+    if (!out_ || fd_ < 0) {
+        const int error = errno;
+        if (out_) {
+            out_.close();
+            std::error_code ec;
+            std::filesystem::remove(tmp_, ec);
+        }
         unregister_temporary(slot_);
-        fail(path_.string(), ": cannot open for writing: ", std::strerror(errno));
+        fail(path_.string(), ": cannot open for writing: ", std::strerror(error));
     }
 }
 
 AtomicFile::~AtomicFile() {
+    if (fd_ >= 0) ::close(fd_);
     if (!committed_) {
         out_.close();
         std::error_code ec;
@@ -145,14 +187,28 @@ AtomicFile::~AtomicFile() {
     unregister_temporary(slot_);
 }
 
+void AtomicFile::write_at(const char* data, size_t n, uint64_t offset) {
+    while (n > 0) {
+        const ssize_t wrote = ::pwrite(fd_, data, n, static_cast<off_t>(offset));
+        if (wrote < 0 && errno == EINTR) continue;
+        if (wrote <= 0)
+            fail(path_.string(), ": write failed at byte ", offset, ": ",
+                 wrote < 0 ? std::strerror(errno) : "no byte written");
+        data += wrote;
+        n -= static_cast<size_t>(wrote);
+        offset += static_cast<uint64_t>(wrote);
+    }
+}
+
 void AtomicFile::commit() {
     out_.flush();
     if (!out_) fail(path_.string(), ": write failed");
     out_.close();
     if (out_.fail()) fail(path_.string(), ": write failed on close");
-    std::error_code ec;
-    std::filesystem::rename(tmp_, path_, ec);
-    if (ec) fail(path_.string(), ": cannot rename temporary file: ", ec.message());
+    const int fd = fd_;
+    fd_ = -1;
+    if (::close(fd) != 0) fail(path_.string(), ": write failed on close: ", std::strerror(errno));
+    replace_file(tmp_, path_);
     committed_ = true;
     unregister_temporary(slot_);
     slot_ = -1;

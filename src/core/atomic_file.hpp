@@ -20,12 +20,17 @@ class AtomicFile {
     AtomicFile& operator=(const AtomicFile&) = delete;
 
     std::ostream& stream() { return out_; }
+    // Writes n bytes at `offset` of the file (pwrite: no shared file position, so blocks may
+    // be written in any order and from any thread). Throws wisp::Error naming the file if it
+    // cannot. For writers that compute where each block goes; do not mix with stream().
+    void write_at(const char* data, size_t n, uint64_t offset);
     // Flushes, checks for write errors, and renames onto the target.
     void commit();
 
   private:
     std::filesystem::path path_, tmp_;
     std::ofstream out_;
+    int fd_ = -1;  // write_at's descriptor of the temporary, opened by the constructor
     bool committed_ = false;
     int slot_ = -1;  // in the table of temporaries the signal handler removes
 };

@@ -37,7 +37,66 @@ bool coordinates_within(std::span<const Vec3f> points, float limit) {
                          -limit, limit);
 }
 
+// Chunks of a fixed size (not one per thread), so the reductions below combine the same
+// partial results in the same order at any thread count.
+constexpr size_t kReduceChunk = size_t{1} << 16;
+
 }  // namespace
+
+Box3 Hair::bounds() const {
+    const size_t n = points.size();
+    const size_t chunks = (n + kReduceChunk - 1) / kReduceChunk;
+    std::vector<Box3> part(chunks);
+    parallel_for(chunks, [&](size_t c) {
+        // On the flat floats, four points (12 floats) at a time in three 4-wide minima and
+        // maxima: Eigen's per-point cwiseMin and cwiseMax were scalar, a chain of min latencies
+        // (the compiler does not vectorize a float min reduction by itself). Lane j holds
+        // coordinate j % 3.
+        using Lanes = Eigen::Array4f;
+        const size_t begin = c * kReduceChunk, end = std::min(n, begin + kReduceChunk);
+        const float* f = points[begin].data();
+        const size_t floats = 3 * (end - begin), whole = floats - floats % 12;
+        Lanes lo[3], hi[3];
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = Lanes::Constant(INFINITY);
+            hi[k] = Lanes::Constant(-INFINITY);
+        }
+        for (size_t i = 0; i < whole; i += 12)
+            for (int k = 0; k < 3; ++k) {
+                const Lanes v = Eigen::Map<const Lanes>(f + i + 4 * k);
+                lo[k] = lo[k].min(v);
+                hi[k] = hi[k].max(v);
+            }
+        Box3& b = part[c];
+        for (size_t j = 0; j < 12; ++j) {
+            b.lo[j % 3] = std::min(b.lo[j % 3], lo[j / 4][j % 4]);
+            b.hi[j % 3] = std::max(b.hi[j % 3], hi[j / 4][j % 4]);
+        }
+        for (size_t i = whole; i < floats; ++i) {
+            b.lo[i % 3] = std::min(b.lo[i % 3], f[i]);
+            b.hi[i % 3] = std::max(b.hi[i % 3], f[i]);
+        }
+    });
+    Box3 box;
+    for (const Box3& b : part)
+        box.extend(b);
+    return box;
+}
+
+float Hair::max_width() const {
+    if (widths.empty()) return default_width;
+    const size_t n = widths.size();
+    const size_t chunks = (n + kReduceChunk - 1) / kReduceChunk;
+    std::vector<float> part(chunks, 0.f);
+    parallel_for(chunks, [&](size_t c) {
+        const size_t end = std::min(n, (c + 1) * kReduceChunk);
+        float m = 0.f;  // widths are >= 0 (validate)
+        for (size_t i = c * kReduceChunk; i < end; ++i)
+            m = std::max(m, widths[i]);
+        part[c] = m;
+    });
+    return *std::max_element(part.begin(), part.end());
+}
 
 void Hair::validate(const std::string& what) const {
     if (offsets.empty() || offsets.front() != 0) fail(what, ": offsets must start with 0");

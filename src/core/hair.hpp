@@ -54,12 +54,12 @@ struct Hair {
         points.insert(points.end(), pts.begin(), pts.end());
         offsets.push_back(static_cast<uint32_t>(points.size()));
     }
-    Box3 bounds() const {
-        Box3 b;
-        for (const Vec3f& p : points)
-            b.extend(p);
-        return b;
-    }
+    // The box of the control points (empty when there are none), on all cores in chunks of a
+    // fixed size: min and max are exact, so the box is the same at any thread count. The one
+    // bounds of the points that the writers' extents and the renderer's framing use.
+    Box3 bounds() const;
+    // The largest of widths, or default_width when widths is empty; on all cores like bounds().
+    float max_width() const;
     // Throws wisp::Error naming `what` if the arrays disagree in size, hold non-finite
     // values or a coordinate beyond ±kMaxCoordinate (called by every reader before it
     // returns, and by every writer).

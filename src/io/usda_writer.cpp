@@ -7,6 +7,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <mutex>
 #include <optional>
 #include <vector>
 
@@ -120,37 +121,32 @@ void append_raw(std::string& out, size_t max_bytes, Write&& write) {
     out.resize(static_cast<size_t>(end - out.data()));
 }
 
-// Text goes to `buf`; with a stream, buf is written out whenever it grows past a few MB,
-// so writing a file never holds the whole text in memory. `parts` are the block buffers of
+// Text goes to `buf`; with a file, buf is written out whenever it grows past a few MB, so
+// writing a file never holds the whole text in memory. `parts` are the block buffers of
 // format_strands, kept from one array to the next so their pages are touched once.
 struct Out {
     std::string buf;
-    std::ostream* stream = nullptr;
+    AtomicFile* file = nullptr;
+    uint64_t at = 0;  // the file's bytes written so far: where buf goes
     std::vector<std::string> parts;
     int precision = 0;  // UsdaWriteOptions::precision of the strands' floats
 
     void flush(bool force = false) {
-        if (!stream || (!force && buf.size() < (8u << 20))) return;
-        stream->write(buf.data(), static_cast<std::streamsize>(buf.size()));
+        if (!file || (!force && buf.size() < (8u << 20))) return;
+        file->write_at(buf.data(), buf.size(), at);
+        at += buf.size();
         buf.clear();
-    }
-    // Appends text; with a stream, big blocks go straight to it (no copy into buf).
-    void put(const std::string& text) {
-        if (!stream) {
-            buf += text;
-            return;
-        }
-        flush(true);
-        stream->write(text.data(), static_cast<std::streamsize>(text.size()));
     }
 };
 
 // Formats strands in blocks: body(strand, text) appends one strand's text. The blocks are
-// formatted on the worker threads while the finished ones go to the output in order (a TBB
-// pipeline whose last stage is serial and in order), so formatting overlaps writing and
-// the bytes never depend on the thread count. A block's buffer is reused by the block
-// `tokens` later: at most `tokens` blocks are in flight and they leave in order, so block b
-// has left before block b + tokens enters.
+// formatted on the worker threads while the finished ones are placed in order (a TBB pipeline
+// with a serial, in-order stage), so the bytes never depend on the thread count. Into a file,
+// that stage only gives each block its offset, after the blocks before it, and the last stage
+// writes blocks at their offsets one at a time but in any order (ext4 holds the file's lock
+// for a buffered write: parallel writes only made a thread sleep on it), so a thread never
+// waits for an earlier block to be written: it formats the next one instead. A block's buffer
+// comes from a pool of `tokens` (the blocks in flight) and goes back once it is written.
 template <typename Body>
 void format_strands(Out& out, const Hair& hair, size_t bytes_per_point, Body&& body) {
     constexpr size_t kBlock = 512;
@@ -159,28 +155,59 @@ void format_strands(Out& out, const Hair& hair, size_t bytes_per_point, Body&& b
     if (blocks == 0) return;
     const size_t tokens = 2 * static_cast<size_t>(tbb::this_task_arena::max_concurrency()) + 2;
     if (out.parts.size() < tokens) out.parts.resize(tokens);
+    out.flush(true);
+    std::vector<size_t> free_parts(tokens);
+    for (size_t i = 0; i < tokens; ++i)
+        free_parts[i] = tokens - 1 - i;
+    std::mutex free_mutex;
+    struct Block {
+        size_t index, part;
+        uint64_t at;
+    };
     size_t next = 0;
+    const auto take_block = [&](tbb::flow_control& fc) -> Block {
+        if (next == blocks) {
+            fc.stop();
+            return {};
+        }
+        const std::lock_guard lock(free_mutex);
+        const size_t part = free_parts.back();
+        free_parts.pop_back();
+        return {next++, part, 0};
+    };
+    const auto format_block = [&](Block b) {
+        const size_t lo = b.index * kBlock, hi = std::min(strands, lo + kBlock);
+        std::string& s = out.parts[b.part];
+        s.clear();
+        s.reserve((hair.offsets[hi] - hair.offsets[lo]) * bytes_per_point + 64 * (hi - lo));
+        for (size_t i = lo; i < hi; ++i)
+            body(i, s);
+        return b;
+    };
+    const auto place_block = [&](Block b) {
+        if (!out.file) {
+            out.buf += out.parts[b.part];
+            const std::lock_guard lock(free_mutex);
+            free_parts.push_back(b.part);
+            return b;
+        }
+        b.at = out.at;
+        out.at += out.parts[b.part].size();
+        return b;
+    };
+    const auto write_block = [&](Block b) {
+        if (!out.file) return;
+        const std::string& s = out.parts[b.part];
+        out.file->write_at(s.data(), s.size(), b.at);
+        const std::lock_guard lock(free_mutex);
+        free_parts.push_back(b.part);
+    };
     tbb::parallel_pipeline(
         tokens,
-        tbb::make_filter<void, size_t>(tbb::filter_mode::serial_in_order,
-                                       [&](tbb::flow_control& fc) -> size_t {
-                                           if (next == blocks) fc.stop();
-                                           return next++;
-                                       }) &
-            tbb::make_filter<size_t, size_t>(
-                tbb::filter_mode::parallel,
-                [&](size_t b) {
-                    const size_t lo = b * kBlock, hi = std::min(strands, lo + kBlock);
-                    std::string& s = out.parts[b % tokens];
-                    s.clear();
-                    s.reserve((hair.offsets[hi] - hair.offsets[lo]) * bytes_per_point +
-                              64 * (hi - lo));
-                    for (size_t i = lo; i < hi; ++i)
-                        body(i, s);
-                    return b;
-                }) &
-            tbb::make_filter<size_t, void>(tbb::filter_mode::serial_in_order,
-                                           [&](size_t b) { out.put(out.parts[b % tokens]); }));
+        tbb::make_filter<void, Block>(tbb::filter_mode::serial_in_order, take_block) &
+            tbb::make_filter<Block, Block>(tbb::filter_mode::parallel, format_block) &
+            tbb::make_filter<Block, Block>(tbb::filter_mode::serial_in_order, place_block) &
+            tbb::make_filter<Block, void>(tbb::filter_mode::serial_out_of_order, write_block));
 }
 
 // Head space (Y up) to the layer's axes: Z up turns +Y into +Z, (x, y, z) -> (x, -z, y), the
@@ -210,52 +237,14 @@ void points_array(Out& out, const Hair& hair, const char* indent, bool z_up = fa
 // The bounds of the points in the layer's axes grown by the largest half width. With a
 // precision, each bound also takes in what it reads back as when rounded: rounding is
 // monotonic, so every rounded point then lies inside (the extent itself is written exact).
-// The hair's bounds and its widest width, on all cores in chunks of a fixed size (min and
-// max are exact, so the result is the serial one at any thread count): serial, this came
-// before every writer could start.
-struct PointsExtent {
-    Box3 box;
-    float max_width = 0.f;
-};
-
-PointsExtent points_extent(const Hair& hair) {
-    constexpr size_t kChunk = size_t{1} << 16;
-    const size_t n = hair.points.size();
-    const size_t chunks = (n + kChunk - 1) / kChunk;
-    std::vector<PointsExtent> part(chunks);
-    parallel_for(chunks, [&](size_t c) {
-        const size_t begin = c * kChunk, end = std::min(n, begin + kChunk);
-        float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-        const float* f = hair.points[begin].data();
-        for (size_t i = 0; i < end - begin; ++i)
-            for (int k = 0; k < 3; ++k) {
-                lo[k] = std::min(lo[k], f[3 * i + k]);
-                hi[k] = std::max(hi[k], f[3 * i + k]);
-            }
-        part[c].box.lo = Vec3f(lo[0], lo[1], lo[2]);
-        part[c].box.hi = Vec3f(hi[0], hi[1], hi[2]);
-        if (!hair.widths.empty())
-            for (size_t i = begin; i < end; ++i)
-                part[c].max_width = std::max(part[c].max_width, hair.widths[i]);
-    });
-    PointsExtent e;
-    for (const PointsExtent& p : part) {
-        e.box.extend(p.box);
-        e.max_width = std::max(e.max_width, p.max_width);
-    }
-    return e;
-}
-
 Box3 extent_of(const Hair& hair, bool z_up = false, int precision = 0) {
-    const PointsExtent e = points_extent(hair);
-    Box3 b = e.box;
+    Box3 b = hair.bounds();
     if (z_up && !b.empty()) {
         const Box3 y = b;
         b.lo = Vec3f(y.lo.x(), -y.hi.z(), y.lo.y());
         b.hi = Vec3f(y.hi.x(), -y.lo.z(), y.hi.y());
     }
-    float half = hair.default_width * 0.5f;
-    if (!hair.widths.empty()) half = e.max_width * 0.5f;
+    const float half = hair.max_width() * 0.5f;
     if (!b.empty()) {
         b.lo -= Vec3f::Constant(half);
         b.hi += Vec3f::Constant(half);
@@ -297,12 +286,11 @@ void begin_curves(Out& o, const Hair& hair, const char* name, bool groom_api) {
     out += "        uniform token basis = \"catmullRom\"\n";
     out += "        uniform token wrap = \"pinned\"\n";
     out += "        int[] curveVertexCounts = [";
-    for (size_t s = 0; s < hair.strand_count(); ++s) {
-        if (s) out += ", ";
-        append_number(out, hair.strand_size(s));
-    }
+    format_strands(o, hair, 0, [&](size_t s, std::string& t) {
+        if (s) t += ", ";
+        append_number(t, hair.strand_size(s));
+    });
     out += "]\n";
-    o.flush();
 }
 
 // Header, the Xform and the BasisCurves prim "strands" up to (not including) its points.
@@ -325,18 +313,19 @@ void begin_layer(Out& o, const Hair& hair, const std::string& extra_metadata, bo
     begin_curves(o, hair, "strands", !groom_on_xform);
 }
 
-// An int primvar of n values value(i), or of the one value(0) when `constant`.
+// An int primvar of a value(i) per strand of `hair`, or of the one value(0) when `constant`.
 template <typename Value>
-void int_primvar(Out& o, const char* name, size_t n, bool constant, Value&& value) {
-    std::string& out = o.buf;
-    out += cat("        int[] primvars:", name, " = [");
-    for (size_t i = 0; i < (constant ? 1 : n); ++i) {
-        if (i) out += ", ";
-        append_number(out, static_cast<int64_t>(value(i)));
-        if ((i & 65535) == 65535) o.flush();
-    }
-    out += cat("] (\n            interpolation = \"", constant ? "constant" : "uniform",
-               "\"\n        )\n");
+void int_primvar(Out& o, const Hair& hair, const char* name, bool constant, Value&& value) {
+    o.buf += cat("        int[] primvars:", name, " = [");
+    if (constant)
+        append_number(o.buf, static_cast<int64_t>(value(0)));
+    else
+        format_strands(o, hair, 0, [&](size_t i, std::string& t) {
+            if (i) t += ", ";
+            append_number(t, static_cast<int64_t>(value(i)));
+        });
+    o.buf += cat("] (\n            interpolation = \"", constant ? "constant" : "uniform",
+                 "\"\n        )\n");
 }
 
 // Unreal's per-strand groom attributes beyond colour: the group (per strand, or one group),
@@ -347,30 +336,30 @@ void groom_primvars(Out& o, const Hair& hair, bool with_guides, size_t first_id,
                     int64_t guide_base) {
     const size_t S = hair.strand_count();
     if (hair.group.empty())
-        int_primvar(o, "groom_group_id", S, true, [](size_t) { return 0; });
+        int_primvar(o, hair, "groom_group_id", true, [](size_t) { return 0; });
     else
-        int_primvar(o, "groom_group_id", S, false, [&](size_t i) { return hair.group[i]; });
+        int_primvar(o, hair, "groom_group_id", false, [&](size_t i) { return hair.group[i]; });
     if (!hair.root_uv.empty()) {
         o.buf += "        float2[] primvars:groom_root_uv = [";
-        for (size_t i = 0; i < S; ++i) {
-            o.buf += i ? ", (" : "(";
-            append_raw(o.buf, 2 * kMaxFloatChars + 2, [&](char* p) {
+        format_strands(o, hair, 0, [&](size_t i, std::string& t) {
+            t += i ? ", (" : "(";
+            append_raw(t, 2 * kMaxFloatChars + 3, [&](char* p) {
                 p = put_float(p, hair.root_uv[i].x(), o.precision);
                 *p++ = ',';
                 *p++ = ' ';
-                return put_float(p, hair.root_uv[i].y(), o.precision);
+                p = put_float(p, hair.root_uv[i].y(), o.precision);
+                *p++ = ')';
+                return p;
             });
-            o.buf += ')';
-            if ((i & 65535) == 65535) o.flush();
-        }
+        });
         o.buf += "] (\n            interpolation = \"uniform\"\n        )\n";
     }
     if (!with_guides) return;
     const bool guide = guide_base < 0;
-    int_primvar(o, "groom_guide", S, true, [&](size_t) { return guide ? 1 : 0; });
-    int_primvar(o, "groom_id", S, false, [&](size_t i) { return first_id + i; });
+    int_primvar(o, hair, "groom_guide", true, [&](size_t) { return guide ? 1 : 0; });
+    int_primvar(o, hair, "groom_id", false, [&](size_t i) { return first_id + i; });
     if (guide) return;
-    int_primvar(o, "groom_closest_guides", S, false,
+    int_primvar(o, hair, "groom_closest_guides", false,
                 [&](size_t i) { return guide_base + hair.wisp[i]; });
     o.buf +=
         "        float[] primvars:groom_guide_weights = [1] (\n            interpolation = "
@@ -429,10 +418,10 @@ void end_curves(Out& o, const Hair& hair, bool with_guides = false, size_t first
     color_primvar(o, hair, "color3f[] primvars:displayColor");
     if (!hair.wisp.empty()) {
         out += "        int[] primvars:wisp_id = [";
-        for (size_t s = 0; s < S; ++s) {
-            if (s) out += ", ";
-            append_number(out, hair.wisp[s]);
-        }
+        format_strands(o, hair, 0, [&](size_t s, std::string& t) {
+            if (s) t += ", ";
+            append_number(t, hair.wisp[s]);
+        });
         out += "] (\n            interpolation = \"uniform\"\n        )\n";
     }
     // Unreal's groom attributes (primvars named groom_*, arrays even when constant: its
@@ -674,12 +663,12 @@ void write_usda(const std::filesystem::path& path, const Hair& hair,
                 const UsdaWriteOptions& options) {
     check_strands(hair, path.string());
     check_options(hair, options, path.string());
-    write_file_atomic(path, [&](std::ostream& os) {
-        Out out;
-        out.stream = &os;
-        out.precision = options.precision;
-        write_single(out, hair, options);
-    });
+    AtomicFile file(path);
+    Out out;
+    out.file = &file;
+    out.precision = options.precision;
+    write_single(out, hair, options);
+    file.commit();
 }
 
 std::string encode_usda_animation(const std::vector<Hair>& frames, double fps,
@@ -693,11 +682,11 @@ std::string encode_usda_animation(const std::vector<Hair>& frames, double fps,
 void write_usda_animation(const std::filesystem::path& path, const std::vector<Hair>& frames,
                           double fps) {
     check_frames(frames, fps, path.string());
-    write_file_atomic(path, [&](std::ostream& os) {
-        Out out;
-        out.stream = &os;
-        write_animation(out, frames, fps);
-    });
+    AtomicFile file(path);
+    Out out;
+    out.file = &file;
+    write_animation(out, frames, fps);
+    file.commit();
 }
 
 struct UsdaAnimationWriter::Impl {
@@ -731,7 +720,7 @@ UsdaAnimationWriter::UsdaAnimationWriter(const std::filesystem::path& path, cons
     check_strands(first, path.string());
     if (strands) check_guides_mode(*strands, first, path.string());
     impl_ = std::make_unique<Impl>(path);
-    impl_->out.stream = &impl_->file.stream();
+    impl_->out.file = &impl_->file;
     impl_->out.precision = precision;
     impl_->first = first;
     if (strands) impl_->strands = *strands;
@@ -782,7 +771,7 @@ void write_clip_frame(const std::filesystem::path& file, const Hair& frame, size
                       const std::string& top, const char* prim, int precision) {
     AtomicFile f(file);
     Out out;
-    out.stream = &f.stream();
+    out.file = &f;
     out.precision = precision;
     out.buf += cat("#usda 1.0\n(\n    doc = \"wisp animation: frame ", index, ", a value clip of ",
                    top, "\"\n)\n\n");
@@ -882,20 +871,19 @@ void UsdaClipWriter::finish() {
             cat("            asset manifestAssetPath = @./", manifest.filename().string(), "@\n");
         clips += "            string primPath = \"/hair\"\n";
         clips += cat("            double2[] times = [", pairs, "]\n        }\n    }\n");
-        write_file_atomic(path_, [&](std::ostream& os) {
-            Out out;
-            out.stream = &os;
-            out.precision = m.precision;
-            const Hair* strands = m.strands ? &*m.strands : nullptr;
-            if (strands)
-                begin_guides_layer(out, *strands, m.first, animation_metadata(m.frames, m.fps),
-                                   clips);
-            else
-                begin_layer(out, m.first, animation_metadata(m.frames, m.fps), false, false, clips);
-            // Declared without a value: a local value would be stronger than the clips.
-            out.buf += "        float3[] extent\n        point3f[] points\n";
-            end_animated_layer(out, m.first, strands);
-        });
+        AtomicFile file(path_);
+        Out out;
+        out.file = &file;
+        out.precision = m.precision;
+        const Hair* strands = m.strands ? &*m.strands : nullptr;
+        if (strands)
+            begin_guides_layer(out, *strands, m.first, animation_metadata(m.frames, m.fps), clips);
+        else
+            begin_layer(out, m.first, animation_metadata(m.frames, m.fps), false, false, clips);
+        // Declared without a value: a local value would be stronger than the clips.
+        out.buf += "        float3[] extent\n        point3f[] points\n";
+        end_animated_layer(out, m.first, strands);
+        file.commit();
     } catch (...) {
         std::error_code ec;
         std::filesystem::remove(manifest, ec);

@@ -769,29 +769,8 @@ void render_tile(const Scene& scene, const HeadGeometry& head, const Bins<uint32
 
 }  // namespace
 
-namespace {
-
-// Bounds of the hair's control points: a parallel reduction over fixed chunks (min and max
-// are exact in any order).
-Box3 hair_bounds(const Hair& hair) {
-    Box3 box;
-    const size_t n = hair.point_count();
-    if (n == 0) return box;
-    const size_t chunks = std::clamp<size_t>(n / 65536, 1, 64);
-    std::vector<Box3> part(chunks);
-    parallel_for(chunks, [&](size_t c) {
-        for (size_t i = c * n / chunks; i < (c + 1) * n / chunks; ++i)
-            part[c].extend(hair.points[i]);
-    });
-    for (const Box3& b : part)
-        box.extend(b);
-    return box;
-}
-
-}  // namespace
-
 Box3 framing_bounds(const Hair& hair, const Mesh* head) {
-    const Box3 hair_box = hair_bounds(hair);
+    const Box3 hair_box = hair.bounds();
     Box3 box = hair_box;
     if (head && !head->vertices.empty()) {
         // Down to 4 cm below the hair, and at least to the chin: a head is 22–24 cm from crown
@@ -834,7 +813,7 @@ RgbImage render(const Hair& hair, const Mesh* head, const RenderOptions& o, Rend
     scene.head = head && !head->faces.empty() ? head : nullptr;
     scene.options = &o;
     scene.camera = render_camera(hair, scene.head, o);
-    scene.hair_box = hair_bounds(hair);
+    scene.hair_box = hair.bounds();
     scene.lights.key_dir = camera_to_world(scene.camera, o.key.direction);
     scene.lights.key_color = o.key.color;
     scene.lights.fill_dir = camera_to_world(scene.camera, o.fill.direction);

@@ -29,6 +29,39 @@ TEST(AtomicFile, UncommittedWriteLeavesTheTargetUntouched) {
     std::filesystem::remove(path);
 }
 
+// Replacing: over a file (names exchanged, the old file unlinked) the target holds the new
+// bytes, written at offsets in any order, and no temporary is left; over a symbolic link the
+// link is replaced, its file kept; over a folder the commit fails and the folder stays.
+TEST(AtomicFile, ReplacesFilesAndLinksButNotFolders) {
+    const auto dir = std::filesystem::temp_directory_path() / "wisp_atomic_replace";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir / "folder");
+    write_file_atomic(dir / "file", std::string_view("old bytes"));
+    {
+        AtomicFile f(dir / "file");
+        f.write_at("new", 3, 0);
+        f.write_at("bytes!", 6, 4);
+        f.write_at(" ", 1, 3);
+        f.commit();
+    }
+    EXPECT_EQ(read_file(dir / "file"), "new bytes!");
+    write_file_atomic(dir / "kept", std::string_view("kept"));
+    std::filesystem::create_symlink("kept", dir / "link");
+    write_file_atomic(dir / "link", std::string_view("new"));
+    EXPECT_FALSE(std::filesystem::is_symlink(dir / "link"));
+    EXPECT_EQ(read_file(dir / "link"), "new");
+    EXPECT_EQ(read_file(dir / "kept"), "kept");
+    EXPECT_THROW(write_file_atomic(dir / "folder", std::string_view("x")), Error);
+    EXPECT_TRUE(std::filesystem::is_directory(dir / "folder"));
+    size_t entries = 0;
+    for (const auto& e : std::filesystem::directory_iterator(dir)) {
+        EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
+        ++entries;
+    }
+    EXPECT_EQ(entries, 4u);  // file, kept, link, folder
+    std::filesystem::remove_all(dir);
+}
+
 TEST(AtomicFile, ReadingAMissingFileNamesIt) {
     try {
         read_file("/nonexistent/wisp/file.hair");

@@ -1,8 +1,12 @@
 #include "core/hair.hpp"
 
+#include <algorithm>
+
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
+#include "core/parallel.hpp"
+#include "core/rng.hpp"
 
 namespace wisp {
 namespace {
@@ -44,6 +48,35 @@ TEST(Hair, ValidateChecksTheRootArrays) {
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("file.x: group 2 is -1"), std::string::npos)
             << e.what();
+    }
+}
+
+// bounds() and max_width() reduce chunks on all cores: on random hair spanning several
+// chunks, they equal a serial scan exactly, at 1 and 2 threads; no points is an empty box.
+TEST(Hair, BoundsAndMaxWidthEqualASerialScanAtAnyThreadCount) {
+    EXPECT_TRUE(Hair{}.bounds().empty());
+    EXPECT_EQ(Hair{}.max_width(), Hair{}.default_width);
+    Hair h;
+    Rng rng(7);
+    std::vector<Vec3f> pts(33);
+    for (int s = 0; s < 9001; ++s) {  // 297,033 points: 5 chunks, the last not whole
+        for (Vec3f& p : pts)
+            p = Vec3f(rng.uniform(-30.f, 20.f), rng.uniform(-5.f, 40.f), rng.uniform(-25.f, 25.f));
+        h.add_strand(pts);
+    }
+    EXPECT_EQ(h.max_width(), h.default_width);
+    for (size_t i = 0; i < h.point_count(); ++i)
+        h.widths.push_back(rng.uniform(0.f, 0.01f));
+    Box3 serial;
+    for (const Vec3f& p : h.points)
+        serial.extend(p);
+    const float widest = *std::max_element(h.widths.begin(), h.widths.end());
+    for (int threads : {1, 2}) {
+        const ThreadLimit limit(threads);
+        const Box3 b = h.bounds();
+        EXPECT_EQ(b.lo, serial.lo) << threads << " threads";
+        EXPECT_EQ(b.hi, serial.hi) << threads << " threads";
+        EXPECT_EQ(h.max_width(), widest) << threads << " threads";
     }
 }
 
