@@ -96,7 +96,9 @@ Roots place_roots(const Scalp& scalp, const MapSampler& density, const RootParam
     for (int it = 0; it < params.lloyd_iterations; ++it) {
         const PointGrid grid(mpos, spacing);
         parallel_for(
-            c_count, [&](size_t i) { label[i] = grid.nearest(cand_pos[i]); }, 1024);
+            // Last iteration's master barely moved: its distance bounds the search (the
+            // answer is the same with or without the hint).
+            c_count, [&](size_t i) { label[i] = grid.nearest(cand_pos[i], label[i]); }, 1024);
         // Centroids, accumulated in candidate order (deterministic).
         std::vector<Vec3d> sum(w_count, Vec3d::Zero());
         std::vector<uint32_t> cnt(w_count, 0);
