@@ -10,6 +10,7 @@
 #include "edit/wire.hpp"
 #include "groom/color.hpp"
 #include "groom/generate.hpp"
+#include "groom/roots.hpp"
 #include "groom/style_toml.hpp"
 
 namespace wisp {
@@ -107,9 +108,11 @@ bool StageCache::run_until(Stage last, const CancelToken& cancel, const StagePro
                 head_ = load_head(style_.head);
                 head_field_.reset();
                 field_.reset();
+                scalp_surface_.reset();
                 break;
             case Stage::kRoots:
-                roots_ = grow_roots(style_, head_);
+                if (!scalp_surface_) scalp_surface_.emplace(scalp_surface(*head_.scalp));
+                roots_ = grow_roots(style_, head_, &*scalp_surface_);
                 break;
             case Stage::kMasters:
                 masters_ = synthesize_masters(style_, head_, roots_);

@@ -14,6 +14,7 @@
 #include <string_view>
 
 #include "core/cancel.hpp"
+#include "geometry/mesh_distance.hpp"
 #include "groom/head.hpp"
 #include "groom/style.hpp"
 #include "groom/style_schema.hpp"
@@ -128,6 +129,8 @@ class StageCache {
     std::filesystem::path base_dir_;
     Head head_;
     std::optional<HeadField> head_field_;
+    // scalp_surface(*head_.scalp) (groom/roots.hpp): the same for every roots run on the head.
+    std::optional<MeshDistance> scalp_surface_;
     float head_field_cell_ = 0.f;
     Roots roots_;
     Masters masters_;         // as synthesized

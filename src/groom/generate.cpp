@@ -22,13 +22,13 @@ float deviation_radius(const std::vector<float>& table, float s) {
     return (1.f - f) * table[i] + f * table[i + 1];
 }
 
-Roots grow_roots(const Style& style, const Head& head) {
+Roots grow_roots(const Style& style, const Head& head, const MeshDistance* scalp_surface) {
     const MapSampler density(style.density, *head.scalp);
     RootParams params;
     params.wisps = style.wisps;
     params.strands = style.strands;
     params.seed = style.seed;
-    return place_roots(*head.scalp, density, params);
+    return place_roots(*head.scalp, density, params, scalp_surface);
 }
 
 Masters synthesize_masters(const Style& style, const Head& head, const Roots& roots) {

@@ -15,8 +15,9 @@
 
 namespace wisp {
 
-// Stage 1 (§2.3).
-Roots grow_roots(const Style& style, const Head& head);
+// Stage 1 (§2.3). `scalp_surface`: scalp_surface(*head.scalp) (groom/roots.hpp), built
+// here when null.
+Roots grow_roots(const Style& style, const Head& head, const MeshDistance* scalp_surface = nullptr);
 
 // Stage 2 (§2.2): master outlines along the protrusion direction with details synthesized
 // from the prototype. Throws wisp::Error if the prototype is too short for the window.

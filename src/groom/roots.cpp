@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "core/error.hpp"
 #include "core/parallel.hpp"
 #include "core/point_grid.hpp"
-#include "geometry/mesh_distance.hpp"
 
 namespace wisp {
 namespace {
@@ -27,16 +27,6 @@ std::vector<Vec3f> positions(const std::vector<SurfacePoint>& pts) {
     return out;
 }
 
-// The scalp faces alone, so that closest points land on the scalp.
-Mesh scalp_submesh(const Scalp& scalp) {
-    Mesh cap;
-    cap.vertices = scalp.mesh().vertices;
-    cap.faces.reserve(scalp.faces().size());
-    for (uint32_t f : scalp.faces())
-        cap.faces.push_back(scalp.mesh().faces[f]);
-    return cap;
-}
-
 // Barycentric coordinates (of vertices 1 and 2) of q on face f, clamped into the triangle.
 Vec2f barycentric(const Mesh& mesh, uint32_t f, const Vec3f& q) {
     const Vec3i& t = mesh.faces[f];
@@ -54,6 +44,16 @@ Vec2f barycentric(const Mesh& mesh, uint32_t f, const Vec3f& q) {
 
 }  // namespace
 
+MeshDistance scalp_surface(const Scalp& scalp) {
+    // The scalp faces alone, so that closest points land on the scalp.
+    Mesh cap;
+    cap.vertices = scalp.mesh().vertices;
+    cap.faces.reserve(scalp.faces().size());
+    for (uint32_t f : scalp.faces())
+        cap.faces.push_back(scalp.mesh().faces[f]);
+    return MeshDistance(cap);
+}
+
 SurfacePoint sample_by_density(const Scalp& scalp, const MapSampler& density, float max_density,
                                Rng& rng) {
     SurfacePoint p;
@@ -64,7 +64,8 @@ SurfacePoint sample_by_density(const Scalp& scalp, const MapSampler& density, fl
     return p;
 }
 
-Roots place_roots(const Scalp& scalp, const MapSampler& density, const RootParams& params) {
+Roots place_roots(const Scalp& scalp, const MapSampler& density, const RootParams& params,
+                  const MeshDistance* surface) {
     if (params.wisps < 1) fail("roots: the number of wisps must be ≥ 1");
     const float max_density = probe_max_density(scalp, density, params.seed);
     if (!(max_density > 0.f))
@@ -96,7 +97,9 @@ Roots place_roots(const Scalp& scalp, const MapSampler& density, const RootParam
     for (int it = 0; it < params.lloyd_iterations; ++it) {
         const PointGrid grid(mpos, spacing);
         parallel_for(
-            c_count, [&](size_t i) { label[i] = grid.nearest(cand_pos[i]); }, 1024);
+            // Last iteration's master barely moved: its distance bounds the search (the
+            // answer is the same with or without the hint).
+            c_count, [&](size_t i) { label[i] = grid.nearest(cand_pos[i], label[i]); }, 1024);
         // Centroids, accumulated in candidate order (deterministic).
         std::vector<Vec3d> sum(w_count, Vec3d::Zero());
         std::vector<uint32_t> cnt(w_count, 0);
@@ -109,13 +112,13 @@ Roots place_roots(const Scalp& scalp, const MapSampler& density, const RootParam
         roots.lloyd_iterations = it + 1;
     }
     roots.masters.resize(w_count);
-    const Mesh cap = scalp_submesh(scalp);
-    const MeshDistance surface(cap);
+    std::optional<MeshDistance> own;
+    if (!surface) surface = &own.emplace(scalp_surface(scalp));
     parallel_for(
         w_count,
         [&](size_t w) {
             uint32_t sub = 0;
-            const Vec3f q = surface.closest_point(mpos[w], &sub);
+            const Vec3f q = surface->closest_point(mpos[w], &sub);
             const uint32_t face = scalp.faces()[sub];
             roots.masters[w] = scalp.point_on(face, barycentric(scalp.mesh(), face, q));
         },

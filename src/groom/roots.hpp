@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "geometry/mesh_distance.hpp"
 #include "geometry/scalp.hpp"
 #include "groom/maps.hpp"
 
@@ -33,11 +34,19 @@ struct RootParams {
 SurfacePoint sample_by_density(const Scalp& scalp, const MapSampler& density, float max_density,
                                Rng& rng);
 
+// The scalp's own faces (face i of it is scalp.faces()[i]) with closest-point queries: what
+// place_roots projects the relaxed master roots onto. It depends on the scalp alone, so a
+// caller that places roots again and again on one head (the editor, at each map stroke)
+// builds it once.
+MeshDistance scalp_surface(const Scalp& scalp);
+
 // Places the roots. Master roots: a density-weighted candidate cloud of
 // candidates_per_wisp·N_w scalp points, relaxed by Lloyd's algorithm restricted to the
 // cloud (k-means), each master snapped to its region's candidate nearest the centroid so it
 // stays on the surface. Member roots: N_s density-weighted samples, each assigned to the
 // Voronoi region (nearest master root). Deterministic for a seed, any thread count.
-Roots place_roots(const Scalp& scalp, const MapSampler& density, const RootParams& params);
+// `surface` is scalp_surface(scalp), built here when null (the roots are the same either way).
+Roots place_roots(const Scalp& scalp, const MapSampler& density, const RootParams& params,
+                  const MeshDistance* surface = nullptr);
 
 }  // namespace wisp

@@ -59,6 +59,27 @@ TEST(Generate, RootsLieOnTheScalpInTheirVoronoiRegion) {
     }
 }
 
+// The editor builds the scalp surface once per head and passes it in: the roots are the ones
+// place_roots gives building it itself, bit for bit.
+TEST(Generate, APrebuiltScalpSurfaceGivesTheSameRoots) {
+    const Style style = small_style();
+    const Head& head = builtin();
+    const MeshDistance surface = scalp_surface(*head.scalp);
+    const Roots a = grow_roots(style, head), b = grow_roots(style, head, &surface);
+    const auto same = [](const std::vector<SurfacePoint>& x, const std::vector<SurfacePoint>& y) {
+        return std::equal(x.begin(), x.end(), y.begin(), y.end(),
+                          [](const SurfacePoint& p, const SurfacePoint& q) {
+                              return p.face == q.face && p.bary == q.bary &&
+                                     p.position == q.position && p.normal == q.normal &&
+                                     p.uv == q.uv;
+                          });
+    };
+    EXPECT_TRUE(same(a.masters, b.masters));
+    EXPECT_TRUE(same(a.members, b.members));
+    EXPECT_EQ(a.wisp_offsets, b.wisp_offsets);
+    EXPECT_EQ(a.wisp_radius, b.wisp_radius);
+}
+
 TEST(Generate, MasterRootsAreEvenlySpread) {
     // Lloyd relaxation: the nearest-neighbour distance of master roots is far more even than
     // that of uniform random points (whose mean is about 0.5·sqrt(area/N)).
