@@ -138,6 +138,15 @@ void Animator::skin(std::span<const uint32_t> strands, std::span<Vec3f> points) 
     ++skins_;
 }
 
+void Animator::skin(std::span<const uint32_t> strands, std::span<char> xyz) {
+    Stopwatch watch;
+    if (!std::ranges::equal(strands, subset_.strands))
+        subset_ = bind_subset(hierarchy_, binding_, rest_.offsets, strands);
+    skin_strands(hierarchy_, subset_, sim_->positions(), rotations_, xyz);
+    skin_total_ += watch.ms();
+    ++skins_;
+}
+
 AnimationStats Animator::stats() const {
     AnimationStats s = stats_;
     s.splits = sim_->total_splits();

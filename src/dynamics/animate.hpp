@@ -100,6 +100,9 @@ class Animator {
     // is known (the binding of the last list is kept, gathered in order: SubsetBinding).
     void skin(Hair& out);
     void skin(std::span<const uint32_t> strands, std::span<Vec3f> points);
+    // The same points as float32 x, y, z triples (12 bytes each) into `xyz`: a live frame's
+    // bytes (wire.hpp's begin_frame), skinned in place instead of copied.
+    void skin(std::span<const uint32_t> strands, std::span<char> xyz);
 
     const Hierarchy& hierarchy() const { return hierarchy_; }
     const AwtSimulation& simulation() const { return *sim_; }

@@ -1,6 +1,7 @@
 #include "dynamics/skin.hpp"
 
 #include <algorithm>
+#include <cstring>
 
 #include "core/error.hpp"
 #include "core/parallel.hpp"
@@ -134,24 +135,45 @@ SubsetBinding bind_subset(const Hierarchy& h, const StrandBinding& b,
     return out;
 }
 
-void skin_strands(const Hierarchy& h, const SubsetBinding& subset, std::span<const Vec3f> positions,
-                  std::span<const Mat3f> rotations, std::span<Vec3f> points) {
-    if (points.size() != subset.point_count())
-        fail("dynamics: ", points.size(), " points given for strands holding ",
-             subset.point_count());
+namespace {
+
+// skin_strands() of a subset, each point handed to store(i, p).
+template <class Store>
+void skin_subset(const Hierarchy& h, const SubsetBinding& subset, std::span<const Vec3f> positions,
+                 std::span<const Mat3f> rotations, size_t count, const Store& store) {
+    if (count != subset.point_count())
+        fail("dynamics: ", count, " points given for strands holding ", subset.point_count());
     const uint32_t finest = h.finest_begin();
     const int n = h.sections;
     constexpr size_t kBlock = 256;  // strands
-    const size_t count = subset.gc.size();
-    parallel_for((count + kBlock - 1) / kBlock, [&](size_t block) {
-        const size_t end = std::min(count, (block + 1) * kBlock);
+    const size_t strands = subset.gc.size();
+    parallel_for((strands + kBlock - 1) / kBlock, [&](size_t block) {
+        const size_t end = std::min(strands, (block + 1) * kBlock);
         for (size_t j = block * kBlock; j < end; ++j) {
             const uint32_t g = subset.gc[j];
             const Vec3f* x = positions.data() + h.node(g, 0);
             const Mat3f* m = rotations.data() + static_cast<size_t>(g - finest) * n;
             for (uint32_t i = subset.first[j]; i < subset.first[j + 1]; ++i)
-                points[i] = skinned(n, subset.u[i], subset.offset[i], x, m);
+                store(i, skinned(n, subset.u[i], subset.offset[i], x, m));
         }
+    });
+}
+
+}  // namespace
+
+void skin_strands(const Hierarchy& h, const SubsetBinding& subset, std::span<const Vec3f> positions,
+                  std::span<const Mat3f> rotations, std::span<Vec3f> points) {
+    skin_subset(h, subset, positions, rotations, points.size(),
+                [&](uint32_t i, const Vec3f& p) { points[i] = p; });
+}
+
+void skin_strands(const Hierarchy& h, const SubsetBinding& subset, std::span<const Vec3f> positions,
+                  std::span<const Mat3f> rotations, std::span<char> xyz) {
+    static_assert(sizeof(Vec3f) == 12, "positions are float32 triples");
+    if (xyz.size() % 12 != 0) fail("dynamics: ", xyz.size(), " bytes is not a number of points");
+    char* out = xyz.data();
+    skin_subset(h, subset, positions, rotations, xyz.size() / 12, [&](uint32_t i, const Vec3f& p) {
+        std::memcpy(out + 12 * size_t{i}, p.data(), 12);
     });
 }
 

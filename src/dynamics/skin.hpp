@@ -59,5 +59,10 @@ SubsetBinding bind_subset(const Hierarchy& hierarchy, const StrandBinding& bindi
 void skin_strands(const Hierarchy& hierarchy, const SubsetBinding& subset,
                   std::span<const Vec3f> positions, std::span<const Mat3f> rotations,
                   std::span<Vec3f> points);
+// The same points as float32 x, y, z triples (12·#P' bytes, the host's byte order): straight
+// into a frame's bytes (wire.hpp's begin_frame).
+void skin_strands(const Hierarchy& hierarchy, const SubsetBinding& subset,
+                  std::span<const Vec3f> positions, std::span<const Mat3f> rotations,
+                  std::span<char> xyz);
 
 }  // namespace wisp
