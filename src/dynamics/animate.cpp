@@ -138,8 +138,18 @@ void Animator::skin(Hair& out) {
 
 void Animator::skin(std::span<const uint32_t> strands, std::span<Vec3f> points) {
     Stopwatch watch;
-    skin_strands(hierarchy_, binding_, sim_->positions(), rotations_, rest_.offsets, strands,
-                 points);
+    if (!std::ranges::equal(strands, subset_.strands))
+        subset_ = bind_subset(hierarchy_, binding_, rest_.offsets, strands);
+    skin_strands(hierarchy_, subset_, sim_->positions(), rotations_, points);
+    skin_total_ += watch.ms();
+    ++skins_;
+}
+
+void Animator::skin(std::span<const uint32_t> strands, std::span<char> xyz) {
+    Stopwatch watch;
+    if (!std::ranges::equal(strands, subset_.strands))
+        subset_ = bind_subset(hierarchy_, binding_, rest_.offsets, strands);
+    skin_strands(hierarchy_, subset_, sim_->positions(), rotations_, xyz);
     skin_total_ += watch.ms();
     ++skins_;
 }

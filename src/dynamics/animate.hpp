@@ -106,9 +106,13 @@ class Animator {
 
     // The render strands at the current frame: all of them into `out` (rest's topology), or
     // the strands listed, point after point, into `points` (sized by the caller: the sum of
-    // the listed strands' point counts). Parallel over strands; no allocation.
+    // the listed strands' point counts). Parallel over strands; no allocation once the list
+    // is known (the binding of the last list is kept, gathered in order: SubsetBinding).
     void skin(Hair& out);
     void skin(std::span<const uint32_t> strands, std::span<Vec3f> points);
+    // The same points as float32 x, y, z triples (12 bytes each) into `xyz`: a live frame's
+    // bytes (wire.hpp's begin_frame), skinned in place instead of copied.
+    void skin(std::span<const uint32_t> strands, std::span<char> xyz);
 
     const Hierarchy& hierarchy() const { return hierarchy_; }
     const AwtSimulation& simulation() const { return *sim_; }
@@ -123,6 +127,7 @@ class Animator {
     AnimationStats stats_;
     Hierarchy hierarchy_;
     StrandBinding binding_;
+    SubsetBinding subset_;  // of the last strands given to skin()
     std::unique_ptr<AwtSimulation> sim_;
     std::vector<Mat3f> rotations_;
     int frame_ = -1;

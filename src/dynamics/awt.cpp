@@ -39,6 +39,10 @@ constexpr uint32_t kMaxContacts = 32;
 // Grid entries per chunk of the parallel hair–hair tests.
 constexpr size_t kChunk = 128;
 
+// Nodes per task of the parallel loops over nodes and GCs. Each writes only its own node's
+// data, so they give the same bits at any thread count.
+constexpr size_t kGrain = 256;
+
 // Seconds over which the acceleration of the split and merge tests is averaged.
 constexpr float kAccelerationTime = 0.05f;
 
@@ -233,11 +237,14 @@ void AwtSimulation::init() {
 
 void AwtSimulation::place_roots() {
     const Hierarchy& h = *h_;
-    for (uint32_t g = 0; g < h.gc_count(); ++g) {
-        const uint32_t i = h.node(g, 0);
-        hold(i);
-        rotation_[i] = head_rotation_;
-    }
+    parallel_for(
+        h.gc_count(),
+        [&](size_t g) {
+            const uint32_t i = h.node(static_cast<uint32_t>(g), 0);
+            hold(i);
+            rotation_[i] = head_rotation_;
+        },
+        kGrain);
     world_spheres_ = spheres_;
     for (Sphere& s : world_spheres_)
         s.center = (s.head ? head_ : body_).apply(s.center);
@@ -275,7 +282,9 @@ uint32_t AwtSimulation::find_parent(uint32_t gc, int k) const {
 void AwtSimulation::rebuild_active() {
     const Hierarchy& h = *h_;
     active_.clear();
-    for (int k = 1; k < n_; ++k)
+    section_begin_.assign(n_ + 1, 0);
+    for (int k = 1; k < n_; ++k) {
+        section_begin_[k] = active_.size();
         for (uint32_t g = 0; g < h.gc_count(); ++g) {
             const uint32_t i = h.node(g, k);
             if (state_[i] != kActive) continue;
@@ -286,6 +295,21 @@ void AwtSimulation::rebuild_active() {
             if (p != parent_[i] || link_length_[i] < 0) link_length_[i] = (x_[i] - x_[p]).norm();
             parent_[i] = p;
         }
+    }
+    section_begin_[n_] = active_.size();
+}
+
+template <class Body>
+void AwtSimulation::for_active(Body&& body) const {
+    parallel_for(
+        active_.size(), [&](size_t a) { body(active_[a]); }, kGrain);
+}
+
+template <class Body>
+void AwtSimulation::for_section(int k, Body&& body) const {
+    const size_t begin = section_begin_[k];
+    parallel_for(
+        section_begin_[k + 1] - begin, [&](size_t a) { body(active_[begin + a]); }, kGrain);
 }
 
 void AwtSimulation::step() {
@@ -304,10 +328,10 @@ void AwtSimulation::step() {
     head_acceleration_.linear = (head_velocity_.linear - head_velocity_old.linear) * inv_dt;
     head_acceleration_.pivot = head_velocity_.pivot;
 
-    for (uint32_t i : active_) {
+    for_active([&](uint32_t i) {
         x_old_[i] = x_[i];
         v_old_[i] = v_[i];
-    }
+    });
     // Interactions are computed on the state at the start of the step.
     if (params_.hair_collisions) interact();
     place_roots();
@@ -325,55 +349,66 @@ void AwtSimulation::settle_merged() {
     // moment of the merge).
     const Hierarchy& h = *h_;
     const float relax = std::min(1.f, params_.dt / kSettleTime);
-    for (uint32_t g = h.level_begin[1]; g < h.gc_count(); ++g) {
-        const uint32_t up = static_cast<uint32_t>(h.super[g]);
-        for (int k = 1; k < n_; ++k) {
-            const uint32_t i = h.node(g, k);
-            if (state_[i] != kMerged) continue;
-            offset_[i] += relax * ((h.rest[i] - h.rest[h.node(up, k)]) - offset_[i]);
-        }
-    }
+    const uint32_t first = h.level_begin[1];
+    parallel_for(
+        h.gc_count() - first,
+        [&](size_t e) {
+            const uint32_t g = first + static_cast<uint32_t>(e);
+            const uint32_t up = static_cast<uint32_t>(h.super[g]);
+            for (int k = 1; k < n_; ++k) {
+                const uint32_t i = h.node(g, k);
+                if (state_[i] != kMerged) continue;
+                offset_[i] += relax * ((h.rest[i] - h.rest[h.node(up, k)]) - offset_[i]);
+            }
+        },
+        kGrain);
 }
 
 void AwtSimulation::interact() {
     const Hierarchy& h = *h_;
-    for (uint32_t i : active_)
-        contact_[i] = ContactSums{};
     // Broad phase (broad_phase.hpp): the active segments' boxes on a hierarchical grid.
     const size_t count = active_.size();
     boxes_.resize(count);
-    for (size_t s = 0; s < count; ++s) {
-        const uint32_t c = active_[s], p = parent_[c];
-        const Vec3f r = Vec3f::Constant(radius_[c]);
-        const Vec3f lo = x_[c].cwiseMin(x_[p]) - r, hi = x_[c].cwiseMax(x_[p]) + r;
-        boxes_[s].lo = {lo.x(), lo.y(), lo.z(), 0.f};
-        boxes_[s].hi = {hi.x(), hi.y(), hi.z(), 0.f};
-    }
+    parallel_for(
+        count,
+        [&](size_t s) {
+            const uint32_t c = active_[s], p = parent_[c];
+            contact_[c] = ContactSums{};
+            const Vec3f r = Vec3f::Constant(radius_[c]);
+            const Vec3f lo = x_[c].cwiseMin(x_[p]) - r, hi = x_[c].cwiseMax(x_[p]) + r;
+            boxes_[s].lo = {lo.x(), lo.y(), lo.z(), 0.f};
+            boxes_[s].hi = {hi.x(), hi.y(), hi.z(), 0.f};
+        },
+        kGrain);
     grid_.build(boxes_, voxel_);
     // The segments in grid order, with everything the tests read, so that they read memory in
     // sequence; forces gather per segment end and are added to the nodes afterwards.
     const std::span<const uint32_t> order = grid_.order();
     segments_.resize(order.size());
-    sums_.assign(order.size(), SegmentSums{});
-    for (size_t e = 0; e < order.size(); ++e) {
-        const uint32_t c = active_[order[e]], p = parent_[c];
-        Segment& g = segments_[e];
-        g.xp = x_[p];
-        g.axis = x_[c] - x_[p];
-        g.length2 = g.axis.squaredNorm();
-        g.vp = v_[p];
-        g.vc = v_[c];
-        g.velocity = 0.5f * (v_[c] + v_[p]);
-        g.middle = 0.5f * (x_[c] + x_[p]);
-        g.reach = 0.5f * (x_[c] - x_[p]).norm() + radius_[c];
-        g.radius = radius_[c];
-        g.mass = h.mass[c];
-        g.child = c;
-        g.parent = p;
-        // §4.1: only pairs with relative motion are tested; two segments both slower than
-        // half the threshold cannot have it.
-        g.moving = g.velocity.squaredNorm() >= 0.25f * kStill * kStill;
-    }
+    sums_.resize(order.size());
+    parallel_for(
+        order.size(),
+        [&](size_t e) {
+            sums_[e] = SegmentSums{};
+            const uint32_t c = active_[order[e]], p = parent_[c];
+            Segment& g = segments_[e];
+            g.xp = x_[p];
+            g.axis = x_[c] - x_[p];
+            g.length2 = g.axis.squaredNorm();
+            g.vp = v_[p];
+            g.vc = v_[c];
+            g.velocity = 0.5f * (v_[c] + v_[p]);
+            g.middle = 0.5f * (x_[c] + x_[p]);
+            g.reach = 0.5f * (x_[c] - x_[p]).norm() + radius_[c];
+            g.radius = radius_[c];
+            g.mass = h.mass[c];
+            g.child = c;
+            g.parent = p;
+            // §4.1: only pairs with relative motion are tested; two segments both slower than
+            // half the threshold cannot have it.
+            g.moving = g.velocity.squaredNorm() >= 0.25f * kStill * kStill;
+        },
+        kGrain);
     const float alpha = params_.friction, kr = params_.repulsion;
     // The tests run in parallel over fixed chunks of the grid, each listing its contacts; the
     // contacts then act in chunk order, so the sums never depend on the thread count.
@@ -486,7 +521,7 @@ void AwtSimulation::interact() {
     // it is split too. Uncapped, a node in dense hair (hundreds of contacts at the finest
     // level) locked to its neighbours, and the hair set like a jelly in whatever shape a
     // motion left it; and summed repulsions flung it.
-    for (uint32_t i : active_) {
+    for_active([&](uint32_t i) {
         ContactSums& n = contact_[i];
         const float friction_cap = kContactRate * alpha * h.mass[i];
         if (n.drag > friction_cap) {
@@ -502,7 +537,7 @@ void AwtSimulation::interact() {
             n.stiffness = repulsion_cap;
         }
         force_[i] = n.force + n.friction;
-    }
+    });
 }
 
 void AwtSimulation::integrate() {
@@ -516,15 +551,14 @@ void AwtSimulation::integrate() {
     const float denom = 1 + dt * (params_.damping + params_.air_drag) + dt * dt * kt;
     const bool forces = params_.hair_collisions;  // interact() has set force_ and contact_
     const float relax = std::min(1.f, dt / kLinkRelaxTime);
-    for (uint32_t c : active_)
+    for_active([&](uint32_t c) {
         link_length_[c] += relax * ((h.rest[c] - h.rest[parent_[c]]).norm() - link_length_[c]);
+    });
     // The shape spring pulls each child toward x_p + R_h·(X_c − X_p) (its styled place
     // relative to its parent, turned with the head) and pulls the parent back by as much
     // (explicitly, from the start of the step), so it is a conservative spring between the
     // two and the tree cannot pump energy into itself.
-    if (!forces)
-        for (uint32_t c : active_)
-            force_[c].setZero();
+    if (!forces) for_active([&](uint32_t c) { force_[c].setZero(); });
     for (uint32_t c : active_) {
         const uint32_t p = parent_[c];
         if (h.section_of(p) == 0) continue;
@@ -532,49 +566,52 @@ void AwtSimulation::integrate() {
         force_[p] -= h.mass[c] * kb * (target - x_old_[c]);
     }
     const float hold_damping = 2 * std::sqrt(kHoldStiffness);
-    // Root to tip: every parent is advanced before its children.
-    for (uint32_t c : active_) {
-        const uint32_t p = parent_[c];
-        const float held = h.held[c];
-        if (held >= 1) {
-            hold(c);  // tied: rigid with the head, like the roots
-            continue;
-        }
-        const Vec3f rest = h.rest[c] - h.rest[p];
-        const Vec3f bend_target = x_[p] + head_rotation_ * rest;
-        Vec3f target = bend_target;
-        if (ks > 0) {
-            const Vec3f along = x_[c] - x_[p];
-            const float len = along.norm();
-            const Vec3f stretch_target =
-                len > 1e-6f ? Vec3f(x_[p] + link_length_[c] / len * along) : bend_target;
-            target = (kb * bend_target + ks * stretch_target) / kt;
-        }
-        Vec3f a = gravity + air + params_.damping * v_[p];
-        // force_ holds the shape springs' reactions, the repulsions and Σ k_f·v_other; the
-        // contact sums' drag is Σ k_f (friction, implicit). The repulsions are implicit too,
-        // along their normals and in the motion relative to the segments pushing (Σ k_r·n·nᵀ
-        // and Σ k_r·n·nᵀ·v_other). So a node pressed by many
-        // segments moves out of them by at most its penetration in a step instead of being
-        // flung, and hair moving as one (a running character's) is not slowed.
-        const ContactSums& n = contact_[c];
-        a += (force_[c] + dt * n.pushed_with) / h.mass[c];
-        float d = denom + dt * n.drag / h.mass[c];
-        Vec3f rhs = v_[c] + dt * (kt * (target - x_[c]) + a);
-        if (held > 0) {
-            // Partly tied: an implicit spring to the held place, damped toward its velocity.
-            const float k = held * kHoldStiffness, damping = held * hold_damping;
-            d += dt * damping + dt * dt * k;
-            rhs += dt *
-                   (k * (head_.apply(h.rest[c]) - x_[c]) + damping * head_velocity_.at(h.rest[c]));
-        }
-        const Vec3f v =
-            n.stiffness > 0
-                ? Vec3f((d * Mat3f::Identity() + (dt * dt / h.mass[c]) * n.normal).inverse() * rhs)
-                : Vec3f(rhs / d);
-        x_[c] += dt * v;
-        v_[c] = v;
-    }
+    // Root to tip: every parent is advanced before its children; the nodes of one section
+    // depend only on the previous one's.
+    for (int k = 1; k < n_; ++k)
+        for_section(k, [&](uint32_t c) {
+            const uint32_t p = parent_[c];
+            const float held = h.held[c];
+            if (held >= 1) {
+                hold(c);  // tied: rigid with the head, like the roots
+                return;
+            }
+            const Vec3f rest = h.rest[c] - h.rest[p];
+            const Vec3f bend_target = x_[p] + head_rotation_ * rest;
+            Vec3f target = bend_target;
+            if (ks > 0) {
+                const Vec3f along = x_[c] - x_[p];
+                const float len = along.norm();
+                const Vec3f stretch_target =
+                    len > 1e-6f ? Vec3f(x_[p] + link_length_[c] / len * along) : bend_target;
+                target = (kb * bend_target + ks * stretch_target) / kt;
+            }
+            Vec3f a = gravity + air + params_.damping * v_[p];
+            // force_ holds the shape springs' reactions, the repulsions and Σ k_f·v_other; the
+            // contact sums' drag is Σ k_f (friction, implicit). The repulsions are implicit too,
+            // along their normals and in the motion relative to the segments pushing (Σ k_r·n·nᵀ
+            // and Σ k_r·n·nᵀ·v_other). So a node pressed by many
+            // segments moves out of them by at most its penetration in a step instead of being
+            // flung, and hair moving as one (a running character's) is not slowed.
+            const ContactSums& n = contact_[c];
+            a += (force_[c] + dt * n.pushed_with) / h.mass[c];
+            float d = denom + dt * n.drag / h.mass[c];
+            Vec3f rhs = v_[c] + dt * (kt * (target - x_[c]) + a);
+            if (held > 0) {
+                // Partly tied: an implicit spring to the held place, damped toward its velocity.
+                const float k = held * kHoldStiffness, damping = held * hold_damping;
+                d += dt * damping + dt * dt * k;
+                rhs += dt * (k * (head_.apply(h.rest[c]) - x_[c]) +
+                             damping * head_velocity_.at(h.rest[c]));
+            }
+            const Vec3f v =
+                n.stiffness > 0
+                    ? Vec3f((d * Mat3f::Identity() + (dt * dt / h.mass[c]) * n.normal).inverse() *
+                            rhs)
+                    : Vec3f(rhs / d);
+            x_[c] += dt * v;
+            v_[c] = v;
+        });
     if (params_.rigid) {
         // van Overveld's iterative constraint method: mass-weighted passes over the links.
         for (int it = 0; it < params_.iterations; ++it)
@@ -593,25 +630,29 @@ void AwtSimulation::integrate() {
                 x_[p] += wp * correction;
             }
     }
-    // Last pass, root to tip: exact lengths (rigid), then the body.
-    for (uint32_t c : active_) {
-        const uint32_t p = parent_[c];
-        collided_[c] = 0;
-        if (h.held[c] >= 1) continue;
-        const float rest = link_length_[c];
-        // Alternate the link length and the body, ending with the body: the child slides
-        // over the obstacle at its link's length (rigid) instead of being shoved off it.
-        for (int round = 0; round < 4; ++round) {
-            if (params_.rigid) {
-                const Vec3f d = x_[c] - x_[p];
-                const float len = d.norm();
-                if (len > 1e-6f) x_[c] = x_[p] + rest / len * d;
+    // Last pass, root to tip: exact lengths (rigid), then the body; section by section, as
+    // above. The contacts are counted after it (collide_body counts none here).
+    for (int k = 1; k < n_; ++k)
+        for_section(k, [&](uint32_t c) {
+            const uint32_t p = parent_[c];
+            collided_[c] = 0;
+            if (h.held[c] >= 1) return;
+            const float rest = link_length_[c];
+            // Alternate the link length and the body, ending with the body: the child slides
+            // over the obstacle at its link's length (rigid) instead of being shoved off it.
+            for (int round = 0; round < 4; ++round) {
+                if (params_.rigid) {
+                    const Vec3f d = x_[c] - x_[p];
+                    const float len = d.norm();
+                    if (len > 1e-6f) x_[c] = x_[p] + rest / len * d;
+                }
+                if (!params_.body_collisions || !collide_body(c, p)) break;
             }
-            if (!params_.body_collisions || !collide_body(c, p)) break;
-        }
-    }
+        });
+    for (uint32_t c : active_)
+        last_.body_contacts += collided_[c];
     const float inv_dt = 1.f / dt;
-    for (uint32_t c : active_) {
+    for_active([&](uint32_t c) {
         if (!collided_[c] && h.held[c] < 1) v_[c] = (x_[c] - x_old_[c]) * inv_dt;
         // The split test (§3.1) reads the node's acceleration in the world or relative to the
         // head's motion, whichever is smaller: hair riding the head rigidly does not deform
@@ -646,7 +687,7 @@ void AwtSimulation::integrate() {
             acc_[c] += std::min(1.f, dt / kAccelerationTime) * (a - acc_[c]);
         }
         rotation_[c] = segment_rotation(c, parent_[c], x_[c]);
-    }
+    });
 }
 
 // How far past a body sphere's surface collide_body() leaves a node (cm).
@@ -687,7 +728,6 @@ bool AwtSimulation::collide_body(uint32_t c, uint32_t p) {
             x_[c] = to;
             reach = 0.5f * (to - a).norm();
             moved = any = true;
-            if (!collided_[c]) ++last_.body_contacts;
             collided_[c] = 1;
             // Static friction: the node takes the obstacle's velocity (§4.3).
             const RigidTransform& pose = sphere.head ? head_ : body_;
@@ -718,6 +758,12 @@ bool AwtSimulation::collide_body(uint32_t c, uint32_t p) {
         x_[c] += (t + kBodyMargin) * n;
     }
     return any;
+}
+
+void AwtSimulation::collide_counted(uint32_t c, uint32_t p) {
+    const uint8_t before = collided_[c];
+    collide_body(c, p);
+    if (!before && collided_[c]) ++last_.body_contacts;
 }
 
 void AwtSimulation::adapt() {
@@ -783,7 +829,7 @@ void AwtSimulation::split(uint32_t c) {
         rotation_[i] = segment_rotation(i, parent_[i], x_[i]);
         // Finer nodes keep their places: their offsets move to the new segment's frame.
         rebase_subtree(i, rotation_[i].conjugate() * q);
-        if (params_.body_collisions) collide_body(i, p);
+        if (params_.body_collisions) collide_counted(i, p);
     }
     events_.push_back({AwtEvent::Kind::kSplit, c});
     ++last_.splits;
@@ -843,7 +889,7 @@ bool AwtSimulation::try_merge(uint32_t g, int k) {
         offset_[i] = inverse * (x_[i] - centre);
         rebase_subtree(i, inverse * rotation_[i]);
     }
-    if (params_.body_collisions) collide_body(node, p);
+    if (params_.body_collisions) collide_counted(node, p);
     events_.push_back({AwtEvent::Kind::kMerge, node});
     ++last_.merges;
     ++total_merges_;
@@ -852,38 +898,49 @@ bool AwtSimulation::try_merge(uint32_t g, int k) {
 
 void AwtSimulation::sync() {
     const Hierarchy& h = *h_;
+    // Level by level, each in parallel over its GCs: a node reads only coarser nodes (merged)
+    // or finer ones (split), never its own level's.
+    const auto for_level = [&](int l, const auto& body) {
+        const uint32_t first = h.level_begin[l];
+        parallel_for(
+            h.level_size(l), [&](size_t e) { body(first + static_cast<uint32_t>(e)); }, kGrain / 4);
+    };
     // Merged nodes, coarse to fine: from their super-node through the governing rotation.
     std::vector<uint32_t>& governor = governor_;
     governor.resize(h.node_count());
-    for (uint32_t g = 0; g < h.gc_count(); ++g)
-        for (int k = 1; k < n_; ++k) {
-            const uint32_t i = h.node(g, k);
-            if (state_[i] == kActive) {
-                governor[i] = i;
-            } else if (state_[i] == kMerged) {
-                const uint32_t up = h.node(static_cast<uint32_t>(h.super[g]), k);
-                governor[i] = governor[up];
-                if (h.held[i] >= 1) {
-                    hold(i);  // tied, under a node only partly tied: rigid with the head
-                } else {
-                    x_[i] = x_[up] + rotation_[governor[i]] * offset_[i];
-                    v_[i] = v_[governor[i]];
+    for (int l = 0; l < h.levels; ++l)
+        for_level(l, [&](uint32_t g) {
+            for (int k = 1; k < n_; ++k) {
+                const uint32_t i = h.node(g, k);
+                if (state_[i] == kActive) {
+                    governor[i] = i;
+                } else if (state_[i] == kMerged) {
+                    const uint32_t up = h.node(static_cast<uint32_t>(h.super[g]), k);
+                    governor[i] = governor[up];
+                    if (h.held[i] >= 1) {
+                        hold(i);  // tied, under a node only partly tied: rigid with the head
+                    } else {
+                        x_[i] = x_[up] + rotation_[governor[i]] * offset_[i];
+                        v_[i] = v_[governor[i]];
+                    }
                 }
             }
-        }
+        });
     // Split nodes, fine to coarse: their sub-nodes' centre of mass.
-    for (uint32_t g = static_cast<uint32_t>(h.gc_count()); g-- > 0;)
-        for (int k = 1; k < n_; ++k) {
-            const uint32_t i = h.node(g, k);
-            if (state_[i] != kSplit) continue;
-            Vec3f xs = Vec3f::Zero(), vs = Vec3f::Zero();
-            for (uint32_t s = h.child_begin[g]; s < h.child_begin[g] + h.child_count[g]; ++s) {
-                xs += h.mass[h.node(s, k)] * x_[h.node(s, k)];
-                vs += h.mass[h.node(s, k)] * v_[h.node(s, k)];
+    for (int l = h.levels; l-- > 0;)
+        for_level(l, [&](uint32_t g) {
+            for (int k = 1; k < n_; ++k) {
+                const uint32_t i = h.node(g, k);
+                if (state_[i] != kSplit) continue;
+                Vec3f xs = Vec3f::Zero(), vs = Vec3f::Zero();
+                for (uint32_t s = h.child_begin[g]; s < h.child_begin[g] + h.child_count[g]; ++s) {
+                    xs += h.mass[h.node(s, k)] * x_[h.node(s, k)];
+                    vs += h.mass[h.node(s, k)] * v_[h.node(s, k)];
+                }
+                x_[i] = xs / h.mass[i];
+                v_[i] = vs / h.mass[i];
             }
-            x_[i] = xs / h.mass[i];
-            v_[i] = vs / h.mass[i];
-        }
+        });
 }
 
 std::vector<uint32_t> AwtSimulation::active_per_level() const {
@@ -912,26 +969,30 @@ void AwtSimulation::finest_rotations(std::vector<Mat3f>& out) const {
     const uint32_t first = h.finest_begin();
     const size_t count = h.gc_count() - first;
     out.resize(count * n_);
-    std::vector<Quat> segment(n_);
-    for (size_t f = 0; f < count; ++f) {
-        const uint32_t g = first + static_cast<uint32_t>(f);
-        segment[0] = head_rotation_;
-        for (int k = 1; k < n_; ++k) {
-            const uint32_t c = h.node(g, k), p = h.node(g, k - 1);
-            segment[k] = rest_to_now(h.rest[c] - h.rest[p], x_[c] - x_[p]);
-        }
-        out[f * n_] = head_rotation_.toRotationMatrix();
-        for (int k = 1; k < n_; ++k) {
-            Quat q = segment[k];
-            if (k + 1 < n_) {
-                Quat next = segment[k + 1];
-                if (q.dot(next) < 0) next.coeffs() = -next.coeffs();
-                q.coeffs() = q.coeffs() + next.coeffs();
-                q.normalize();
+    const auto segment = [&](uint32_t g, int k) {
+        const uint32_t c = h.node(g, k), p = h.node(g, k - 1);
+        return rest_to_now(h.rest[c] - h.rest[p], x_[c] - x_[p]);
+    };
+    // Every GC writes its own rows: parallel, the same at any thread count.
+    parallel_for(
+        count,
+        [&](size_t f) {
+            const uint32_t g = first + static_cast<uint32_t>(f);
+            out[f * n_] = head_rotation_.toRotationMatrix();
+            Quat next = n_ > 1 ? segment(g, 1) : head_rotation_;
+            for (int k = 1; k < n_; ++k) {
+                Quat q = next;
+                if (k + 1 < n_) {
+                    next = segment(g, k + 1);
+                    Quat flipped = next;
+                    if (q.dot(flipped) < 0) flipped.coeffs() = -flipped.coeffs();
+                    q.coeffs() = q.coeffs() + flipped.coeffs();
+                    q.normalize();
+                }
+                out[f * n_ + k] = q.toRotationMatrix();
             }
-            out[f * n_ + k] = q.toRotationMatrix();
-        }
-    }
+        },
+        64);
 }
 
 std::string AwtSimulation::check_invariants() const {

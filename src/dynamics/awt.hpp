@@ -162,7 +162,16 @@ class AwtSimulation {
     void hold(uint32_t node);
     void interact();
     void integrate();
-    bool collide_body(uint32_t child, uint32_t parent_node);  // true when it moved the child
+    // True when it moved the child; sets collided_[child], counts nothing (callers do: it
+    // runs in parallel in integrate()).
+    bool collide_body(uint32_t child, uint32_t parent_node);
+    // collide_body(), counting a first contact in last_.body_contacts.
+    void collide_counted(uint32_t child, uint32_t parent_node);
+    // body(node) for every active node, or those of section k, in parallel.
+    template <class Body>
+    void for_active(Body&& body) const;
+    template <class Body>
+    void for_section(int k, Body&& body) const;
     void adapt();
     void split(uint32_t node);
     bool try_merge(uint32_t gc, int k);
@@ -202,7 +211,8 @@ class AwtSimulation {
     std::vector<uint32_t> parent_;
     std::vector<Eigen::Quaternionf> rotation_;  // segment rotation of active nodes
     std::vector<uint32_t> active_;
-    std::vector<uint32_t> governor_;  // sync(): the active node governing each merged node
+    std::vector<size_t> section_begin_;  // #sections+1: section k's nodes in active_
+    std::vector<uint32_t> governor_;     // sync(): the active node governing each merged node
     std::vector<Sphere> world_spheres_;
     // Hair–hair interactions (interact()): the active segments' boxes, and their data in the
     // grid's order.

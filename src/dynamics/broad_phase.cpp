@@ -1,5 +1,7 @@
 #include "dynamics/broad_phase.hpp"
 
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -30,7 +32,8 @@ void BoxGrid::build(std::span<const Box4> boxes, float cell) {
         }
         if (inside) entries_.push_back({key(level, xyz[0], xyz[1], xyz[2]), uint32_t(i)});
     }
-    std::sort(entries_.begin(), entries_.end(), [](const Entry& a, const Entry& b) {
+    // (key, index) pairs are distinct: the order is total, the same whoever sorts.
+    tbb::parallel_sort(entries_.begin(), entries_.end(), [](const Entry& a, const Entry& b) {
         return a.key != b.key ? a.key < b.key : a.index < b.index;
     });
     const size_t count = entries_.size();

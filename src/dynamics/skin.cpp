@@ -1,6 +1,7 @@
 #include "dynamics/skin.hpp"
 
 #include <algorithm>
+#include <cstring>
 
 #include "core/error.hpp"
 #include "core/parallel.hpp"
@@ -42,15 +43,17 @@ StrandBinding bind_strands(const Hair& rest, const Hierarchy& h) {
 
 namespace {
 
-// Point i of strand s, which follows finest GC g (r: its first rotation).
-inline Vec3f skinned(const Hierarchy& h, const StrandBinding& b, const Vec3f* x,
-                     const Mat3f* rotations, uint32_t i) {
-    const int n = h.sections;
-    const float u = b.u[i];
+// A point at u along a finest GC with rest offset o; x, rotations: the GC's first node's.
+inline Vec3f skinned(int n, float u, const Vec3f& o, const Vec3f* x, const Mat3f* rotations) {
     const int k = std::min(static_cast<int>(u), n - 2);
     const float f = u - static_cast<float>(k);
-    const Vec3f& o = b.offset[i];
     return (1 - f) * (x[k] + rotations[k] * o) + f * (x[k + 1] + rotations[k + 1] * o);
+}
+
+// Point i of the rest hair.
+inline Vec3f skinned(const Hierarchy& h, const StrandBinding& b, const Vec3f* x,
+                     const Mat3f* rotations, uint32_t i) {
+    return skinned(h.sections, b.u[i], b.offset[i], x, rotations);
 }
 
 }  // namespace
@@ -104,6 +107,74 @@ void skin_strands(const Hierarchy& h, const StrandBinding& b, std::span<const Ve
             }
         },
         1);
+}
+
+SubsetBinding bind_subset(const Hierarchy& h, const StrandBinding& b,
+                          std::span<const uint32_t> offsets, std::span<const uint32_t> strands) {
+    SubsetBinding out;
+    out.strands.assign(strands.begin(), strands.end());
+    out.gc.resize(strands.size());
+    out.first.resize(strands.size() + 1);
+    out.first[0] = 0;
+    for (size_t j = 0; j < strands.size(); ++j) {
+        const uint32_t s = strands[j];
+        if (s + 1 >= offsets.size() || s >= h.strand_gc.size())
+            fail("dynamics: strand ", s, " is not in the hair");
+        out.gc[j] = h.strand_gc[s];
+        out.first[j + 1] = out.first[j] + (offsets[s + 1] - offsets[s]);
+    }
+    out.u.resize(out.first.back());
+    out.offset.resize(out.first.back());
+    for (size_t j = 0; j < strands.size(); ++j) {
+        const uint32_t s = strands[j];
+        std::copy(b.u.begin() + offsets[s], b.u.begin() + offsets[s + 1],
+                  out.u.begin() + out.first[j]);
+        std::copy(b.offset.begin() + offsets[s], b.offset.begin() + offsets[s + 1],
+                  out.offset.begin() + out.first[j]);
+    }
+    return out;
+}
+
+namespace {
+
+// skin_strands() of a subset, each point handed to store(i, p).
+template <class Store>
+void skin_subset(const Hierarchy& h, const SubsetBinding& subset, std::span<const Vec3f> positions,
+                 std::span<const Mat3f> rotations, size_t count, const Store& store) {
+    if (count != subset.point_count())
+        fail("dynamics: ", count, " points given for strands holding ", subset.point_count());
+    const uint32_t finest = h.finest_begin();
+    const int n = h.sections;
+    constexpr size_t kBlock = 256;  // strands
+    const size_t strands = subset.gc.size();
+    parallel_for((strands + kBlock - 1) / kBlock, [&](size_t block) {
+        const size_t end = std::min(strands, (block + 1) * kBlock);
+        for (size_t j = block * kBlock; j < end; ++j) {
+            const uint32_t g = subset.gc[j];
+            const Vec3f* x = positions.data() + h.node(g, 0);
+            const Mat3f* m = rotations.data() + static_cast<size_t>(g - finest) * n;
+            for (uint32_t i = subset.first[j]; i < subset.first[j + 1]; ++i)
+                store(i, skinned(n, subset.u[i], subset.offset[i], x, m));
+        }
+    });
+}
+
+}  // namespace
+
+void skin_strands(const Hierarchy& h, const SubsetBinding& subset, std::span<const Vec3f> positions,
+                  std::span<const Mat3f> rotations, std::span<Vec3f> points) {
+    skin_subset(h, subset, positions, rotations, points.size(),
+                [&](uint32_t i, const Vec3f& p) { points[i] = p; });
+}
+
+void skin_strands(const Hierarchy& h, const SubsetBinding& subset, std::span<const Vec3f> positions,
+                  std::span<const Mat3f> rotations, std::span<char> xyz) {
+    static_assert(sizeof(Vec3f) == 12, "positions are float32 triples");
+    if (xyz.size() % 12 != 0) fail("dynamics: ", xyz.size(), " bytes is not a number of points");
+    char* out = xyz.data();
+    skin_subset(h, subset, positions, rotations, xyz.size() / 12, [&](uint32_t i, const Vec3f& p) {
+        std::memcpy(out + 12 * size_t{i}, p.data(), 12);
+    });
 }
 
 }  // namespace wisp

@@ -86,14 +86,11 @@ MotionSession::MotionSession(const Hair& rest, const Mesh& body, const HeadFrame
     const std::vector<uint32_t> order = strand_order(rest_.strand_count());
     shown_.assign(order.begin(), order.begin() + static_cast<ptrdiff_t>(std::min(
                                                      settings.shown_strands, order.size())));
-    size_t points = 0;
     for (uint32_t s : shown_)
-        points += rest_.strand_size(s);
-    moved_.resize(points);
+        shown_points_ += rest_.strand_size(s);
     // Frame 0: the rest pose.
     animator_->advance();
-    animator_->skin(shown_, moved_);
-    encode_frame(0, moved_, frame_.bytes);
+    animator_->skin(shown_, begin_frame(0, shown_points_, frame_.bytes));
     frame_.head = animator_->pose().head;
     frame_.body = animator_->pose().body;
     active_per_level_ = animator_->simulation().active_per_level();
@@ -302,9 +299,9 @@ void MotionSession::advance_locked(std::unique_lock<std::mutex>& lock) {
     try {
         if (dynamics) animator_->set_dynamics(*dynamics, prototype_);
         animator_->advance();
-        animator_->skin(shown_, moved_);
         bytes.swap(spare_);
-        encode_frame(static_cast<uint32_t>(animator_->frame()), moved_, bytes);
+        animator_->skin(
+            shown_, begin_frame(static_cast<uint32_t>(animator_->frame()), shown_points_, bytes));
         active = animator_->simulation().active_per_level();
         stats = animator_->stats();
         const FramePose pose = animator_->pose();

@@ -148,7 +148,7 @@ class MotionSession {
     LiveMotion live_;
     std::unique_ptr<Animator> animator_;
     std::vector<uint32_t> shown_;
-    std::vector<Vec3f> moved_;
+    size_t shown_points_ = 0;  // the shown strands' points
     double interval_;
 
     mutable std::mutex mutex_;

@@ -92,13 +92,18 @@ void write_strand_colors(std::span<const Vec3f> colors, std::string& bytes) {
                     12 * colors.size());
 }
 
+std::span<char> begin_frame(uint32_t frame, size_t points, std::string& out) {
+    out.resize(20 + 12 * points);
+    std::memcpy(out.data(), "WISPFRAM", 8);
+    const uint32_t header[3] = {1, frame, static_cast<uint32_t>(points)};
+    std::memcpy(out.data() + 8, header, sizeof header);
+    return std::span<char>(out.data() + 20, 12 * points);
+}
+
 void encode_frame(uint32_t frame, std::span<const Vec3f> points, std::string& out) {
     static_assert(sizeof(Vec3f) == 12, "positions are copied as float32 triples");
-    out.resize(20 + 12 * points.size());
-    std::memcpy(out.data(), "WISPFRAM", 8);
-    const uint32_t header[3] = {1, frame, static_cast<uint32_t>(points.size())};
-    std::memcpy(out.data() + 8, header, sizeof header);
-    if (!points.empty()) std::memcpy(out.data() + 20, points.data(), 12 * points.size());
+    const std::span<char> xyz = begin_frame(frame, points.size(), out);
+    if (!points.empty()) std::memcpy(xyz.data(), points.data(), xyz.size());
 }
 
 std::string encode_masters(const Masters& masters) {

@@ -42,6 +42,10 @@ void write_strand_colors(std::span<const Vec3f> colors, std::string& bytes);
 // frame index, points P', then float32 positions[3·P'] (cm, world space), little-endian.
 // Reuses `out`'s memory.
 void encode_frame(uint32_t frame, std::span<const Vec3f> points, std::string& out);
+// The same frame's header written and `out` sized for `points` positions; returns their
+// 12·points bytes for the caller to fill (Animator::skin, which skins straight into the
+// frame instead of through a copy).
+std::span<char> begin_frame(uint32_t frame, size_t points, std::string& out);
 
 // The masters' control polylines in the same layout (colors: a neutral grey).
 std::string encode_masters(const Masters& masters);

@@ -124,6 +124,10 @@ TEST(LiveMotion, RecordingReplaysToTheSameFrames) {
         poses.push_back(animator.pose());
         live_frames.emplace_back(shown_points);
         animator.skin(shown, live_frames.back());
+        // Skinned straight into a frame's bytes (the live loop's way): the same bits.
+        std::vector<char> xyz(12 * shown_points);
+        animator.skin(shown, xyz);
+        ASSERT_EQ(std::memcmp(xyz.data(), live_frames.back().data(), xyz.size()), 0) << f;
     }
     const auto recording = std::filesystem::temp_directory_path() / "wisp_live_recording.json";
     live.write(recording);

@@ -36,6 +36,18 @@ TEST(Wire, FrameIsHeaderThenPositionsAndReusesItsBuffer) {
     EXPECT_EQ(u32_at(bytes, 16), 1u);
 }
 
+// begin_frame writes encode_frame's header and leaves the positions to its caller.
+TEST(Wire, BeginFrameIsEncodeFrameWithThePositionsLeftToFill) {
+    const std::vector<Vec3f> points{{1.5f, -2.f, 3.25f}, {0.f, 1e-3f, -7.f}};
+    std::string encoded, begun;
+    encode_frame(7, points, encoded);
+    const std::span<char> xyz = begin_frame(7, points.size(), begun);
+    ASSERT_EQ(xyz.size(), 24u);
+    EXPECT_EQ(xyz.data(), begun.data() + 20);
+    std::memcpy(xyz.data(), points.data(), xyz.size());
+    EXPECT_EQ(begun, encoded);
+}
+
 // Strands by index, in the order given; the colours last, rewritten alone.
 TEST(Wire, StrandsAreSentInTheOrderGivenWithTheirColoursLast) {
     Hair hair;
