@@ -1,9 +1,16 @@
 #include "solve/solver.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <thread>
 
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "core/parallel.hpp"
 #include "core/rng.hpp"
 
 namespace wisp {
@@ -59,6 +66,37 @@ void deposit(Grid3<float>& g, const Vec3f& p, float amount) {
             }
 }
 
+// The figures one joint placement adds to SolveStats: integers, so their sums do not depend
+// on the order the joints were placed in.
+struct Counts {
+    size_t joints = 0, bends = 0, collisions = 0, unresolved = 0, projected = 0, constrained = 0;
+};
+
+// The grid nodes one joint placement may touch, as inclusive index ranges per axis: every
+// node a trilinear read within `radius` cm of x can weigh (locate()'s clamping included).
+// A position that is not finite may touch anything.
+struct NodeBox {
+    int lo[3], hi[3];
+};
+
+NodeBox node_box(const Grid3<float>& g, const Vec3f& x, float radius) {
+    NodeBox b;
+    const bool finite = x.allFinite() && std::isfinite(radius);
+    for (int a = 0; a < 3; ++a) {
+        const float top = static_cast<float>(g.dims()[a] - 1);
+        if (!finite) {
+            b.lo[a] = 0;
+            b.hi[a] = g.dims()[a] - 1;
+            continue;
+        }
+        const float c = (x[a] - g.origin()[a]) / g.cell(), r = radius / g.cell();
+        const float lo = std::clamp(c - r, 0.f, top), hi = std::clamp(c + r, 0.f, top);
+        b.lo[a] = std::min(static_cast<int>(lo), g.dims()[a] - 2);
+        b.hi[a] = std::min(static_cast<int>(hi), g.dims()[a] - 2) + 1;
+    }
+    return b;
+}
+
 class Solver {
   public:
     Solver(Masters& m, const SolveInput& in, const SolveSpec& spec, Grid3<float>& density)
@@ -101,6 +139,17 @@ class Solver {
         }
         nearest_tie_.assign(w_count, 0);
         nearest_tie_distance_.assign(w_count, std::numeric_limits<float>::infinity());
+        counts_.assign(w_count, Counts{});
+        if (!spec.depth_first) {
+            for (int a = 0; a < 3; ++a)
+                block_dims_[a] = (rho_.dims()[a] + kBlock - 1) / kBlock;
+            const size_t blocks =
+                static_cast<size_t>(block_dims_[0]) * block_dims_[1] * block_dims_[2];
+            blocks_.assign(blocks, Block{});
+            done_ = std::vector<Done>(blocks);
+            level_.resize(w_count);
+            by_level_.resize(w_count);
+        }
     }
 
     SolveStats run() {
@@ -119,13 +168,21 @@ class Solver {
         } else {
             for (int j = 0; j + 1 < n; ++j) {
                 if (cancelled()) return stats_;
-                for (size_t w = 0; w < w_count; ++w)
-                    place(w, j, false);
+                place_layer(j);
                 advance_groups();
             }
         }
+        for (const Counts& c : counts_) {
+            stats_.joints += c.joints;
+            stats_.bends += c.bends;
+            stats_.collisions += c.collisions;
+            stats_.unresolved += c.unresolved;
+            stats_.projected += c.projected;
+            stats_.constrained += c.constrained;
+        }
+        parallel_for(
+            w_count, [&](size_t w) { update_master(m_, w); }, 64);
         for (size_t w = 0; w < w_count; ++w) {
-            update_master(m_, w);
             // A wisp that a tie pulled but collisions kept from meeting it (the group moved
             // on without it) is tied where it came closest: it lies with the tied hair.
             if (stats_.held_length[w] == 0 && nearest_tie_[w] > 0)
@@ -163,11 +220,14 @@ class Solver {
         return s.inside ? sample(rho_, s) : 0.f;
     }
     float head_density(const Vec3f& p) const { return in_.head->density(p, spec_.head_margin); }
-    // Hair and head density at p, the head's (`head`) already known.
-    float total_density(const Vec3f& p, float head) const {
-        return squeeze_ ? head : hair_density(p) + head;
+    // Hair and head density at p, the head's (`head`) already known; `squeeze`: the head's
+    // alone (see place()).
+    float total_density(const Vec3f& p, float head, bool squeeze) const {
+        return squeeze ? head : hair_density(p) + head;
     }
-    float total_density(const Vec3f& p) const { return total_density(p, head_density(p)); }
+    float total_density(const Vec3f& p, bool squeeze) const {
+        return total_density(p, head_density(p), squeeze);
+    }
     // A tie or a braid squeezes hair together: inside a point constraint's tolerance sphere,
     // or a trajectory constraint's tolerance tube, hair does not collide with hair (it still
     // collides with the head).
@@ -178,14 +238,16 @@ class Solver {
             return (nearest_on_path(c, p).position - p).norm() <= c.radius + reach;
         return false;
     }
+    // The central differences' step, cm.
+    float gradient_step() const { return 0.25f * std::min(rho_.cell(), in_.head->grid().cell()); }
     // Gradient of the total density by central differences.
-    Vec3f density_gradient(const Vec3f& p) const {
-        const float h = 0.25f * std::min(rho_.cell(), in_.head->grid().cell());
+    Vec3f density_gradient(const Vec3f& p, bool squeeze) const {
+        const float h = gradient_step();
         Vec3f g;
         for (int a = 0; a < 3; ++a) {
             Vec3f e = Vec3f::Zero();
             e[a] = h;
-            g[a] = (total_density(p + e) - total_density(p - e)) / (2.f * h);
+            g[a] = (total_density(p + e, squeeze) - total_density(p - e, squeeze)) / (2.f * h);
         }
         return g;
     }
@@ -236,11 +298,16 @@ class Solver {
         return true;
     }
 
+    // Places joint j + 1 of wisp w. Of the state other wisps share, it reads the hair density
+    // only at points within s + gradient_step() of joint j (the segment's end and middle
+    // for unit directions, and the gradient's samples around them) and adds to it only
+    // within s/2 of joint j (its middle): place_layer() relies on this.
     void place(size_t w, int j, bool per_wisp_queue) {
         const int n = m_.points;
         const size_t base = w * static_cast<size_t>(n);
         const Vec3f x = m_.outline[base + j];
         const float s = m_.segment[w];
+        Counts& counts = counts_[w];
         const Vec3f q0 = dir_[w];  // zero joint angle: continue the previous segment
 
         Vec3f phi = (*in_.field)(x);
@@ -251,13 +318,13 @@ class Solver {
                                c->weight >= 0.99f && follow(w, *c, x, s, followed, at_end);
         if (c) {
             phi = constrained_field(phi, constraint_force(*c, x), c->weight);
-            ++stats_.constrained;
+            ++counts.constrained;
         }
         Vec3f q = following ? followed : best_direction(phi, q0, spec_.stiffness);
         // Decided once per joint, at the joint: nearest_on_path is not cheap.
         // A tie with w = 1 pulls hair in like a hand gathering it: while it acts, and within
         // reach of a trajectory's tube, hair passes through hair.
-        squeeze_ = c && (c->weight >= 0.99f || inside_tie(*c, x, s));
+        const bool squeeze = c && (c->weight >= 0.99f || inside_tie(*c, x, s));
 
         // Eq. (6) with the segment's own density ρ_Δ: its strands over its cross-section.
         const float r = std::max(in_.wisp_radius[w] * in_.radius_profile[j], 0.25f * rho_.cell());
@@ -270,7 +337,8 @@ class Solver {
         for (; !following;) {
             const Vec3f end = x + s * q, mid = x + 0.5f * s * q;
             const float head_end = head_density(end), head_mid = head_density(mid);
-            const float d_end = total_density(end, head_end), d_mid = total_density(mid, head_mid);
+            const float d_end = total_density(end, head_end, squeeze),
+                        d_mid = total_density(mid, head_mid, squeeze);
             const float worst = std::max(d_end, d_mid);
             if (worst < best_density) {
                 best_density = worst;
@@ -286,11 +354,11 @@ class Solver {
             last_worst = worst;
             if (tries >= spec_.max_tries || packed) {
                 // Still colliding: keep the least dense direction tried.
-                ++stats_.unresolved;
+                ++counts.unresolved;
                 q = best_q;
                 break;
             }
-            const Vec3f g = density_gradient(d_end >= d_mid ? end : mid);
+            const Vec3f g = density_gradient(d_end >= d_mid ? end : mid, squeeze);
             const float gn = g.norm();
             if (!(gn > 1e-8f)) break;
             const Vec3f away = -g / gn;
@@ -301,10 +369,9 @@ class Solver {
             }
             q = (Eigen::AngleAxisf(bend_, axis.normalized()) * q).normalized();
             ++tries;
-            ++stats_.bends;
+            ++counts.bends;
         }
-        squeeze_ = false;
-        if (collided) ++stats_.collisions;
+        if (collided) ++counts.collisions;
         // Whatever the density says, a joint never ends inside the head.
         const float clearance = 0.5f * spec_.head_margin;
         const Vec3f end = x + s * q;
@@ -316,7 +383,7 @@ class Solver {
                 const Vec3f v = target - x;
                 if (v.norm() > 1e-6f) {
                     q = v.normalized();
-                    ++stats_.projected;
+                    ++counts.projected;
                 }
             }
         }
@@ -339,7 +406,7 @@ class Solver {
                 }
             }
         }
-        ++stats_.joints;
+        ++counts.joints;
         // Algorithm 1: updateDensityField() with this segment's strands.
         deposit(rho_, x + 0.5f * s * q,
                 static_cast<float>(in_.wisp_strands[w]) * s / spec_.full_density * inv_cell3_);
@@ -351,10 +418,124 @@ class Solver {
         if (met) {
             if (c->hold) stats_.held_length[w] = reached;
             const size_t k = static_cast<size_t>(c - in_.groups[group_of_[w]].queue.data());
-            ++met_count_[group_of_[w]][k];
+            std::atomic_ref<size_t>(met_count_[group_of_[w]][k])
+                .fetch_add(1, std::memory_order_relaxed);
             ++stats_.wisp_met[w];
             wisp_stage_[w] = static_cast<uint32_t>(k + 1);
         }
+    }
+
+    // Breadth-first layer j: joint j + 1 of every wisp, with the result of placing them one
+    // after another in id order. Each placement reads and writes the density grid only near
+    // its wisp's joint j (place()), and each wisp's other state is its own, so a placement
+    // need only wait for the earlier ones whose writes its reads or writes could meet and
+    // those whose reads its writes could meet (over blocks of kBlock³ nodes, a conservative
+    // test). Per block, the solve counts the placements that read it and those that write it
+    // (a writer also reads): a placement starts once the counts of finished ones reach those
+    // registered before it in id order. Every pair that could interact then does so in id
+    // order, as the serial solve does, so the grid and masters are the same bytes at any
+    // thread count. Placements are taken in an order where all that one waits for come
+    // before it (by level, its longest chain of waits), so the lanes never deadlock.
+    void place_layer(int j) {
+        const size_t w_count = m_.count();
+        const int lanes = std::min<int>(tbb::this_task_arena::max_concurrency(),
+                                        static_cast<int>(tbb::global_control::active_value(
+                                            tbb::global_control::max_allowed_parallelism)));
+        const bool by_level = in_.schedule == SolveInput::Schedule::kByLevel;
+        if (!(by_level || (in_.schedule == SolveInput::Schedule::kConcurrent && lanes > 1))) {
+            for (size_t w = 0; w < w_count; ++w)
+                place(w, j, false);
+            return;
+        }
+        const size_t n = static_cast<size_t>(m_.points);
+        // Reads reach s + the gradient step, writes s/2; the slack covers rounding in the
+        // positions place() computes (|q| = 1 to a few ulps).
+        const float h = gradient_step(), slack = 0.01f * rho_.cell();
+        wait_start_.resize(w_count + 1);
+        waits_.clear();
+        int top = 0;
+        for (size_t w = 0; w < w_count; ++w) {
+            wait_start_[w] = waits_.size();
+            const Vec3f& x = m_.outline[w * n + j];
+            const float s = m_.segment[w];
+            const NodeBox reads = node_box(rho_, x, s + h + slack);
+            const NodeBox writes = node_box(rho_, x, 0.5f * s + slack);
+            int level = 0;
+            // The write box lies inside the read box: a read block's earlier writers cover
+            // write after write.
+            visit_blocks(reads, [&](size_t b) {
+                Block& k = blocks_[b];
+                level = std::max(level, k.write_level + 1);
+                waits_.push_back({static_cast<uint32_t>(b), false, k.writes});
+            });
+            visit_blocks(writes, [&](size_t b) {
+                Block& k = blocks_[b];
+                level = std::max(level, k.read_level + 1);
+                waits_.push_back({static_cast<uint32_t>(b), true, k.reads});
+            });
+            visit_blocks(reads, [&](size_t b) {
+                Block& k = blocks_[b];
+                ++k.reads;
+                k.read_level = std::max(k.read_level, level);
+            });
+            visit_blocks(writes, [&](size_t b) {
+                Block& k = blocks_[b];
+                ++k.writes;
+                k.write_level = std::max(k.write_level, level);
+            });
+            level_[w] = level;
+            top = std::max(top, level);
+        }
+        wait_start_[w_count] = waits_.size();
+        // Levels are per layer: clear them where this layer set them.
+        for (const Wait& wt : waits_) {
+            blocks_[wt.block].read_level = -1;
+            blocks_[wt.block].write_level = -1;
+        }
+        // The wisps by level, in id order within one (a counting sort).
+        level_start_.assign(static_cast<size_t>(top) + 2, 0);
+        for (size_t w = 0; w < w_count; ++w)
+            ++level_start_[level_[w] + 1];
+        for (size_t l = 1; l < level_start_.size(); ++l)
+            level_start_[l] += level_start_[l - 1];
+        for (size_t w = 0; w < w_count; ++w)
+            by_level_[level_start_[level_[w]]++] = static_cast<uint32_t>(w);
+
+        std::atomic<size_t> next{0};
+        const auto lane = [&] {
+            for (size_t i; (i = next.fetch_add(1, std::memory_order_relaxed)) < w_count;) {
+                const uint32_t w = by_level_[i];
+                for (size_t k = wait_start_[w]; k < wait_start_[w + 1]; ++k) {
+                    const Wait& wt = waits_[k];
+                    const std::atomic<int>& done =
+                        wt.readers ? done_[wt.block].reads : done_[wt.block].writes;
+                    for (int spin = 0; done.load(std::memory_order_acquire) < wt.count; ++spin)
+                        if (spin >= 64) std::this_thread::yield();
+                }
+                place(w, j, false);
+                // Reads of the read box, then writes of the write box (the read box's first
+                // entries, the write box's after them in waits_): released together with the
+                // placement's writes.
+                for (size_t k = wait_start_[w]; k < wait_start_[w + 1]; ++k) {
+                    const Wait& wt = waits_[k];
+                    (wt.readers ? done_[wt.block].writes : done_[wt.block].reads)
+                        .fetch_add(1, std::memory_order_release);
+                }
+            }
+        };
+        if (lanes > 1)
+            tbb::parallel_for(0, lanes, [&](int) { lane(); });
+        else
+            lane();
+    }
+
+    // Calls f(block index) for every block a node box touches.
+    template <typename F>
+    void visit_blocks(const NodeBox& box, F&& f) const {
+        for (int z = box.lo[2] / kBlock; z <= box.hi[2] / kBlock; ++z)
+            for (int y = box.lo[1] / kBlock; y <= box.hi[1] / kBlock; ++y)
+                for (int x = box.lo[0] / kBlock; x <= box.hi[0] / kBlock; ++x)
+                    f((static_cast<size_t>(z) * block_dims_[1] + y) * block_dims_[0] + x);
     }
 
     // §4: a group moves to its next constraint once all its wisps met the active one. A
@@ -400,8 +581,32 @@ class Solver {
     std::vector<float> follow_arc_;               // per wisp: its arc length along it, cm
     std::vector<Vec3f> follow_offset_;            // per wisp: its place across the tube
     std::vector<std::vector<size_t>> met_count_;  // per group, per constraint: wisps that met it
-    bool squeeze_ = false;
     std::vector<size_t> last_met_;
+    std::vector<Counts> counts_;  // per wisp
+    // place_layer's schedule, per block of kBlock³ density nodes: the placements registered
+    // to read and to write it (over the whole solve) and the highest level among this
+    // layer's; the placements that finished reading and writing it; per wisp its level and
+    // what it waits for (waits_[wait_start_[w] …]); the wisps by level.
+    static constexpr int kBlock = 2;
+    struct Block {
+        int reads = 0, writes = 0;
+        int read_level = -1, write_level = -1;
+    };
+    struct Done {
+        std::atomic<int> reads{0}, writes{0};
+    };
+    struct Wait {
+        uint32_t block;
+        bool readers;  // true: for `count` finished reads, false: finished writes
+        int count;
+    };
+    int block_dims_[3] = {0, 0, 0};
+    std::vector<Block> blocks_;
+    std::vector<Done> done_;
+    std::vector<Wait> waits_;
+    std::vector<size_t> wait_start_, level_start_;
+    std::vector<int> level_;
+    std::vector<uint32_t> by_level_;
     float bend_ = 0.f, inv_cell3_ = 1.f;
     SolveStats stats_;
 };

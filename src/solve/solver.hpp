@@ -73,11 +73,20 @@ struct SolveInput {
     std::vector<float> radius_profile;  // #n r(s_j)/r(0) at each joint
     // Polled once per layer of joints (breadth-first) or per wisp (depth-first); null: never.
     const CancelToken* cancel = nullptr;
+    // Breadth-first, how a layer's joints are placed; every schedule gives the same bytes.
+    enum class Schedule {
+        kIdOrder,     // one after another in wisp id order (the reference)
+        kConcurrent,  // concurrently where they cannot interact, when threads allow (else kIdOrder)
+        kByLevel,     // kConcurrent's schedule even on one thread, whose order then differs from
+                      // id order: a test of its dependency analysis
+    };
+    Schedule schedule = Schedule::kConcurrent;
 };
 
 // Algorithm 1. Masters' outlines are rebuilt joint by joint from their roots; details ride on
 // the rotated frames (update_master). `density` is the hair density grid, cleared first.
-// Deterministic: wisps are visited in id order.
+// Deterministic: the result is that of visiting wisps in id order, at any thread count
+// (breadth-first, wisps whose joints are far apart are placed concurrently).
 SolveStats solve_masters(Masters& masters, const SolveInput& in, const SolveSpec& spec,
                          Grid3<float>& density);
 
