@@ -334,7 +334,6 @@ void int_primvar(Out& o, const Hair& hair, const char* name, bool constant, Valu
 // for render strands (their closest guide is guide_base + wisp id), or -1 for a guides prim.
 void groom_primvars(Out& o, const Hair& hair, bool with_guides, size_t first_id,
                     int64_t guide_base) {
-    const size_t S = hair.strand_count();
     if (hair.group.empty())
         int_primvar(o, hair, "groom_group_id", true, [](size_t) { return 0; });
     else
@@ -392,7 +391,6 @@ void color_primvar(Out& o, const Hair& hair, const char* declaration) {
 // widths, displayColor, wisp ids, Unreal's primvars and the prim's closing brace.
 void end_curves(Out& o, const Hair& hair, bool with_guides = false, size_t first_id = 0,
                 int64_t guide_base = 0) {
-    const size_t S = hair.strand_count();
     o.buf += "        float[] widths = [\n";
     format_strands(o, hair, kMaxFloatChars + 2, [&](size_t s, std::string& t) {
         t += "            ";
