@@ -615,22 +615,9 @@ int run_animate(const AnimateArgs& args) {
                                                              args.frames, guided, args.precision));
         }
     }
-    // The frames of an MP4 without --png go to a temporary folder, removed however the run
-    // ends.
-    struct TempDir {
-        std::filesystem::path path;
-        ~TempDir() {
-            std::error_code ec;
-            if (!path.empty()) std::filesystem::remove_all(path, ec);
-        }
-    } png_dir;
-    std::string png_pattern = args.png;
-    if (png_pattern.empty() && !args.mp4.empty()) {
-        png_dir.path =
-            std::filesystem::temp_directory_path() / ("wisp-animate-" + std::to_string(::getpid()));
-        std::filesystem::create_directories(png_dir.path);
-        png_pattern = (png_dir.path / "frame_####.png").string();
-    }
+    // PNG frames where --png says, or for an MP4 alone in a temporary folder.
+    const PictureFrames picture_frames(
+        args.png.empty() ? std::string() : numbered_pattern(args.png), !args.mp4.empty());
     RenderOptions look = png.options;
     look.view = png.views[0];
     AnimationPictures pictures(look, *head.mesh, frame, motion,
@@ -651,7 +638,8 @@ int run_animate(const AnimateArgs& args) {
                 write_hair(numbered(per_frame[k], f), hair, write_options);
                 series[k]->added(static_cast<size_t>(f));
             }
-            if (!png_pattern.empty()) pictures.write(numbered(png_pattern, f), hair, pose);
+            if (!picture_frames.pattern().empty())
+                pictures.write(numbered(picture_frames.pattern(), f), hair, pose);
             progress.step(f + 1);
         });
     for (auto& writer : usda)
@@ -671,7 +659,7 @@ int run_animate(const AnimateArgs& args) {
                            " …)")));
     if (!args.png.empty()) info(args.quiet, cat("wisp: wrote ", numbered(args.png, 0), " …"));
     if (!args.mp4.empty()) {
-        encode_mp4(numbered_pattern(png_pattern), args.fps, args.mp4);
+        encode_mp4(picture_frames.pattern(), args.fps, args.mp4);
         info(args.quiet, cat("wisp: wrote ", args.mp4));
     }
     if (!args.stats.empty()) {

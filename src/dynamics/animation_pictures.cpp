@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cstdlib>
 #include <string_view>
 
@@ -51,6 +52,21 @@ void AnimationPictures::write(const std::filesystem::path& png, const Hair& hair
                        first_camera_->eye + first_camera_->forward + shift, first_camera_->up};
     o.fov_y_degrees = first_camera_->fov_y_degrees;
     write_png(png, render(hair, &body, o));
+}
+
+PictureFrames::PictureFrames(std::string png_pattern, bool mp4) : pattern_(std::move(png_pattern)) {
+    if (!pattern_.empty() || !mp4) return;
+    // A folder per object: one process (the editor) may export twice at once.
+    static std::atomic<unsigned> count{0};
+    temp_ = std::filesystem::temp_directory_path() /
+            cat("wisp-frames-", ::getpid(), "-", count.fetch_add(1));
+    std::filesystem::create_directories(temp_);
+    pattern_ = (temp_ / "frame_####.png").string();
+}
+
+PictureFrames::~PictureFrames() {
+    std::error_code ec;
+    if (!temp_.empty()) std::filesystem::remove_all(temp_, ec);
 }
 
 void encode_mp4(const std::string& png_pattern, double fps, const std::filesystem::path& mp4) {

@@ -44,6 +44,24 @@ class AnimationPictures {
     Vec3f first_centre_ = Vec3f::Zero();
 };
 
+// Where an animation's PNG frames go: `png_pattern` (a run of '#' for the frame number) when
+// PNGs were asked for; else, for an MP4 alone, frame_####.png in a temporary folder of its
+// own, removed with this object however the run ends; else nowhere (pattern() empty). Shared
+// by `wisp animate --png/--mp4` and the editor's Motion export.
+class PictureFrames {
+  public:
+    PictureFrames(std::string png_pattern, bool mp4);
+    ~PictureFrames();
+    PictureFrames(const PictureFrames&) = delete;
+    PictureFrames& operator=(const PictureFrames&) = delete;
+
+    const std::string& pattern() const { return pattern_; }
+
+  private:
+    std::string pattern_;
+    std::filesystem::path temp_;
+};
+
 // Encodes PNG frames into an MP4 (H.264, yuv420p, 25 … fps) with ffmpeg. `png_pattern`
 // names the frames with a run of '#' for the frame number from 0 (frame_####.png). ffmpeg
 // writes beside `mp4` and the file is renamed when complete. Throws wisp::Error naming `mp4`

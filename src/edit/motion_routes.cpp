@@ -336,28 +336,13 @@ struct MotionRoutes::Impl {
         }
         // The pictures: PNG frames beside the animation, or for an MP4 alone in a temporary
         // folder, removed however the export ends (as `wisp animate --mp4` does).
-        struct TempDir {
-            std::filesystem::path path;
-            ~TempDir() {
-                std::error_code ec;
-                if (!path.empty()) std::filesystem::remove_all(path, ec);
-            }
-        } png_dir;
         const std::string png_name = base + "_####.png", mp4_name = base + ".mp4";
-        std::string png_pattern;
         std::filesystem::path mp4_path;
-        if (png) png_pattern = (out.parent_path() / png_name).string();
-        if (mp4) {
-            mp4_path = host.file_in_folder(mp4_name, {".mp4"});
-            if (!png) {
-                png_dir.path =
-                    std::filesystem::temp_directory_path() / cat("wisp-edit-export-", ::getpid());
-                std::filesystem::create_directories(png_dir.path);
-                png_pattern = (png_dir.path / "frame_####.png").string();
-            }
-        }
+        if (mp4) mp4_path = host.file_in_folder(mp4_name, {".mp4"});
+        const PictureFrames picture_frames(
+            png ? (out.parent_path() / png_name).string() : std::string(), mp4);
         std::optional<AnimationPictures> pictures_out;
-        if (!png_pattern.empty()) {
+        if (!picture_frames.pattern().empty()) {
             RenderOptions look;  // `wisp animate`'s: its defaults of --view, --size and the look
             look.width = look.height = kAnimationPictureSide;
             pictures_out.emplace(look, s->body, s->frame, motion, frames / at.fps);
@@ -371,7 +356,8 @@ struct MotionRoutes::Impl {
                         write_hair(out.parent_path() / numbered(pattern, f), hair);
                         series->added(static_cast<size_t>(f));
                     }
-                    if (pictures_out) pictures_out->write(numbered(png_pattern, f), hair, pose);
+                    if (pictures_out)
+                        pictures_out->write(numbered(picture_frames.pattern(), f), hair, pose);
                     export_done = f + 1;
                 });
         if (clips) clips->finish();
@@ -381,7 +367,7 @@ struct MotionRoutes::Impl {
         if (mp4) {
             export_stage = "encoding";
             try {
-                encode_mp4(png_pattern, at.fps, mp4_path);
+                encode_mp4(picture_frames.pattern(), at.fps, mp4_path);
             } catch (const Error& e) {
                 throw BadField{"mp4", e.what()};
             }

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <string>
 
 #include "core/error.hpp"
@@ -32,6 +33,20 @@ TEST(AnimationPictures, AnMp4WithoutFfmpegOrFrameNumbersIsAClearError) {
     }
     setenv("PATH", path.c_str(), 1);
     EXPECT_THROW(encode_mp4("frames.png", 25, "/tmp/wisp-never.mp4"), Error);
+}
+
+TEST(AnimationPictures, FramesOfAnMp4AloneGoToATemporaryFolderRemovedAfter) {
+    EXPECT_EQ(PictureFrames("take_####.png", true).pattern(), "take_####.png");
+    EXPECT_EQ(PictureFrames("", false).pattern(), "");
+    std::filesystem::path folder;
+    {
+        const PictureFrames a("", true), b("", true);
+        folder = std::filesystem::path(a.pattern()).parent_path();
+        EXPECT_TRUE(std::filesystem::is_directory(folder)) << folder;
+        EXPECT_NE(a.pattern(), b.pattern());  // two exports at once do not share a folder
+        EXPECT_NE(a.pattern().find("####"), std::string::npos);
+    }
+    EXPECT_FALSE(std::filesystem::exists(folder)) << folder;
 }
 
 }  // namespace
