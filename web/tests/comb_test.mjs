@@ -7,7 +7,7 @@
 // stays just off the head); undo puts it back. Save writes [[comb]], which `wisp generate`
 // turns into the editor's hair byte for byte. Screenshots go to OUT_DIR.
 //   node web/tests/comb_test.mjs WISP_EXE OUT_DIR
-import { failWith, launchChromium, openEditor, startEditor, tempFolder, testArguments } from "./harness.mjs";
+import { failWith, launchChromium, openEditor, settler, startEditor, tempFolder, testArguments } from "./harness.mjs";
 import { execFileSync } from "node:child_process";
 import { readFileSync, rmSync } from "node:fs";
 import path from "node:path";
@@ -23,13 +23,7 @@ try {
   browser = await launchChromium();
   const page = await openEditor(browser, url, { width: 1000, height: 640 });
   await page.waitForSelector("body[data-ready='1']", { timeout: 120000 });
-  const settle = async () => {
-    await page.waitForFunction(async (token) => {
-      const r = await fetch("/api/stats", { headers: { "X-Wisp-Token": token } });
-      return (await r.json()).stale === "none";
-    }, token, { timeout: 120000, polling: 300 });
-    await page.waitForTimeout(1500);
-  };
+  const settle = settler(page, token);
 
   // The strand segments of the full hair whose middle lies within `reach` cm of the
   // polyline `path` (a stroke's control points): how many, and their mean alignment

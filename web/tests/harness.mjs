@@ -82,3 +82,15 @@ export function styleSetter(page, token) {
     return r.status;
   }, [p, v, token]);
 }
+
+// settle(): waits until the server has nothing stale (GET /api/stats from the page), then
+// `drawMs` for the page to draw what it fetched.
+export function settler(page, token, { timeoutMs = 120000, polling = 300, drawMs = 1500 } = {}) {
+  return async () => {
+    await page.waitForFunction(async (token) => {
+      const r = await fetch("/api/stats", { headers: { "X-Wisp-Token": token } });
+      return (await r.json()).stale === "none";
+    }, token, { timeout: timeoutMs, polling });
+    if (drawMs > 0) await page.waitForTimeout(drawMs);
+  };
+}

@@ -6,7 +6,7 @@
 // draw the full hair after the stroke, and have reused its buffers (allocations counted by
 // the viewport stay a handful, not one per preview). Screenshots go to OUT_DIR.
 //   node web/tests/paint_10k_test.mjs WISP_EXE OUT_DIR
-import { failWith, launchChromium, openEditor, startEditor, tempFolder, testArguments } from "./harness.mjs";
+import { failWith, launchChromium, openEditor, settler, startEditor, tempFolder, testArguments } from "./harness.mjs";
 import { rmSync } from "node:fs";
 import path from "node:path";
 
@@ -60,10 +60,7 @@ try {
   }
   await page.mouse.up();
   // The full hair after the stroke: the server up to date and the page drawing all of it.
-  await page.waitForFunction(async (token) => {
-    const r = await fetch("/api/stats", { headers: { "X-Wisp-Token": token } });
-    return (await r.json()).stale === "none";
-  }, token, { timeout: 180000, polling: 500 });
+  await settler(page, token, { timeoutMs: 180000, polling: 500, drawMs: 0 })();
   await page.waitForFunction(() => window.wispEditor.viewport.stats().final, null, { timeout: 60000, polling: 300 });
   const end = await drawn();
   console.log(`after the stroke: ${JSON.stringify(end)}`);

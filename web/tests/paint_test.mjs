@@ -4,7 +4,7 @@
 // it away again; Save writes the TOML and the map PNG, and `wisp generate` of the saved TOML
 // gives byte for byte the hair the editor exports. Screenshots go to OUT_DIR.
 //   node web/tests/paint_test.mjs WISP_EXE OUT_DIR
-import { failWith, launchChromium, openEditor, startEditor, tempFolder, testArguments } from "./harness.mjs";
+import { failWith, launchChromium, openEditor, settler, startEditor, tempFolder, testArguments } from "./harness.mjs";
 import { execFileSync } from "node:child_process";
 import { readFileSync, existsSync, rmSync } from "node:fs";
 import path from "node:path";
@@ -38,13 +38,7 @@ try {
     });
   }, [points, radius, token]);
   // Waits until the server has nothing stale and the page has drawn the full hair.
-  const settle = async () => {
-    await page.waitForFunction(async (token) => {
-      const r = await fetch("/api/stats", { headers: { "X-Wisp-Token": token } });
-      return (await r.json()).stale === "none";
-    }, token, { timeout: 120000, polling: 300 });
-    await page.waitForTimeout(1500);
-  };
+  const settle = settler(page, token);
 
   // Paint mode: the map on the scalp, the brush: erase, constant falloff, radius 3 cm.
   await page.click("#paint");

@@ -3,7 +3,7 @@
 // (then coloured by constraint progress). Not a test: run
 // by hand after a change to the editor's look, then look at the pictures.
 //   node web/tests/shots.mjs WISP_EXE OUT_DIR
-import { launchChromium, openEditor, startEditor, tempFolder, testArguments } from "./harness.mjs";
+import { launchChromium, openEditor, settler, startEditor, tempFolder, testArguments } from "./harness.mjs";
 import { rmSync } from "node:fs";
 import path from "node:path";
 
@@ -23,13 +23,7 @@ try {
     }, [e.token, strands]);
     await page.reload();
     await page.waitForSelector("body[data-ready='1']", { timeout: 300000 });
-    const settle = async () => {
-      await page.waitForFunction(async (token) => {
-        const r = await fetch("/api/stats", { headers: { "X-Wisp-Token": token } });
-        return (await r.json()).stale === "none";
-      }, e.token, { timeout: 300000, polling: 500 });
-      await page.waitForTimeout(2500);
-    };
+    const settle = settler(page, e.token, { timeoutMs: 300000, polling: 500, drawMs: 2500 });
     return { page, settle };
   };
 

@@ -6,7 +6,7 @@
 // writes [[tie]] with its mask, which `wisp generate` turns into the editor's hair byte for
 // byte; undo takes the tie away again. Screenshots go to OUT_DIR.
 //   node web/tests/tie_test.mjs WISP_EXE OUT_DIR
-import { failWith, launchChromium, openEditor, startEditor, tempFolder, testArguments } from "./harness.mjs";
+import { failWith, launchChromium, openEditor, settler, startEditor, tempFolder, testArguments } from "./harness.mjs";
 import { execFileSync } from "node:child_process";
 import { readFileSync, existsSync, rmSync } from "node:fs";
 import path from "node:path";
@@ -22,13 +22,7 @@ try {
   browser = await launchChromium();
   const page = await openEditor(browser, url, { width: 1000, height: 640 });
   await page.waitForSelector("body[data-ready='1']", { timeout: 120000 });
-  const settle = async () => {
-    await page.waitForFunction(async (token) => {
-      const r = await fetch("/api/stats", { headers: { "X-Wisp-Token": token } });
-      return (await r.json()).stale === "none";
-    }, token, { timeout: 120000, polling: 300 });
-    await page.waitForTimeout(1500);
-  };
+  const settle = settler(page, token);
 
   // Of the strands (of group `group`, or all when null) of the full hair, how many and what
   // fraction pass within `reach` cm of point p (a control point or a segment between two).
