@@ -768,6 +768,13 @@ Motion read_motion(const std::filesystem::path& path, const HeadFrame& head) {
         .read(read_file(path, {kMaxMotionFileBytes, "a motion file", true}));
 }
 
+Motion parse_motion(const std::string& text, const std::string& source, const HeadFrame& head) {
+    if (text.size() > kMaxMotionFileBytes)
+        fail(source, ": ", text.size(), " bytes, more than a motion file may hold (",
+             kMaxMotionFileBytes, ")");
+    return MotionReader(source, head).read(text);
+}
+
 Motion load_motion(const std::string& preset_or_path, const HeadFrame& head) {
     for (const std::string& n : motion_preset_names()) {
         if (n == preset_or_path) return motion_preset(n, head);

@@ -124,6 +124,10 @@ Motion motion_preset(std::string_view name, const HeadFrame& head);
 // fields, wrong types, more than 100,000 keys, times beyond 1 hour).
 Motion read_motion(const std::filesystem::path& path, const HeadFrame& head);
 
+// The same from the file's text already in memory (an editor upload); `source` names it in
+// messages.
+Motion parse_motion(const std::string& text, const std::string& source, const HeadFrame& head);
+
 // A preset name or a file path: presets first, then the file.
 Motion load_motion(const std::string& preset_or_path, const HeadFrame& head);
 

@@ -522,6 +522,16 @@ struct MotionRoutes::Impl {
                         }
                         send_json(res, {{"preset", j["name"]}});
                     }));
+        // A motion file's JSON as the body (the page's "file…" button), played like a preset.
+        server.Post("/api/motion/file",
+                    guarded([this](const httplib::Request& req, httplib::Response& res) {
+                        try {
+                            current()->play_motion_file(req.body, "motion file");
+                        } catch (const Error& e) {
+                            throw BadField{"motion", e.what()};
+                        }
+                        send_json(res, {{"motion", "file"}});
+                    }));
         server.Post("/api/motion/wind",
                     guarded([this](const httplib::Request& req, httplib::Response& res) {
                         const nlohmann::json j = body_of(req);

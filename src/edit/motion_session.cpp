@@ -151,9 +151,18 @@ void MotionSession::drag(const Vec3f& rotate, const Vec3f& translate) {
 }
 
 void MotionSession::play_preset(const std::string& name) {
-    Motion preset = motion_preset(name, head_);
+    play(motion_preset(name, head_));
+}
+
+void MotionSession::play_motion_file(const std::string& text, const std::string& source) {
+    play(parse_motion(text, source, head_));
+}
+
+void MotionSession::play(Motion motion) {
+    if (motion.wind != Vec3f::Zero() || motion.gust_amplitude != 0)
+        set_wind(motion.wind, motion.gust_amplitude, motion.gust_frequency);
     std::lock_guard lock(mutex_);
-    preset_ = std::move(preset);
+    preset_ = std::move(motion);
     preset_start_ = -1;  // set at the next frame boundary
     drag_head_.reset();
     drag_body_.reset();

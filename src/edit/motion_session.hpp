@@ -98,6 +98,10 @@ class MotionSession {
     // pivots; a head dragged away goes to the preset's first pose within two frames), then
     // holds its last pose. Throws wisp::Error for an unknown name.
     void play_preset(const std::string& name);
+    // Plays a motion file's text (docs/animate.md's JSON, as `wisp animate --motion` reads it)
+    // the same way: its head and body tracks about this session's pivots, and its wind when
+    // it has one. Throws wisp::Error naming `source` and the field for a malformed file.
+    void play_motion_file(const std::string& text, const std::string& source);
     void set_wind(const Vec3f& wind, float gust_amplitude = 0, float gust_frequency = 0.5f);
     // The style's dynamics changed: applied at the next frame boundary (Animator::
     // set_dynamics: the parameters read at every step; the hierarchy's, links, dt and voxel
@@ -141,6 +145,7 @@ class MotionSession {
   private:
     void run();
     void advance_locked(std::unique_lock<std::mutex>& lock);
+    void play(Motion motion);
 
     HeadFrame head_;
     Hair rest_;

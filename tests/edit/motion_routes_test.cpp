@@ -172,6 +172,33 @@ TEST_F(MotionRoutesTest, RefusesWithoutTokenAndBadValuesNameTheirField) {
     EXPECT_EQ(state["error"], "");
 }
 
+TEST_F(MotionRoutesTest, AMotionFilePlaysLikeAPresetAndABadOneNamesItsField) {
+    ASSERT_EQ(post("/api/motion/start", R"({"strands": 100})")->status, 200);
+    auto r = get("/api/motion/frame");
+    ASSERT_EQ(r->status, 200);
+    const std::vector<Vec3f> rest = frame_positions(r->body);
+    // docs/motion.md's file: the head turns 30° about the neck by 0.4 s.
+    const std::string file = R"({"format": "wisp-motion", "version": 1, "units": "head",
+        "head": {"pivot": [0, -1.2, 0], "keys": [{"t": 0.0}, {"t": 0.4, "rotate": [0, 30, 0]}]},
+        "body": {"keys": []}, "duration": 1.0})";
+    r = post("/api/motion/file", file);
+    ASSERT_TRUE(r);
+    ASSERT_EQ(r->status, 200) << r->body;
+    for (int i = 1; i <= 12; ++i)
+        ASSERT_EQ(post("/api/motion/step")->status, 200);
+    r = get("/api/motion/frame?after=11&wait=1000");
+    ASSERT_EQ(r->status, 200) << r->body;
+    EXPECT_GT((frame_positions(r->body)[0] - rest[0]).norm(), 0.5f);  // the roots turned
+
+    expect_bad("/api/motion/file", "{\"format\": \"wisp-motion\"", "motion");  // truncated
+    expect_bad("/api/motion/file", R"({"format": "wisp-motion", "version": 1, "units": "head",
+        "head": {"keys": [{"t": 0.0, "rotate": [0, NaN, 0]}]}})",
+               "motion");
+    expect_bad("/api/motion/file", R"({"format": "wisp-motion", "version": 1, "units": "head",
+        "head": {"keys": [{"t": 1.0}, {"t": 0.5}]}})",
+               "motion");  // keys out of order
+}
+
 TEST_F(MotionRoutesTest, StepsDragsDrawsTheTreeAndExportsWhatWisAnimateReplays) {
     auto r = post("/api/motion/start", R"({"strands": 150, "fps": 25})");
     ASSERT_TRUE(r);

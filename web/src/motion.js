@@ -13,7 +13,7 @@
 // with the mouse turns it about the neck (Shift: moves it); the server keys the drag at its
 // frame boundaries, so a recording replays exactly in `wisp animate`.
 import * as THREE from "three";
-import { decodeStrands, request } from "./api.js";
+import { decodeStrands, postBinary, request } from "./api.js";
 import "./motion.css";
 
 const levelColors = [0xe8a33d, 0x4fb3e8, 0x8fdc6a, 0xe86a9b];
@@ -227,6 +227,26 @@ export class MotionMode {
       b.onclick = () => this.run(() => post("/api/motion/preset", { name }).then(() => this.play(true)));
       $("motion-presets").append(b);
     }
+    // A motion file (wisp animate --motion's JSON), played like a preset; the server's reader
+    // checks it and names what is wrong.
+    const file = document.createElement("input");
+    file.type = "file";
+    file.accept = ".json,application/json";
+    file.hidden = true;
+    file.id = "motion-file";
+    file.onchange = () => this.run(async () => {
+      const chosen = file.files[0];
+      file.value = "";
+      if (!chosen) return;
+      const r = await postBinary("/api/motion/file", await chosen.text(), "application/json");
+      if (!r.ok) throw new Error(`${chosen.name}: ${r.body.error}`);
+      await this.play(true);
+    });
+    const open = document.createElement("button");
+    open.textContent = "file…";
+    open.title = "Play a motion file (JSON, as wisp animate --motion reads it)";
+    open.onclick = () => file.click();
+    $("motion-presets").append(open, file);
     $("motion-play").onclick = () => this.play(!this.state?.playing);
     $("motion-step").onclick = () => this.run(async () => {
       if (this.state?.playing) await this.play(false);
