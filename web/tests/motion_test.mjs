@@ -5,6 +5,7 @@
 //   plays   a preset plays: the frame index advances and the drawn positions change, the
 //           frames coming by the stream (GET /api/motion/stream)
 //   drag    dragging the head with the mouse turns it, and the roots go with it
+//   file    a motion file chosen with file… turns the head; a malformed one shows its message
 //   tree    the tree view draws spheres and cylinders coloured by level, and the plot
 //   export  a session (mouse drag, preset) exported from the page, re-run by `wisp animate`
 //           from the exported style and motion files: the same frame files, byte for byte
@@ -95,6 +96,24 @@ try {
     const hud = await page.locator("#hud").textContent();
     console.log(hud);
     if (!hud.includes("Motion · frame")) fail("the HUD shows no motion state");
+  } else if (which === "file") {
+    // A motion file chosen with "file…" turns the head; a malformed one shows the reader's
+    // message with the file's name.
+    const turn = JSON.stringify({
+      format: "wisp-motion", version: 1, units: "head",
+      head: { pivot: [0, -1.2, 0], keys: [{ t: 0 }, { t: 0.4, rotate: [0, 40, 0] }] },
+      body: { keys: [] }, duration: 2,
+    });
+    await page.setInputFiles("#motion-file", { name: "turn.json", mimeType: "application/json", buffer: Buffer.from(turn) });
+    await waitFrame(page, rest.frame + 15);
+    const after = await rootsOf(page);
+    const d = meanDistance(rest.roots, after.roots);
+    console.log(`file: roots moved ${d.toFixed(2)} cm on average (frame ${after.frame})`);
+    if (d < 1) fail(`the motion file moved the roots only ${d.toFixed(3)} cm`);
+    await page.setInputFiles("#motion-file", { name: "bad.json", mimeType: "application/json", buffer: Buffer.from('{"format": "wisp-motion", "version": 1, "head": {"keys": [{"t": 1}, {"t": 0.5}]}}') });
+    await page.waitForFunction(() => document.getElementById("status").textContent.includes("bad.json"), null, { timeout: 20000 })
+      .catch(() => fail("a malformed motion file showed no message naming it"));
+    console.log(`bad file: ${await page.locator("#status").textContent()}`);
   } else if (which === "drag") {
     await dragHead(page, 160);
     await page.waitForTimeout(1500);  // the hair follows two frames late; let it settle a little
