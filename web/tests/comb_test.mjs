@@ -7,7 +7,7 @@
 // stays just off the head); undo puts it back. Save writes [[comb]], which `wisp generate`
 // turns into the editor's hair byte for byte. Screenshots go to OUT_DIR.
 //   node web/tests/comb_test.mjs WISP_EXE OUT_DIR
-import { failWith, launchChromium, openEditor, settler, startEditor, tempFolder, testArguments } from "./harness.mjs";
+import { dragThrough, failWith, launchChromium, onScreen, openEditor, settler, startEditor, tempFolder, testArguments, viewFromBehind } from "./harness.mjs";
 import { execFileSync } from "node:child_process";
 import { readFileSync, rmSync } from "node:fs";
 import path from "node:path";
@@ -60,36 +60,10 @@ try {
   // The view from behind and a little above; the comb tool.
   await page.click("#tie");
   await page.click("#tie-tools [data-tool='comb']");
-  await page.evaluate(() => {
-    const { viewport, constraints } = window.wispEditor;
-    const c = constraints.center;
-    viewport.camera.position.set(c.x + 10, c.y + 20, c.z - 85);
-    viewport.controls.target.set(c.x, c.y - 6, c.z);
-    viewport.controls.update();
-    viewport.renderNow();
-  });
+  await viewFromBehind(page, [10, 20, -85]);
   // A stroke across the back of the head, from the left (+x: the head's left, seen from
   // behind on the right) to the right, as the pointer sees it.
-  const screen = (points) => page.evaluate((points) => {
-    const { viewport, constraints } = window.wispEditor;
-    const rect = viewport.renderer.domElement.getBoundingClientRect();
-    const c = constraints.center, r = constraints.radius;
-    viewport.camera.updateMatrixWorld();
-    return points.map(([x, y, z]) => {
-      const p = c.clone().set(c.x + x * r, c.y + y * r, c.z + z * r).project(viewport.camera);
-      return [rect.left + ((p.x + 1) / 2) * rect.width, rect.top + ((1 - p.y) / 2) * rect.height];
-    });
-  }, points);
-  const stroke = await screen([[0.7, 0.1, -0.75], [0.35, 0.15, -0.95], [0, 0.15, -1.0], [-0.35, 0.15, -0.95], [-0.7, 0.1, -0.75]]);
-  const drag = async (points, steps = 6) => {
-    await page.mouse.move(...points[0]);
-    await page.mouse.down();
-    for (let k = 1; k < points.length; ++k)
-      for (let i = 1; i <= steps; ++i)
-        await page.mouse.move(points[k - 1][0] + ((points[k][0] - points[k - 1][0]) * i) / steps,
-          points[k - 1][1] + ((points[k][1] - points[k - 1][1]) * i) / steps);
-    await page.mouse.up();
-  };
+  const stroke = await onScreen(page, [[0.7, 0.1, -0.75], [0.35, 0.15, -0.95], [0, 0.15, -1.0], [-0.35, 0.15, -0.95], [-0.7, 0.1, -0.75]]);
   // The stroke's path as the comb will have it, to measure the hair before it.
   const planned = await page.evaluate((stroke) => {
     const { constraints } = window.wispEditor;
@@ -100,7 +74,7 @@ try {
   const before = await alignment(planned, radius);
   console.log(`before the comb: ${before.count} segments within ${radius} cm of the stroke, mean alignment ${before.mean.toFixed(2)}`);
 
-  await drag(stroke);
+  await dragThrough(page, stroke);
   await page.waitForFunction(() => window.wispEditor.constraints.sections.length === 1);
   await settle();
   const sections = await page.evaluate(() => window.wispEditor.constraints.sections);
@@ -156,7 +130,7 @@ try {
     const v = viewport.camera.position.clone().set(...p).project(viewport.camera);
     return [[rect.left + ((v.x + 1) / 2) * rect.width, rect.top + ((1 - v.y) / 2) * rect.height]];
   }, comb.trajectory[middle]);
-  await drag([from, [from[0], from[1] + 40]], 8);
+  await dragThrough(page, [from, [from[0], from[1] + 40]], 8);
   await page.waitForFunction((before) => JSON.stringify(window.wispEditor.constraints.sections[0].trajectory) !== before,
     JSON.stringify(comb.trajectory));
   await settle();

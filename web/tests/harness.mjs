@@ -94,3 +94,43 @@ export function settler(page, token, { timeoutMs = 120000, polling = 300, drawMs
     if (drawMs > 0) await page.waitForTimeout(drawMs);
   };
 }
+
+// The camera behind the head at `offset` (cm from its centre, looking at a point 6 cm below
+// it), drawn at once: the view draws on the next animation frame, and the camera's matrices,
+// which onScreen() projects with, are brought up to date by drawing.
+export function viewFromBehind(page, offset) {
+  return page.evaluate(([dx, dy, dz]) => {
+    const { viewport, constraints } = window.wispEditor;
+    const c = constraints.center;
+    viewport.camera.position.set(c.x + dx, c.y + dy, c.z + dz);
+    viewport.controls.target.set(c.x, c.y - 6, c.z);
+    viewport.controls.update();
+    viewport.renderNow();
+  }, offset);
+}
+
+// Where points given in head radii from the head's centre ([x, y, z]) are on the page, as the
+// pointer sees them ([clientX, clientY] each).
+export function onScreen(page, points) {
+  return page.evaluate((points) => {
+    const { viewport, constraints } = window.wispEditor;
+    const rect = viewport.renderer.domElement.getBoundingClientRect();
+    const c = constraints.center, r = constraints.radius;
+    viewport.camera.updateMatrixWorld();
+    return points.map(([x, y, z]) => {
+      const p = c.clone().set(c.x + x * r, c.y + y * r, c.z + z * r).project(viewport.camera);
+      return [rect.left + ((p.x + 1) / 2) * rect.width, rect.top + ((1 - p.y) / 2) * rect.height];
+    });
+  }, points);
+}
+
+// A mouse drag through `points` (client coordinates), `steps` moves between each two.
+export async function dragThrough(page, points, steps = 6) {
+  await page.mouse.move(...points[0]);
+  await page.mouse.down();
+  for (let k = 1; k < points.length; ++k)
+    for (let i = 1; i <= steps; ++i)
+      await page.mouse.move(points[k - 1][0] + ((points[k][0] - points[k - 1][0]) * i) / steps,
+        points[k - 1][1] + ((points[k][1] - points[k - 1][1]) * i) / steps);
+  await page.mouse.up();
+}

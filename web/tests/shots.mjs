@@ -3,7 +3,7 @@
 // (then coloured by constraint progress). Not a test: run
 // by hand after a change to the editor's look, then look at the pictures.
 //   node web/tests/shots.mjs WISP_EXE OUT_DIR
-import { launchChromium, openEditor, settler, startEditor, tempFolder, testArguments } from "./harness.mjs";
+import { dragThrough, launchChromium, onScreen, openEditor, settler, startEditor, tempFolder, testArguments, viewFromBehind } from "./harness.mjs";
 import { rmSync } from "node:fs";
 import path from "node:path";
 
@@ -68,39 +68,17 @@ try {
     const { page, settle } = await open("long-straight", 30000);
     await page.selectOption("#color-by", "group");
     await page.click("#tie");
-    await page.evaluate(() => {
-      const { viewport, constraints } = window.wispEditor;
-      const c = constraints.center;
-      viewport.camera.position.set(c.x + 15, c.y + 22, c.z - 85);
-      viewport.controls.target.set(c.x, c.y - 6, c.z);
-      viewport.controls.update();
-      viewport.renderNow();  // the camera's matrices, which the aim projects with, now
-    });
+    await viewFromBehind(page, [15, 22, -85]);
     // The geometry of web/tests/tie_test.mjs: a tie on the back of the head at ear level.
-    const at = await page.evaluate(() => {
-      const { viewport, constraints } = window.wispEditor;
-      const rect = viewport.renderer.domElement.getBoundingClientRect();
-      const c = constraints.center, r = constraints.radius;
-      const screen = (x, y, z) => {
-        const p = c.clone().set(c.x + x * r, c.y + y * r, c.z + z * r).project(viewport.camera);
-        return [rect.left + ((p.x + 1) / 2) * rect.width, rect.top + ((1 - p.y) / 2) * rect.height];
-      };
-      return { tie: screen(0, 0.1, -1.2), stroke: [screen(-0.45, 0.35, -0.9), screen(0, 0.3, -0.97), screen(0.45, 0.35, -0.9)] };
-    });
-    await page.mouse.click(...at.tie);
+    const [tie, ...selection] = await onScreen(page, [[0, 0.1, -1.2], [-0.45, 0.35, -0.9], [0, 0.3, -0.97], [0.45, 0.35, -0.9]]);
+    await page.mouse.click(...tie);
     await page.waitForFunction(() => window.wispEditor.constraints.sections.length === 1, null, { timeout: 300000 });
     await settle();
     // The row re-renders with each report: select through the editor rather than the button.
     await page.evaluate(() => window.wispEditor.constraints.select(0));
     await page.waitForFunction(() => window.wispEditor.constraints.selector.map !== null, null, { timeout: 300000 });
     await page.locator("#select-radius").evaluate((e) => { e.value = 6; e.dispatchEvent(new Event("input")); });
-    await page.mouse.move(...at.stroke[0]);
-    await page.mouse.down();
-    for (let k = 1; k < at.stroke.length; ++k)
-      for (let i = 1; i <= 6; ++i)
-        await page.mouse.move(at.stroke[k - 1][0] + ((at.stroke[k][0] - at.stroke[k - 1][0]) * i) / 6,
-          at.stroke[k - 1][1] + ((at.stroke[k][1] - at.stroke[k - 1][1]) * i) / 6);
-    await page.mouse.up();
+    await dragThrough(page, selection);
     await page.waitForFunction(() => window.wispEditor.constraints.sections[0]?.selection !== undefined, null, { timeout: 300000 });
     await settle();
     await page.screenshot({ path: path.join(outDir, "tie-select.png") });
@@ -113,31 +91,9 @@ try {
     const { page, settle } = await open("long-straight", 30000);
     await page.click("#tie");
     await page.click("#tie-tools [data-tool='comb']");
-    await page.evaluate(() => {
-      const { viewport, constraints } = window.wispEditor;
-      const c = constraints.center;
-      viewport.camera.position.set(c.x + 10, c.y + 20, c.z - 85);
-      viewport.controls.target.set(c.x, c.y - 6, c.z);
-      viewport.controls.update();
-      viewport.renderNow();
-    });
+    await viewFromBehind(page, [10, 20, -85]);
     // The geometry of web/tests/comb_test.mjs.
-    const stroke = await page.evaluate(() => {
-      const { viewport, constraints } = window.wispEditor;
-      const rect = viewport.renderer.domElement.getBoundingClientRect();
-      const c = constraints.center, r = constraints.radius;
-      return [[0.7, 0.1, -0.75], [0.35, 0.15, -0.95], [0, 0.15, -1.0], [-0.35, 0.15, -0.95], [-0.7, 0.1, -0.75]].map(([x, y, z]) => {
-        const p = c.clone().set(c.x + x * r, c.y + y * r, c.z + z * r).project(viewport.camera);
-        return [rect.left + ((p.x + 1) / 2) * rect.width, rect.top + ((1 - p.y) / 2) * rect.height];
-      });
-    });
-    await page.mouse.move(...stroke[0]);
-    await page.mouse.down();
-    for (let k = 1; k < stroke.length; ++k)
-      for (let i = 1; i <= 6; ++i)
-        await page.mouse.move(stroke[k - 1][0] + ((stroke[k][0] - stroke[k - 1][0]) * i) / 6,
-          stroke[k - 1][1] + ((stroke[k][1] - stroke[k - 1][1]) * i) / 6);
-    await page.mouse.up();
+    await dragThrough(page, await onScreen(page, [[0.7, 0.1, -0.75], [0.35, 0.15, -0.95], [0, 0.15, -1.0], [-0.35, 0.15, -0.95], [-0.7, 0.1, -0.75]]));
     await page.waitForFunction(() => window.wispEditor.constraints.sections.length === 1, null, { timeout: 300000 });
     await settle();
     await page.screenshot({ path: path.join(outDir, "comb.png") });

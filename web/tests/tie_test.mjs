@@ -6,7 +6,7 @@
 // writes [[tie]] with its mask, which `wisp generate` turns into the editor's hair byte for
 // byte; undo takes the tie away again. Screenshots go to OUT_DIR.
 //   node web/tests/tie_test.mjs WISP_EXE OUT_DIR
-import { failWith, launchChromium, openEditor, settler, startEditor, tempFolder, testArguments } from "./harness.mjs";
+import { dragThrough, failWith, launchChromium, onScreen, openEditor, settler, startEditor, tempFolder, testArguments, viewFromBehind } from "./harness.mjs";
 import { execFileSync } from "node:child_process";
 import { readFileSync, existsSync, rmSync } from "node:fs";
 import path from "node:path";
@@ -52,27 +52,13 @@ try {
 
   // The view from behind and a little above; the tie tool.
   await page.click("#tie");
-  await page.evaluate(() => {
-    const { viewport, constraints } = window.wispEditor;
-    const c = constraints.center;
-    viewport.camera.position.set(c.x + 15, c.y + 22, c.z - 85);
-    viewport.controls.target.set(c.x, c.y - 6, c.z);
-    viewport.controls.update();
-    // At once: the view draws on the next animation frame, and the camera's matrices, which
-    // the aim below projects with, are brought up to date by drawing.
-    viewport.renderNow();
-  });
+  await viewFromBehind(page, [15, 22, -85]);
   // A point on the back of the head at about ear level, as the pointer sees it.
-  const aim = await page.evaluate(() => {
-    const { viewport, constraints } = window.wispEditor;
-    const rect = viewport.renderer.domElement.getBoundingClientRect();
-    const c = constraints.center, r = constraints.radius;
-    viewport.camera.updateMatrixWorld();
-    const p = c.clone().set(c.x, c.y + 0.1 * r, c.z - 1.2 * r).project(viewport.camera);
-    const at = [rect.left + ((p.x + 1) / 2) * rect.width, rect.top + ((1 - p.y) / 2) * rect.height];
-    const tie = constraints.tiePoint({ clientX: at[0], clientY: at[1] });
+  const [at] = await onScreen(page, [[0, 0.1, -1.2]]);
+  const aim = await page.evaluate((at) => {
+    const tie = window.wispEditor.constraints.tiePoint({ clientX: at[0], clientY: at[1] });
     return { at, tie: tie && tie.toArray() };
-  });
+  }, at);
   if (!aim.tie) fail("the click's point is not on or near the head");
   const radius = 1.2, reach = radius + 1.0;
   const baseline = await near(aim.tie, reach, null);
@@ -93,23 +79,7 @@ try {
   await page.click("#tie-tools .section button:text('select')");
   await page.waitForFunction(() => window.wispEditor.constraints.selector.map !== null);
   await page.locator("#select-radius").evaluate((e) => { e.value = 5; e.dispatchEvent(new Event("input")); });
-  const stroke = await page.evaluate(() => {
-    const { viewport, constraints } = window.wispEditor;
-    const rect = viewport.renderer.domElement.getBoundingClientRect();
-    const c = constraints.center, r = constraints.radius;
-    const screen = (x, y, z) => {
-      const p = c.clone().set(c.x + x * r, c.y + y * r, c.z + z * r).project(viewport.camera);
-      return [rect.left + ((p.x + 1) / 2) * rect.width, rect.top + ((1 - p.y) / 2) * rect.height];
-    };
-    return [screen(-0.45, 0.35, -0.9), screen(0, 0.3, -0.97), screen(0.45, 0.35, -0.9)];
-  });
-  await page.mouse.move(...stroke[0]);
-  await page.mouse.down();
-  for (let k = 1; k < stroke.length; ++k)
-    for (let i = 1; i <= 5; ++i)
-      await page.mouse.move(stroke[k - 1][0] + ((stroke[k][0] - stroke[k - 1][0]) * i) / 5,
-        stroke[k - 1][1] + ((stroke[k][1] - stroke[k - 1][1]) * i) / 5);
-  await page.mouse.up();
+  await dragThrough(page, await onScreen(page, [[-0.45, 0.35, -0.9], [0, 0.3, -0.97], [0.45, 0.35, -0.9]]), 5);
   await page.waitForFunction(() => window.wispEditor.constraints.sections[0]?.selection !== undefined);
   await settle();
   await page.screenshot({ path: path.join(outDir, "tie-select.png") });
