@@ -2,7 +2,6 @@
 
 #include <httplib.h>
 
-#include <sys/socket.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -90,10 +89,6 @@ std::string pose_text(const RigidTransform& t) {
             out += cat(t.rotation(r, c), " ");
     return out + cat(t.translation.x(), " ", t.translation.y(), " ", t.translation.z());
 }
-
-// The server's socket send buffer, bytes (the kernel doubles it): about a frame of the
-// default 20,000 strands, much less than the kernel's autotuned buffer (up to 4 MB).
-constexpr int kStreamSendBuffer = 64 * 1024;
 
 // What a session starts from: the style and its hair when Motion was switched on.
 struct Start {
@@ -435,15 +430,6 @@ struct MotionRoutes::Impl {
     }
 
     void add_to(httplib::Server& server) {
-        // Small send buffers (the connections inherit the listening socket's): a frame stream
-        // then has a frame or two in flight, not the megabytes of frames the kernel would
-        // queue for a slow page, which gets the newest frame instead. Loopback is fast enough
-        // that the other answers do not notice.
-        server.set_socket_options([](socket_t sock) {
-            httplib::default_socket_options(sock);
-            const int bytes = kStreamSendBuffer;
-            setsockopt(sock, SOL_SOCKET, SO_SNDBUF, &bytes, sizeof bytes);
-        });
         // Runs `f`; a BadField or wisp::Error is a 400 naming the field.
         const auto guarded = [](auto f) {
             return [f](const httplib::Request& req, httplib::Response& res) {

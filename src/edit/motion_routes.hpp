@@ -94,8 +94,8 @@ class MotionRoutes {
     MotionRoutes(const MotionRoutes&) = delete;
     MotionRoutes& operator=(const MotionRoutes&) = delete;
 
-    // Adds the routes, and small socket send buffers for every connection (so a frame stream
-    // holds little in flight; see the .cpp).
+    // Adds the routes. The frame stream relies on the server's small socket send buffers
+    // (EditServer sets them) to hold little in flight.
     void add_to(httplib::Server& server);
 
   private:
