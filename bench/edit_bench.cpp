@@ -14,15 +14,19 @@
 // iteration flips the value between two settings, so every one re-runs its stages, and
 // then, untimed, brings the whole hair up to date, as the release that follows a drag does.
 // Time is wall time; CPU is the process's CPU time over all threads (the work done, which
-// a loaded machine does not inflate).
+// a loaded machine does not inflate). The rows with progress:1 report it as the server does
+// (a ProgressEvents task: each stage, and the solve's layers and the members' wisps inside
+// them), to show that costs nothing measurable against progress:0.
 // Run: build/release/bin/wisp_bench --benchmark_filter=Edit
 #include <benchmark/benchmark.h>
 
 #include <cstring>
 #include <memory>
+#include <optional>
 
 #include "bench_common.hpp"
 #include "core/parallel.hpp"
+#include "edit/progress_events.hpp"
 #include "edit/stage_cache.hpp"
 #include "edit/wire.hpp"
 #include "groom/style_toml.hpp"
@@ -34,14 +38,20 @@ enum class Answer { kMasters, kMastersExact, kPreview, kAll };
 
 constexpr size_t kPreviewStrands = 20000;  // web/src/main.js previewStrands
 
-void run(benchmark::State& state, const char* path, const char* a, const char* b, Answer answer) {
+void run(benchmark::State& state, const char* path, const char* a, const char* b, Answer answer,
+         bool progress = false) {
     const ThreadLimit limit(2);
     StageCache cache(load_preset("default"));
     cache.update();
     bool flip = false;
     size_t bytes = 0, strands = 0;
+    ProgressEvents events;
     for (auto _ : state) {
         cache.set(path, (flip = !flip) ? a : b);
+        std::optional<ProgressEvents::Task> task;
+        if (progress) task.emplace(events, "update", kStageCount);
+        const CancelToken token(task ? task->fractions() : nullptr);
+        const StageProgress stages = task ? task->stages() : StageProgress{};
         std::string out;
         std::shared_ptr<const std::string> sent;
         switch (answer) {
@@ -56,10 +66,10 @@ void run(benchmark::State& state, const char* path, const char* a, const char* b
                 strands = cache.update_masters().count();
                 break;
             case Answer::kPreview:  // GET /api/hair?strands=20000
-                sent = cache.hair_bytes(kPreviewStrands);
+                sent = cache.hair_bytes(kPreviewStrands, token, stages);
                 break;
             case Answer::kAll:  // GET /api/hair
-                sent = cache.hair_bytes(SIZE_MAX);
+                sent = cache.hair_bytes(SIZE_MAX, token, stages);
                 break;
         }
         if (sent) {
@@ -70,6 +80,7 @@ void run(benchmark::State& state, const char* path, const char* a, const char* b
         bytes = sent ? sent->size() : out.size();
         benchmark::DoNotOptimize(sent ? sent->data() : out.data());
         sent.reset();
+        task.reset();
         state.PauseTiming();
         cache.update();
         state.ResumeTiming();
@@ -88,15 +99,15 @@ void BM_EditStiffnessMastersExact(benchmark::State& state) {
     run(state, "solve.stiffness", "0.8", "0.6", Answer::kMastersExact);
 }
 void BM_EditStiffnessPreview20k(benchmark::State& state) {
-    run(state, "solve.stiffness", "0.8", "0.6", Answer::kPreview);
+    run(state, "solve.stiffness", "0.8", "0.6", Answer::kPreview, state.range(0) == 1);
 }
 void BM_EditMapStroke20k(benchmark::State& state) {
     run(state, "maps.density", "{ procedural = \"crown\", low = 0.6, high = 1 }", "1",
         Answer::kPreview);
 }
 void BM_EditAnyChange100k(benchmark::State& state) {
-    run(state, "maps.density", "{ procedural = \"crown\", low = 0.6, high = 1 }", "1",
-        Answer::kAll);
+    run(state, "maps.density", "{ procedural = \"crown\", low = 0.6, high = 1 }", "1", Answer::kAll,
+        state.range(0) == 1);
 }
 BENCHMARK(BM_EditColor20k)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 BENCHMARK(BM_EditStiffnessMasters)
@@ -108,6 +119,9 @@ BENCHMARK(BM_EditStiffnessMastersExact)
     ->MeasureProcessCPUTime()
     ->UseRealTime();
 BENCHMARK(BM_EditStiffnessPreview20k)
+    ->ArgName("progress")
+    ->Arg(0)
+    ->Arg(1)
     ->Unit(benchmark::kMillisecond)
     ->MeasureProcessCPUTime()
     ->UseRealTime();
@@ -116,6 +130,9 @@ BENCHMARK(BM_EditMapStroke20k)
     ->MeasureProcessCPUTime()
     ->UseRealTime();
 BENCHMARK(BM_EditAnyChange100k)
+    ->ArgName("progress")
+    ->Arg(0)
+    ->Arg(1)
     ->Unit(benchmark::kMillisecond)
     ->MeasureProcessCPUTime()
     ->UseRealTime();

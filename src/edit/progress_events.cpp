@@ -2,6 +2,8 @@
 
 #include <httplib.h>
 
+#include <algorithm>
+#include <cmath>
 #include <exception>
 #include <memory>
 
@@ -17,13 +19,17 @@ constexpr std::chrono::milliseconds kKeepAlive{10'000};
 
 }  // namespace
 
-ProgressEvents::Task::Task(ProgressEvents& events, std::string name, int total)
+ProgressEvents::Task::Task(ProgressEvents& events, std::string name, int total,
+                           std::chrono::milliseconds fraction_interval)
     : events_(events),
       name_(std::move(name)),
+      fraction_interval_(fraction_interval),
+      fractions_([this](float f) { fraction(f); }),
       total_(total),
       uncaught_(std::uncaught_exceptions()) {}
 
 ProgressEvents::Task::~Task() {
+    std::lock_guard lock(mutex_);
     if (error_.empty() && std::uncaught_exceptions() > uncaught_) error_ = "failed";
     ProgressEvent e;
     e.task = name_;
@@ -36,12 +42,33 @@ ProgressEvents::Task::~Task() {
 }
 
 void ProgressEvents::Task::step(std::string name) {
+    std::lock_guard lock(mutex_);
     ProgressEvent e;
     e.task = name_;
-    e.step = std::move(name);
+    e.step = step_ = std::move(name);
     e.done = done_;
     e.total = total_;
     done_ = std::min(done_ + 1, total_);
+    fraction_ = 0.f;
+    posted_ = std::chrono::steady_clock::now();
+    events_.post(std::move(e));
+}
+
+void ProgressEvents::Task::fraction(float f) {
+    f = std::min(f, 1.f);
+    std::lock_guard lock(mutex_);
+    // Reports come from several workers, out of order: only a rise counts.
+    if (step_.empty() || !(f > fraction_)) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (f < 1.f && now - posted_ < fraction_interval_) return;
+    ProgressEvent e;
+    e.task = name_;
+    e.step = step_;
+    e.done = std::max(done_ - 1, 0);
+    e.total = total_;
+    e.fraction = f;
+    fraction_ = f;
+    posted_ = now;
     events_.post(std::move(e));
 }
 
@@ -90,6 +117,7 @@ bool ProgressEvents::closed() const {
 std::string ProgressEvents::frame(const ProgressEvent& e) {
     nlohmann::json data{{"task", e.task},
                         {"step", e.step},
+                        {"fraction", std::round(1000.0 * e.fraction) / 1000.0},
                         {"done", e.done},
                         {"total", e.total},
                         {"finished", e.finished}};

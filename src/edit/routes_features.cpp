@@ -244,7 +244,7 @@ void add_feature_routes(httplib::Server& server, EditState& s) {
         // Progress: the stale stages, then the picture.
         ProgressEvents::Task task(s.events, "render",
                                   kStageCount - static_cast<int>(s.cache.stale()) + 1);
-        const HairstyleResult& r = *s.cache.update(CancelToken(), task.stages());
+        const HairstyleResult& r = *s.cache.update(CancelToken(task.fractions()), task.stages());
         task.step("render");
         const RgbImage picture = render(r.hair, s.cache.head().mesh.get(), options);
         res.set_content(encode_png(picture), "image/png");

@@ -471,12 +471,15 @@ struct EditServer::Impl {
             // this one, even while its stages run.
             const uint64_t ticket = ++hair_requests;
             std::lock_guard lock(cache_mutex);
-            // The full hair's stale stages report their progress (a preview is quick).
+            // The stale stages report their progress, and the long ones their fraction done:
+            // the full hair's as "update", a preview's (the solve after κ) as "preview".
             std::optional<ProgressEvents::Task> task;
-            if (limit >= cache.strands_in_all() && cache.stale() != Stage::kNone)
-                task.emplace(events, "update", kStageCount - static_cast<int>(cache.stale()));
+            if (const int stages = cache.stages_to_send(limit); stages > 0)
+                task.emplace(events, limit >= cache.strands_in_all() ? "update" : "preview",
+                             stages);
             std::shared_ptr<const std::string> bytes = cache.hair_bytes(
-                limit, CancelToken(hair_requests, ticket), task ? task->stages() : StageProgress{});
+                limit, CancelToken(hair_requests, ticket, task ? task->fractions() : nullptr),
+                task ? task->stages() : StageProgress{});
             if (!bytes && task) task->fail("superseded by a newer request");
             if (!bytes) return send_error(res, 409, "superseded by a newer request");
             send_shared(res, std::move(bytes));
@@ -674,7 +677,7 @@ struct EditServer::Impl {
             std::lock_guard lock(cache_mutex);
             ProgressEvents::Task task(events, "export",
                                       kStageCount - static_cast<int>(cache.stale()) + 1);
-            const HairstyleResult& r = *cache.update(CancelToken(), task.stages());
+            const HairstyleResult& r = *cache.update(CancelToken(task.fractions()), task.stages());
             task.step("write");
             write_hair(file, r.hair);
             send_json(res,

@@ -99,6 +99,15 @@ class StageCache {
     size_t strands_in_all() const {
         return stale_ > Stage::kMembers ? result_.hair.strand_count() : roots_.members.size();
     }
+    // The stages hair_bytes(strands) reports as it runs them (a preview's members count as
+    // one, its colours none), for a progress bar's length: 0 when nothing is stale. Counted
+    // with the roots there are now, which stale roots may change.
+    int stages_to_send(size_t strands) const {
+        if (stale_ == Stage::kNone) return 0;
+        if (stale_ <= Stage::kMembers && strands < strands_in_all())
+            return int(Stage::kMembers) - int(stale_) + 1;
+        return kStageCount - int(stale_);
+    }
 
     // The last update's result: its solve stats (the groups' progress) are the current
     // style's once stale() is past Stage::kSolve, the rest once it is Stage::kNone.

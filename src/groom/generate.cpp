@@ -179,6 +179,7 @@ Hair grow_members(const Style& style, const Masters& masters, const Roots& roots
         }
     };
     if (only.empty()) {
+        ProgressCounter progress(cancel, w_count);
         parallel_for(w_count, [&](size_t w) {
             if (cancel.cancelled()) return;
             std::vector<float> radius(n);
@@ -186,18 +187,21 @@ Hair grow_members(const Style& style, const Masters& masters, const Roots& roots
                 radius[k] = roots.wisp_radius[w] * rel[k];
             for (uint32_t j = roots.wisp_offsets[w]; j < roots.wisp_offsets[w + 1]; ++j)
                 grow(j, w, radius);
+            progress.step();
         });
     } else {
         std::vector<float> radius(w_count * n);
         for (size_t w = 0; w < w_count; ++w)
             for (int k = 0; k < n; ++k)
                 radius[w * n + k] = roots.wisp_radius[w] * rel[k];
+        ProgressCounter progress(cancel, s_count);
         parallel_for(
             s_count,
             [&](size_t i) {
                 if (cancel.cancelled()) return;
                 const size_t w = static_cast<size_t>(hair.wisp[i]);
                 grow(i, w, std::span<const float>(radius.data() + w * n, static_cast<size_t>(n)));
+                progress.step();
             },
             64);
     }

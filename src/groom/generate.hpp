@@ -27,7 +27,8 @@ Masters synthesize_masters(const Style& style, const Head& head, const Roots& ro
 // and normal of its root (no colors, no groups).
 // With `only` (ids into roots.members), strand i is member only[i], the same strand the whole
 // hair has at index only[i] (the editor's preview of a subset). `cancel` is polled once per
-// wisp; a cancelled call returns partial hair.
+// wisp (or strand of `only`) and told the progress every 1/32 of them; a cancelled call
+// returns partial hair.
 Hair grow_members(const Style& style, const Masters& masters, const Roots& roots,
                   std::span<const uint32_t> only = {}, const CancelToken& cancel = {});
 

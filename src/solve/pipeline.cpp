@@ -250,7 +250,8 @@ MembersResult members_stage(const Style& style, const Head& head, const HeadFiel
         watch = Stopwatch();
     };
     MembersResult r;
-    r.hair = grow_members(style, masters, roots, only, cancel);
+    // The growth is about half of the stage (the push out of the head most of the rest).
+    r.hair = grow_members(style, masters, roots, only, cancel.part(0.f, 0.5f));
     if (cancel.cancelled()) return r;
     r.hair.group.resize(r.hair.strand_count());
     for (size_t j = 0; j < r.hair.strand_count(); ++j)
@@ -302,6 +303,7 @@ MembersResult members_stage(const Style& style, const Head& head, const HeadFiel
             push_out_of_head(r.hair, head_field, kClearance, &near, n, &r.points_inside_head);
     }
     lap("collide");
+    cancel.progress(1, 1);
     return r;
 }
 

@@ -88,7 +88,8 @@ struct MembersResult {
 // Members (§2.1) with their group (wisp_group, #W), the cut plane (§6.2) and the push out
 // of the head.
 // With `only` (ids into roots.members, grow_members), just those strands, in that order
-// (the editor's preview). `cancel` is polled per wisp; a cancelled call returns partial hair.
+// (the editor's preview). `cancel` is polled per wisp, and told the progress: the growth is
+// the first half, the rest ends at 1; a cancelled call returns partial hair.
 MembersResult members_stage(const Style& style, const Head& head, const HeadField& head_field,
                             const Roots& roots, const Masters& masters,
                             std::span<const int32_t> wisp_group, StageTimes* times = nullptr,

@@ -159,17 +159,24 @@ class Solver {
             stats_.cancelled = in_.cancel && in_.cancel->cancelled();
             return stats_.cancelled;
         };
+        // Progress: after each layer (or each 1/64 of the wisps), on this thread.
+        const auto progress = [&](size_t done, size_t total) {
+            if (in_.cancel) in_.cancel->progress(done, total);
+        };
         if (spec_.depth_first) {
+            const size_t every = std::max<size_t>(1, w_count / 64);
             for (size_t w = 0; w < w_count; ++w) {
                 if (cancelled()) return stats_;
                 for (int j = 0; j + 1 < n; ++j)
                     place(w, j, /*per_wisp_queue=*/true);
+                if ((w + 1) % every == 0 || w + 1 == w_count) progress(w + 1, w_count);
             }
         } else {
             for (int j = 0; j + 1 < n; ++j) {
                 if (cancelled()) return stats_;
                 place_layer(j);
                 advance_groups();
+                progress(static_cast<size_t>(j + 1), static_cast<size_t>(n - 1));
             }
         }
         for (const Counts& c : counts_) {

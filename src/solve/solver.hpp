@@ -71,7 +71,8 @@ struct SolveInput {
     std::vector<int> wisp_strands;      // #W strands carried by each wisp
     std::vector<float> wisp_radius;     // #W root radius of each wisp, cm
     std::vector<float> radius_profile;  // #n r(s_j)/r(0) at each joint
-    // Polled once per layer of joints (breadth-first) or per wisp (depth-first); null: never.
+    // Polled once per layer of joints (breadth-first) or per wisp (depth-first), and told the
+    // progress after each layer (every 1/64 of the wisps depth-first); null: never.
     const CancelToken* cancel = nullptr;
     // Breadth-first, how a layer's joints are placed; every schedule gives the same bytes.
     enum class Schedule {

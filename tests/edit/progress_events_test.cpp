@@ -2,9 +2,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <thread>
+#include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "groom/style_toml.hpp"
 
 namespace wisp {
 namespace {
@@ -94,6 +98,83 @@ TEST(ProgressEvents, AListenerWakesOnAPostAndOnClose) {
     EXPECT_LT(std::chrono::steady_clock::now() - t0, milliseconds(5'000));
     closer.join();
     EXPECT_TRUE(events.closed());
+}
+
+// The fractions posted for `step` in `got`, in order.
+std::vector<float> fractions_of(const std::deque<ProgressEvent>& got, const std::string& step) {
+    std::vector<float> out;
+    for (const ProgressEvent& e : got)
+        if (!e.finished && e.step == step && e.fraction > 0.f) out.push_back(e.fraction);
+    return out;
+}
+
+// A solve of many layers reports its fraction done as it goes (issue 16: the bar moves
+// inside a long stage), rising to 1, under the step it belongs to; so do the members.
+TEST(ProgressEvents, ALongSolveSendsRisingFractionsEndingAtOne) {
+    Style style = load_preset("default");
+    style.wisps = 300;
+    style.strands = 3000;
+    style.points_per_strand = 40;
+    StageCache cache(style);
+    ProgressEvents events;
+    {
+        // Every report posted (no throttle), to see each one.
+        ProgressEvents::Task task(events, "update", kStageCount, milliseconds(0));
+        ASSERT_NE(cache.update_masters(CancelToken(task.fractions()), task.stages()), nullptr);
+    }
+    std::deque<ProgressEvent> got = events.wait(0, milliseconds(0));
+    std::vector<float> solve = fractions_of(got, "solve");
+    ASSERT_EQ(solve.size(), 39u) << "one per layer of joints";
+    for (size_t i = 1; i < solve.size(); ++i)
+        EXPECT_GT(solve[i], solve[i - 1]);
+    EXPECT_EQ(solve.back(), 1.f);
+    // Each under the solve's step: its number as the step started.
+    const auto start = std::find_if(got.begin(), got.end(), [](const ProgressEvent& e) {
+        return e.step == "solve" && e.fraction == 0.f;
+    });
+    ASSERT_NE(start, got.end());
+    for (const ProgressEvent& e : got)
+        if (e.step == "solve") EXPECT_EQ(e.done, start->done);
+    // The members, from the workers of a parallel loop: still rising, ending at 1.
+    const uint64_t seen = events.last_id();
+    {
+        ProgressEvents::Task task(events, "update", 2, milliseconds(0));
+        ASSERT_NE(cache.update(CancelToken(task.fractions()), task.stages()), nullptr);
+    }
+    got = events.wait(seen, milliseconds(0));
+    const std::vector<float> members = fractions_of(got, "members");
+    ASSERT_GE(members.size(), 2u);
+    for (size_t i = 1; i < members.size(); ++i)
+        EXPECT_GT(members[i], members[i - 1]);
+    EXPECT_EQ(members.back(), 1.f);
+}
+
+// Fractions are posted at most every kFractionInterval, except the last (1), and only when
+// they rise: reports from several workers come out of order.
+TEST(ProgressEvents, FractionsAreThrottledAndOnlyRise) {
+    ProgressEvents events;
+    {
+        ProgressEvents::Task task(events, "update", 1, milliseconds(60'000));
+        const FractionReport& report = *task.fractions();
+        report(0.5f);  // before any step: nothing to belong to
+        task.step("solve");
+        for (const float f : {0.1f, 0.2f, 0.3f, 1.f, 0.9f})
+            report(f);
+    }
+    const std::deque<ProgressEvent> got = events.wait(0, milliseconds(0));
+    ASSERT_EQ(got.size(), 3u);  // the step, its 1, finished
+    EXPECT_EQ(got[1].fraction, 1.f);
+    EXPECT_EQ(got[1].step, "solve");
+    EXPECT_TRUE(got[2].finished);
+    ProgressEvents quick;
+    {
+        ProgressEvents::Task task(quick, "update", 1, milliseconds(0));
+        task.step("members");
+        for (const float f : {0.25f, 0.5f, 0.375f, 0.75f})
+            (*task.fractions())(f);
+    }
+    EXPECT_EQ(fractions_of(quick.wait(0, milliseconds(0)), "members"),
+              (std::vector<float>{0.25f, 0.5f, 0.75f}));
 }
 
 }  // namespace

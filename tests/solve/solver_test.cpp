@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cmath>
 #include <string>
+#include <thread>
 
 #include "core/parallel.hpp"
 #include "core/rng.hpp"
@@ -470,6 +471,32 @@ TEST(Solver, ACancelledSolveStopsAtOnceAndSaysSo) {
                                         nullptr, CancelToken(newest, 2));
     EXPECT_FALSE(done.cancelled);
     EXPECT_EQ(done.joints, masters.count() * (masters.points - 1));
+}
+
+// The solve tells its token's report the fraction done after each breadth-first layer, on
+// the calling thread, and reporting changes nothing in the result.
+TEST(Solver, ReportsItsLayersAndTheResultIsTheSame) {
+    Style style = small_style();
+    const Roots roots = grow_roots(style, builtin());
+    const Masters start = synthesize_masters(style, builtin(), roots);
+    Masters quiet = start, told = start;
+    solve_stage(style, builtin(), builtin_field(), roots, select_groups(style, builtin(), roots),
+                quiet);
+    std::vector<float> fractions;
+    const std::thread::id caller = std::this_thread::get_id();
+    bool other_thread = false;
+    const FractionReport report = [&](float f) {
+        fractions.push_back(f);
+        other_thread |= std::this_thread::get_id() != caller;
+    };
+    solve_stage(style, builtin(), builtin_field(), roots, select_groups(style, builtin(), roots),
+                told, nullptr, nullptr, CancelToken(&report));
+    EXPECT_EQ(told.outline, quiet.outline);
+    EXPECT_EQ(told.control, quiet.control);
+    EXPECT_FALSE(other_thread);
+    ASSERT_EQ(fractions.size(), size_t(start.points - 1));  // one per layer of joints
+    for (size_t i = 0; i < fractions.size(); ++i)
+        EXPECT_FLOAT_EQ(fractions[i], float(i + 1) / float(start.points - 1));
 }
 
 TEST(Cut, PlaneShortensAndRemoves) {

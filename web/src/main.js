@@ -423,19 +423,29 @@ headFile.onchange = async () => {
 // The server's progress on long runs (the full hair, a render, an export), as server-sent
 // events (GET /api/events): a bar over the view while one runs. The browser reconnects a
 // dropped stream by itself.
+// A long stage (the solve, the members) also sends its own fraction done as it runs. A
+// preview (20,000 strands while a value moves) shows the bar only once it has run for
+// kPreviewBarMs: most are quicker, and the bar would flicker.
 const progressBar = document.getElementById("progress");
-let progressTimer = null;
+const kPreviewBarMs = 300;
+let progressTimer = null, previewSince = 0;
 const events = new EventSource(`/api/events?token=${encodeURIComponent(new URLSearchParams(location.search).get("token") ?? "")}`);
 events.addEventListener("progress", (message) => {
   const e = JSON.parse(message.data);
+  if (e.task === "preview") {
+    const shown = !progressBar.hidden && progressBar.dataset.task === "preview";
+    if (e.finished) previewSince = 0;
+    else if (!previewSince) previewSince = performance.now();
+    if (!shown && (e.finished || performance.now() - previewSince < kPreviewBarMs)) return;
+  }
   clearTimeout(progressTimer);
   progressBar.hidden = false;
   progressBar.classList.toggle("failed", Boolean(e.error));
-  const fraction = e.total ? e.done / e.total : 1;
+  const fraction = e.total ? Math.min(1, (e.done + (e.finished ? 0 : e.fraction ?? 0)) / e.total) : 1;
   progressBar.querySelector(".fill").style.width = `${(100 * fraction).toFixed(0)}%`;
   progressBar.querySelector("span").textContent = e.finished
     ? `${e.task} ${e.error ? `failed: ${e.error}` : "done"}`
-    : `${e.task}: ${e.step} (${e.done + 1} of ${e.total})`;
+    : `${e.task}: ${e.step}${e.fraction ? ` ${(100 * e.fraction).toFixed(0)}%` : ""} (${e.done + 1} of ${e.total})`;
   progressBar.dataset.task = e.task;
   progressBar.dataset.finished = e.finished ? "1" : "";
   if (e.finished) progressTimer = setTimeout(() => (progressBar.hidden = true), e.error ? 2500 : 600);
