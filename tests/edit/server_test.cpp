@@ -240,9 +240,9 @@ TEST_F(EditServerTest, ProgressArrivesAsServerSentEvents) {
         "GET /api/events?token=" + server_->token() + " HTTP/1.1\r\nHost: " + host_ + "\r\n\r\n";
     ASSERT_EQ(send(fd, request.data(), request.size(), MSG_NOSIGNAL), ssize_t(request.size()));
     std::string stream;
-    const auto read_until = [&](const std::string& what) {
+    const auto read_until = [&](const std::string& what, size_t from = 0) {
         char buffer[4096];
-        while (stream.find(what) == std::string::npos) {
+        while (stream.find(what, from) == std::string::npos) {
             const ssize_t n = recv(fd, buffer, sizeof buffer, 0);
             if (n <= 0) return false;
             stream.append(buffer, static_cast<size_t>(n));
@@ -259,6 +259,15 @@ TEST_F(EditServerTest, ProgressArrivesAsServerSentEvents) {
         EXPECT_NE(stream.find(step), std::string::npos) << step << " in " << stream;
     EXPECT_NE(stream.find("event: progress\ndata: {"), std::string::npos) << stream;
     EXPECT_NE(stream.find(R"("task":"render")"), std::string::npos) << stream;
+    // A preview after κ moved reports too, with the solve's fraction done up to 1.
+    const size_t seen = stream.size();
+    ASSERT_EQ(status_of(post("/api/set", R"({"path": "solve.stiffness", "value": 0.5})")), 200);
+    ASSERT_EQ(status_of(get("/api/hair?strands=10")), 200);
+    ASSERT_TRUE(read_until(R"("finished":true)", seen)) << stream;
+    const std::string preview = stream.substr(seen);
+    EXPECT_NE(preview.find(R"("task":"preview")"), std::string::npos) << preview;
+    EXPECT_NE(preview.find(R"("fraction":1.0,"step":"solve")"), std::string::npos) << preview;
+    EXPECT_NE(preview.find(R"("step":"members")"), std::string::npos) << preview;
     server_->stop();  // ends the stream rather than waiting on it
     char rest[4096];
     while (recv(fd, rest, sizeof rest, 0) > 0) {
