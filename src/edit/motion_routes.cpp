@@ -115,6 +115,11 @@ struct MotionRoutes::Impl {
     std::atomic<int> export_done{0}, export_frames{0};
     std::atomic<bool> exporting{false};
     std::atomic<const char*> export_stage{""};
+    // Open frame streams. Each holds one of the server's 8 threads while it is open, as a
+    // progress stream does (at most ProgressEvents::kMaxListeners): 2 frame streams (a page
+    // and its reload, say) leave requests at least 2 threads.
+    static constexpr int kMaxStreams = 2;
+    std::atomic<int> streams{0};
 
     std::shared_ptr<MotionSession> current() {
         std::lock_guard lock(mutex);
@@ -406,12 +411,17 @@ struct MotionRoutes::Impl {
                 throw BadField{"tree", "must be 0 or 1, got '" + excerpt(t) + "'"};
             st->tree = t == "1";
         }
+        if (++streams > kMaxStreams) {
+            --streams;
+            return send_error(res, 503, "too many motion streams open");
+        }
         if (st->tree) st->session->tree();  // from now on every frame encodes its tree
         // Events from the current frame on: the ones before it flashed long ago.
         st->events = st->session->events_published();
         res.set_header("Cache-Control", "no-store");
         res.set_chunked_content_provider(
-            "application/octet-stream", [this, st](size_t, httplib::DataSink& sink) {
+            "application/octet-stream",
+            [this, st](size_t, httplib::DataSink& sink) {
                 {
                     std::lock_guard lock(mutex);
                     if (session != st->session) {
@@ -426,7 +436,8 @@ struct MotionRoutes::Impl {
                 std::memcpy(&frame, st->message.data() + 16, 4);
                 st->after = frame;
                 return sink.write(st->message.data(), st->message.size());
-            });
+            },
+            [this](bool) { --streams; });
     }
 
     void add_to(httplib::Server& server) {

@@ -376,6 +376,59 @@ TEST_F(MotionRoutesTest, AStreamSkipsFramesForASlowReaderAndNeverSlowsTheSimulat
     EXPECT_EQ(r->status, 403);
 }
 
+// Each open stream holds one of the server's threads: a third is refused with a 503 while two
+// are open, and a stream the client closed frees its place.
+TEST_F(MotionRoutesTest, AtMostTwoStreamsAreOpenAndAClosedOneFreesItsPlace) {
+    ASSERT_EQ(post("/api/motion/start", R"({"strands": 100})")->status, 200);
+    ASSERT_EQ(post("/api/motion/play")->status, 200);
+    std::atomic<bool> stop_first{false};
+    std::atomic<int> open{0};
+    const auto reader = [&](bool first) {
+        return std::thread([&, first] {
+            httplib::Client c("127.0.0.1", server_->port());
+            c.set_read_timeout(60, 0);
+            bool counted = false;
+            read_stream(c, headers_, "/api/motion/stream", [&](const std::string&) {
+                if (!counted) ++open, counted = true;
+                return !(first ? stop_first.load() : open.load() >= 4);
+            });
+        });
+    };
+    std::thread a = reader(true), b = reader(false);
+    const auto wait_for = [&](auto done) {
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+        bool ok = false;
+        while (!(ok = done()) && std::chrono::steady_clock::now() < deadline)
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        return ok;
+    };
+    ASSERT_TRUE(wait_for([&] { return open.load() == 2; }));
+    auto r = get("/api/motion/stream");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 503);
+    EXPECT_NE(r->body.find("too many motion streams"), std::string::npos) << r->body;
+    stop_first = true;
+    a.join();
+    // The server notices the closed connection at its next write and frees the place.
+    int status = 0;
+    EXPECT_TRUE(wait_for([&] {
+        httplib::Client c("127.0.0.1", server_->port());
+        c.set_read_timeout(60, 0);
+        bool got = false;
+        const auto res = read_stream(c, headers_, "/api/motion/stream", [&](const std::string&) {
+            got = true;
+            return false;
+        });
+        status = res ? res->status : 0;
+        if (got) ++open;
+        return got;
+    })) << "last status "
+        << status;
+    open = 4;  // lets the second reader go
+    b.join();
+    ASSERT_EQ(post("/api/motion/pause")->status, 200);
+}
+
 // Ctrl-C (the server stopping) with a stream open: the stream ends and stop() returns at
 // once, not when the client goes.
 TEST_F(MotionRoutesTest, StoppingTheServerEndsAnOpenStreamPromptly) {
