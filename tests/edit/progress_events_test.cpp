@@ -133,8 +133,11 @@ TEST(ProgressEvents, ALongSolveSendsRisingFractionsEndingAtOne) {
         return e.step == "solve" && e.fraction == 0.f;
     });
     ASSERT_NE(start, got.end());
-    for (const ProgressEvent& e : got)
-        if (e.step == "solve") EXPECT_EQ(e.done, start->done);
+    for (const ProgressEvent& e : got) {
+        if (e.step == "solve") {
+            EXPECT_EQ(e.done, start->done);
+        }
+    }
     // The members, from the workers of a parallel loop: still rising, ending at 1.
     const uint64_t seen = events.last_id();
     {
