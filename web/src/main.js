@@ -234,6 +234,7 @@ const constraints = new Constraints(viewport, document.getElementById("tie-tools
     redo.length = 0;
   },
   onError: (message) => say(message),
+  sectionFields: schema.sections,
 });
 function selectBrushChanged() {
   const b = constraints.selector.brush;

@@ -1,6 +1,6 @@
 // The pictures of docs/edit.md: the editor with wisp's render beside the live view, painting
-// the density map, a tie with its painted selection coloured by group, and a comb stroke
-// (then coloured by constraint progress). Not a test: run
+// the density map, a tie with its painted selection coloured by group, a comb stroke
+// (then coloured by constraint progress), a braid and an updo. Not a test: run
 // by hand after a change to the editor's look, then look at the pictures.
 //   node web/tests/shots.mjs WISP_EXE OUT_DIR
 import { dragThrough, launchChromium, onScreen, openEditor, settler, startEditor, tempFolder, testArguments, viewFromBehind } from "./harness.mjs";
@@ -102,6 +102,31 @@ try {
       { timeout: 300000 });
     await page.waitForTimeout(1500);
     await page.screenshot({ path: path.join(outDir, "comb-progress.png") });
+  }
+  // A braid dragged down the back of the head, coloured by group (one colour per strand).
+  {
+    const { page, settle } = await open("long-straight", 30000);
+    await page.selectOption("#color-by", "group");
+    await page.click("#tie");
+    await page.click("#tie-tools [data-tool='braid']");
+    await viewFromBehind(page, [25, 5, -110]);
+    // The geometry of web/tests/hairdressing_test.mjs.
+    await dragThrough(page, await onScreen(page, [[0, -0.45, -1.2], [0, -2.3, -1.35]]), 10);
+    await page.waitForFunction(() => window.wispEditor.constraints.sections.length === 1, null, { timeout: 300000 });
+    await settle();
+    await page.screenshot({ path: path.join(outDir, "braid.png") });
+  }
+  // An updo clicked on the upper back of the head.
+  {
+    const { page, settle } = await open("long-straight", 30000);
+    await page.click("#tie");
+    await page.click("#tie-tools [data-tool='updo']");
+    await viewFromBehind(page, [20, 35, -95]);
+    const [at] = await onScreen(page, [[0, 0.55, -1.05]]);
+    await page.mouse.click(...at);
+    await page.waitForFunction(() => window.wispEditor.constraints.sections.length === 1, null, { timeout: 300000 });
+    await settle();
+    await page.screenshot({ path: path.join(outDir, "updo.png") });
   }
 } finally {
   await browser.close();
