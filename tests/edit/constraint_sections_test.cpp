@@ -181,5 +181,31 @@ TEST(ConstraintSections, BraidAndUpdoPathsAreTheCliExpansionInCentimetres) {
         EXPECT_TRUE(p.empty());
 }
 
+// A braid's painted selection is split into its strands: each strand's group takes a third
+// of the painted wisps, all of them on the painted half, and the three make up the whole.
+TEST(ConstraintSections, BraidSplitsItsPaintedSelectionIntoStrands) {
+    Style style = small_style();
+    const Head head = load_head(style.head);
+    const Roots roots = grow_roots(style, head);
+    ConstraintSections sections;
+    sections.set_mask("back", left_half(64));
+    style.groups = sections.set(
+        nlohmann::json::parse(R"([{"section": "braid", "name": "b", "selection": "back"}])"), style,
+        {}, "style.toml");
+    ASSERT_EQ(style.groups.size(), 3u);
+    const GroupSelection picked = select_groups(style, head, roots);
+    size_t total = 0;
+    for (int k = 0; k < 3; ++k) {
+        ASSERT_TRUE(style.groups[k].selection.mask_pixels);
+        EXPECT_GT(picked.selected[k].size(), 2u);
+        for (const uint32_t w : picked.selected[k])
+            EXPECT_LT(roots.masters[w].uv.x(), 0.5f + 1.f / 64);
+        total += picked.selected[k].size();
+    }
+    EXPECT_LT(total, roots.masters.size() - 5);
+    EXPECT_NE(sections.toml("style.toml").find("mask = \"style.back.mask.png\""),
+              std::string::npos);
+}
+
 }  // namespace
 }  // namespace wisp
