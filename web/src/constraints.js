@@ -492,6 +492,7 @@ export class Constraints {
     if (!p) return;
     handle.position.copy(p);
     handle.userData.ring?.position.copy(p);
+    handle.userData.follow?.(p);
     this.drag.moved = true;
     this.viewport.render();
   }

@@ -113,7 +113,13 @@ export class Hairdressing {
       cone.position.copy(to);
       cone.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), to.clone().sub(from).normalize());
       cone.renderOrder = 21;
-      cone.userData = { section: i, role: arrow };
+      // While dragged, the stem follows the tip.
+      const follow = (p) => {
+        line.geometry.setFromPoints([from, p]);
+        line.computeLineDistances();
+        cone.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), p.clone().sub(from).normalize());
+      };
+      cone.userData = { section: i, role: arrow, follow };
       this.c.handles.add(cone);
     };
     if (s.section === "braid") {
