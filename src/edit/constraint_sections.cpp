@@ -7,6 +7,7 @@
 
 #include "core/atomic_file.hpp"
 #include "edit/wire.hpp"
+#include "groom/hairdressing.hpp"
 #include "groom/style_toml.hpp"
 
 namespace wisp {
@@ -53,6 +54,39 @@ SectionsError reader_error(const std::string& message) {
 }
 
 }  // namespace
+
+nlohmann::json section_paths(const nlohmann::json& sections, const std::vector<GroupSpec>& groups,
+                             const HeadFrame& head) {
+    nlohmann::json out = nlohmann::json::array();
+    size_t g = 0;
+    for (const nlohmann::json& s : sections) {
+        nlohmann::json paths = nlohmann::json::array();
+        size_t count = 1;
+        if (s.value("section", "") == "braid") {
+            const nlohmann::json strands = s.value("strands", nlohmann::json(BraidSpec{}.strands));
+            count = strands.is_number_integer() ? strands.get<size_t>() : 0;
+        }
+        for (size_t k = 0; k < count && g + k < groups.size(); ++k)
+            for (const ConstraintSpec& c : groups[g + k].queue) {
+                if (c.kind == ConstraintSpec::Kind::kPoint) continue;
+                nlohmann::json points = nlohmann::json::array();
+                for (const Vec3f& p : c.trajectory) {
+                    const Vec3f q = c.head_relative ? head.to_space(p) : p;
+                    points.push_back({q.x(), q.y(), q.z()});
+                }
+                paths.push_back({{"points", std::move(points)},
+                                 {"smooth", c.smooth},
+                                 {"radius", c.head_relative ? c.radius * head.radius : c.radius}});
+            }
+        g += count;
+        out.push_back(std::move(paths));
+    }
+    // Groups and sections out of step (they never should be): no paths rather than wrong ones.
+    if (g != groups.size())
+        for (nlohmann::json& paths : out)
+            paths = nlohmann::json::array();
+    return out;
+}
 
 std::string ConstraintSections::mask_file(const std::string& document, const std::string& key) {
     return std::filesystem::path(document).stem().string() + "." + key + ".mask.png";

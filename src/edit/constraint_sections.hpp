@@ -21,6 +21,7 @@
 #include "core/error.hpp"
 #include "core/image.hpp"
 #include "groom/style.hpp"
+#include "solve/styling_field.hpp"  // HeadFrame
 
 namespace wisp {
 
@@ -30,6 +31,16 @@ struct SectionsError : Error {
         : Error(message), field(std::move(field_)) {}
     std::string field;
 };
+
+// The paths the sections' groups follow, for the editor to draw them as the solver has
+// them (a braid's strands and an updo's spiral expanded by groom/hairdressing.cpp, not
+// again in the browser): one array per section of {"points": [[x, y, z], …] (cm, head
+// space), "smooth", "radius" (cm)}, one per trajectory or direction constraint of its
+// groups. `groups` are those the sections expand into (ConstraintSections::set), in section
+// order (a braid expands into `strands` groups, any other section into one); `head` maps
+// head units to cm. A section whose groups cannot be matched gets no paths.
+nlohmann::json section_paths(const nlohmann::json& sections, const std::vector<GroupSpec>& groups,
+                             const HeadFrame& head);
 
 class ConstraintSections {
   public:

@@ -15,6 +15,7 @@
 #include "groom/style_schema.hpp"
 #include "groom/style_toml.hpp"
 #include "render/render.hpp"
+#include "solve/pipeline.hpp"  // head_frame
 
 namespace wisp {
 namespace {
@@ -74,7 +75,10 @@ void add_feature_routes(httplib::Server& server, EditState& s) {
     // Placing constraints: the sections, and the selections painted on the scalp.
     server.Get("/api/constraints", [&s](const httplib::Request&, httplib::Response& res) {
         std::lock_guard lock(s.cache_mutex);
-        send_json(res, {{"sections", s.constraints.json()}, {"document", s.document}});
+        send_json(res, {{"sections", s.constraints.json()},
+                        {"paths", section_paths(s.constraints.json(), s.cache.style().groups,
+                                                head_frame(*s.cache.head().scalp))},
+                        {"document", s.document}});
     });
     server.Post("/api/constraints", [&s](const httplib::Request& req, httplib::Response& res) {
         nlohmann::json j;
@@ -95,8 +99,10 @@ void add_feature_routes(httplib::Server& server, EditState& s) {
         }
         s.cache.set_style(std::move(next));
         s.cache.mark_stale(Stage::kSolve);  // painted masks are not in the groups' text
-        send_json(res,
-                  {{"stale", stage_name(s.cache.stale())}, {"sections", s.constraints.json()}});
+        send_json(res, {{"stale", stage_name(s.cache.stale())},
+                        {"sections", s.constraints.json()},
+                        {"paths", section_paths(s.constraints.json(), s.cache.style().groups,
+                                                head_frame(*s.cache.head().scalp))}});
     });
     server.Get("/api/selection", [&s](const httplib::Request& req, httplib::Response& res) {
         const std::string key = req.get_param_value("key");

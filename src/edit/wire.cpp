@@ -180,7 +180,20 @@ nlohmann::json schema_json() {
     nlohmann::json stages = nlohmann::json::array();
     for (int s = 0; s <= kStageCount; ++s)
         stages.push_back(stage_name(Stage(s)));
-    return {{"fields", fields}, {"panels", panels}, {"stages", stages}};
+    nlohmann::json sections = nlohmann::json::array();
+    for (const SectionField& f : section_schema())
+        sections.push_back({{"section", f.section},
+                            {"key", f.key},
+                            {"type", field_type_name(f.type)},
+                            {"unit", f.unit},
+                            {"min", f.lo},
+                            {"max", f.hi},
+                            {"min_open", f.lo_open},
+                            {"soft_min", f.soft_lo},
+                            {"soft_max", f.soft_hi},
+                            {"doc", f.doc},
+                            {"default", f.get_default()}});
+    return {{"fields", fields}, {"panels", panels}, {"stages", stages}, {"sections", sections}};
 }
 
 nlohmann::json style_values_json(const Style& style, const std::filesystem::path& base_dir) {

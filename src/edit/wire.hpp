@@ -62,8 +62,10 @@ std::string encode_head(const Mesh& mesh, const std::vector<uint8_t>& scalp_face
 std::string encode_map(const GrayImage& t, uint32_t kind, float low, float high);
 
 // The schema: {"fields": [{path, type, stage, panel, paper, unit, min, max, min_open,
-// choices, doc, default}], "stages": [...], "panels": [...]}. Defaults are the values of
-// Style{} (toml_to_json of style_field_toml).
+// choices, doc, default}], "stages": [...], "panels": [...], "sections": [{section, key,
+// type, unit, min, max, min_open, soft_min, soft_max, doc, default}]}. Defaults are the
+// values of Style{} (toml_to_json of style_field_toml); a section's numbers (the tools'
+// sliders, section_schema()) those of BraidSpec{} and UpdoSpec{}.
 nlohmann::json schema_json();
 
 // The style's value of every field, as JSON keyed by path; file paths relative to

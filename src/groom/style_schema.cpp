@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "groom/hairdressing.hpp"
+
 namespace wisp {
 
 const char* stage_name(Stage stage) {
@@ -894,7 +896,130 @@ const Sections& sections() {
     return s;
 }
 
+// A section's default: the member of a default spec.
+#define WISP_SECTION_DEFAULT(spec, member) []() -> double { return spec{}.member; }
+
+const std::vector<SectionField>& section_fields() {
+    constexpr double kInf = kMaxCoordinate;
+    static const std::vector<SectionField> table = {
+        {.section = "braid",
+         .key = "strands",
+         .type = T::kInteger,
+         .lo = 3,
+         .hi = 16,
+         .soft_lo = 3,
+         .soft_hi = 8,
+         .doc = "how many strands (and groups)",
+         .get_default = WISP_SECTION_DEFAULT(BraidSpec, strands)},
+        {.section = "braid",
+         .key = "length",
+         .type = T::kNumber,
+         .unit = "head units",
+         .lo = 0,
+         .hi = kInf,
+         .lo_open = true,
+         .soft_lo = 0.5,
+         .soft_hi = 4,
+         .doc = "the braid's length along the axis",
+         .get_default = WISP_SECTION_DEFAULT(BraidSpec, length)},
+        {.section = "braid",
+         .key = "width",
+         .type = T::kNumber,
+         .unit = "head units",
+         .lo = 0,
+         .hi = kInf,
+         .lo_open = true,
+         .soft_lo = 0.1,
+         .soft_hi = 1,
+         .doc = "the braid's width",
+         .get_default = WISP_SECTION_DEFAULT(BraidSpec, width)},
+        {.section = "braid",
+         .key = "period",
+         .type = T::kNumber,
+         .unit = "head units",
+         .lo = 0,
+         .hi = kInf,
+         .lo_open = true,
+         .soft_lo = 0.2,
+         .soft_hi = 1.5,
+         .doc = "axis length of one full cycle of the pattern",
+         .get_default = WISP_SECTION_DEFAULT(BraidSpec, period)},
+        {.section = "braid",
+         .key = "radius",
+         .type = T::kNumber,
+         .unit = "head units",
+         .lo = 0,
+         .hi = kInf,
+         .lo_open = true,
+         .soft_lo = 0.02,
+         .soft_hi = 0.3,
+         .doc = "how tightly the strands keep to their path (tolerance radius)",
+         .get_default = WISP_SECTION_DEFAULT(BraidSpec, radius)},
+        {.section = "braid",
+         .key = "weight",
+         .type = T::kNumber,
+         .lo = 0,
+         .hi = 1,
+         .soft_lo = 0,
+         .soft_hi = 1,
+         .doc = "w of eq. (7) for both constraints",
+         .get_default = WISP_SECTION_DEFAULT(BraidSpec, weight)},
+        {.section = "updo",
+         .key = "radius",
+         .type = T::kNumber,
+         .unit = "head units",
+         .lo = 0,
+         .hi = kInf,
+         .lo_open = true,
+         .soft_lo = 0.03,
+         .soft_hi = 0.4,
+         .doc = "tolerance radius of the tie and of the spiral",
+         .get_default = WISP_SECTION_DEFAULT(UpdoSpec, radius)},
+        {.section = "updo",
+         .key = "bun_radius",
+         .type = T::kNumber,
+         .unit = "head units",
+         .lo = 0,
+         .hi = kInf,
+         .lo_open = true,
+         .soft_lo = 0.1,
+         .soft_hi = 0.8,
+         .doc = "the spiral's outer radius",
+         .get_default = WISP_SECTION_DEFAULT(UpdoSpec, bun_radius)},
+        {.section = "updo",
+         .key = "turns",
+         .type = T::kNumber,
+         .lo = 0,
+         .hi = 50,
+         .lo_open = true,
+         .soft_lo = 0.5,
+         .soft_hi = 6,
+         .doc = "how many times the hair winds around",
+         .get_default = WISP_SECTION_DEFAULT(UpdoSpec, turns)},
+        {.section = "updo",
+         .key = "weight",
+         .type = T::kNumber,
+         .lo = 0,
+         .hi = 1,
+         .soft_lo = 0,
+         .soft_hi = 1,
+         .doc = "w of eq. (7) for both constraints",
+         .get_default = WISP_SECTION_DEFAULT(UpdoSpec, weight)},
+    };
+    return table;
+}
+
 }  // namespace
+
+std::span<const SectionField> section_schema() {
+    return section_fields();
+}
+
+const SectionField* find_section_field(std::string_view section, std::string_view key) {
+    for (const SectionField& f : section_fields())
+        if (f.section == section && f.key == key) return &f;
+    return nullptr;
+}
 
 std::span<const StyleField> style_schema() {
     return fields();

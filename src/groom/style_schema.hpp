@@ -96,6 +96,28 @@ const std::vector<std::string>& section_keys(std::string_view section);
 // The sections, "" (the top level) first.
 const std::vector<std::string>& style_sections();
 
+// A number of a hairdressing section ([[braid]], [[updo]]: "braid", "width") as the reader
+// checks it and the editor's tools set it with a slider. The sections are arrays of tables,
+// not fields of Style, so their keys are described here rather than in style_schema();
+// defaults are those of BraidSpec{} and UpdoSpec{} (groom/hairdressing.hpp). Positions and
+// sizes are in head units (the sections' head_relative default).
+struct SectionField {
+    std::string_view section;         // "braid", "updo"
+    std::string_view key;             // "width"
+    FieldType type;                   // kNumber or kInteger
+    std::string_view unit;            // "head units" or "" (dimensionless)
+    double lo = 0, hi = 0;            // the allowed range, as the reader checks it
+    bool lo_open = false;             // lo itself is excluded
+    double soft_lo = 0, soft_hi = 0;  // the slider's range: where a useful value lies
+    std::string_view doc;             // one line
+    double (*get_default)() = nullptr;
+};
+
+// The numbers of [[braid]] and [[updo]], section by section in docs/style.md's order.
+std::span<const SectionField> section_schema();
+// The number `key` of `section`, or null.
+const SectionField* find_section_field(std::string_view section, std::string_view key);
+
 // The type's name in `wisp schema`, the editor and the Python API ("number", "field_terms", …).
 const char* field_type_name(FieldType type);
 

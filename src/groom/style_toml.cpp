@@ -174,6 +174,18 @@ struct Range {
     bool lo_open = false;  // lo itself is excluded
 };
 
+// A hairdressing section's number as the schema describes it (section_schema()).
+const SectionField& section_field(std::string_view section, std::string_view key) {
+    const SectionField* f = find_section_field(section, key);
+    if (!f) fail("no schema entry for ", section, ".", key);  // a bug: the schema lists them
+    return *f;
+}
+
+Range section_range(std::string_view section, std::string_view key) {
+    const SectionField& f = section_field(section, key);
+    return Range{f.lo, f.hi, f.lo_open};
+}
+
 // The support of a distribution and whether it must reach above its low end (lengths).
 struct Domain {
     float lo, hi;
@@ -1168,16 +1180,16 @@ std::vector<GroupSpec> Parser::braid(const toml::table& table, const std::string
     check_keys(table, path, kBraidKeys);
     BraidSpec spec;
     spec.selection = selection(table, path, wisps, false);
-    opt_int(&table, path, "strands", spec.strands, 3, 16);
+    const SectionField& strands = section_field("braid", "strands");
+    opt_int(&table, path, "strands", spec.strands, int64_t(strands.lo), int64_t(strands.hi));
     opt_vec3(&table, path, "start", spec.start, false);
     opt_vec3(&table, path, "axis", spec.axis, true);
     opt_vec3(&table, path, "side", spec.side, true);
-    const Range positive{0, kMaxCoordinate, true};
-    opt_real(&table, path, "length", spec.length, positive);
-    opt_real(&table, path, "width", spec.width, positive);
-    opt_real(&table, path, "period", spec.period, positive);
-    opt_real(&table, path, "radius", spec.radius, positive);
-    opt_real(&table, path, "weight", spec.weight, Range{0, 1});
+    opt_real(&table, path, "length", spec.length, section_range("braid", "length"));
+    opt_real(&table, path, "width", spec.width, section_range("braid", "width"));
+    opt_real(&table, path, "period", spec.period, section_range("braid", "period"));
+    opt_real(&table, path, "radius", spec.radius, section_range("braid", "radius"));
+    opt_real(&table, path, "weight", spec.weight, section_range("braid", "weight"));
     const float sine = spec.axis.normalized().cross(spec.side.normalized()).norm();
     if (sine < 0.05f) {
         const toml::node* node = table.get("side") ? table.get("side") : table.get("axis");
@@ -1198,13 +1210,12 @@ std::vector<GroupSpec> Parser::updo(const toml::table& table, const std::string&
     check_keys(table, path, kUpdoKeys);
     UpdoSpec spec;
     spec.selection = selection(table, path, wisps, true);
-    const Range positive{0, kMaxCoordinate, true};
     opt_vec3(&table, path, "point", spec.point, false);
     opt_vec3(&table, path, "facing", spec.facing, true);
-    opt_real(&table, path, "radius", spec.radius, positive);
-    opt_real(&table, path, "bun_radius", spec.bun_radius, positive);
-    opt_real(&table, path, "turns", spec.turns, Range{0, 50, true});
-    opt_real(&table, path, "weight", spec.weight, Range{0, 1});
+    opt_real(&table, path, "radius", spec.radius, section_range("updo", "radius"));
+    opt_real(&table, path, "bun_radius", spec.bun_radius, section_range("updo", "bun_radius"));
+    opt_real(&table, path, "turns", spec.turns, section_range("updo", "turns"));
+    opt_real(&table, path, "weight", spec.weight, section_range("updo", "weight"));
     return updo_groups(spec);
 }
 

@@ -127,5 +127,85 @@ TEST(ConstraintSections, LoadedGroupsSetBackToTheSameGroups) {
     EXPECT_EQ(groups_to_toml(again), groups_to_toml(style.groups));
 }
 
+// A braid and an updo placed in the editor (in head units, the sections' default) read as
+// the CLI reads the same text, and the paths sent for drawing are the solver's trajectories
+// (groom/hairdressing.cpp's expansion) in cm: one per braid strand, the updo's spiral, none
+// for a tie.
+TEST(ConstraintSections, BraidAndUpdoPathsAreTheCliExpansionInCentimetres) {
+    const Style style = small_style();
+    ConstraintSections sections;
+    const auto placed = nlohmann::json::parse(R"([
+        {"section": "braid", "name": "plait", "strands": 4, "start": [0, -0.4, -1.1],
+         "axis": [0, -1, -0.2], "side": [1, 0, 0], "length": 2, "width": 0.3, "period": 0.6},
+        {"section": "tie", "point": [0, 3, -11], "head_relative": false},
+        {"section": "updo", "point": [0, 0.5, -1.1], "facing": [0, 0.2, -1], "turns": 3}])");
+    const std::vector<GroupSpec> groups = sections.set(placed, style, {}, "style.toml");
+    const Style cli = parse_style(sections.toml("style.toml"), "cli");
+    ASSERT_EQ(groups.size(), 6u);
+    EXPECT_EQ(groups_to_toml(groups), groups_to_toml(cli.groups));
+    EXPECT_EQ(groups[0].name, "plait strand 0");
+    EXPECT_EQ(groups[3].selection.parts, 4);
+
+    HeadFrame head;
+    head.center = Vec3f(0.f, 3.f, -0.7f);
+    head.radius = 9.5f;
+    const nlohmann::json paths = section_paths(sections.json(), groups, head);
+    ASSERT_EQ(paths.size(), 3u);
+    ASSERT_EQ(paths[0].size(), 4u);
+    EXPECT_EQ(paths[1].size(), 0u);
+    ASSERT_EQ(paths[2].size(), 1u);
+    for (int strand = 0; strand < 4; ++strand) {
+        const ConstraintSpec& c = groups[strand].queue[1];
+        const nlohmann::json& p = paths[0][strand];
+        ASSERT_EQ(p["points"].size(), c.trajectory.size());
+        EXPECT_TRUE(p["smooth"].get<bool>());
+        EXPECT_FLOAT_EQ(p["radius"].get<float>(), c.radius * 9.5f);
+        for (size_t k = 0; k < c.trajectory.size(); ++k) {
+            const Vec3f cm = head.to_space(c.trajectory[k]);
+            for (int a = 0; a < 3; ++a)
+                EXPECT_FLOAT_EQ(p["points"][k][a].get<float>(), cm[a]);
+        }
+    }
+    // The spiral starts at the bun's centre and reaches bun_radius (0.3 head units) from it.
+    const nlohmann::json& spiral = paths[2][0]["points"];
+    const Vec3f centre = head.to_space(Vec3f(0.f, 0.5f, -1.1f));
+    const auto at = [&](size_t k) {
+        return Vec3f(spiral[k][0].get<float>(), spiral[k][1].get<float>(),
+                     spiral[k][2].get<float>());
+    };
+    EXPECT_NEAR((at(0) - centre).norm(), 0.f, 1e-4f);
+    EXPECT_NEAR((at(spiral.size() - 1) - centre).norm(), 0.3f * 9.5f, 1e-3f);
+    // Sections and groups out of step give no paths rather than wrong ones.
+    const std::vector<GroupSpec> fewer(groups.begin(), groups.begin() + 3);
+    for (const nlohmann::json& p : section_paths(sections.json(), fewer, head))
+        EXPECT_TRUE(p.empty());
+}
+
+// A braid's painted selection is split into its strands: each strand's group takes a third
+// of the painted wisps, all of them on the painted half, and the three make up the whole.
+TEST(ConstraintSections, BraidSplitsItsPaintedSelectionIntoStrands) {
+    Style style = small_style();
+    const Head head = load_head(style.head);
+    const Roots roots = grow_roots(style, head);
+    ConstraintSections sections;
+    sections.set_mask("back", left_half(64));
+    style.groups = sections.set(
+        nlohmann::json::parse(R"([{"section": "braid", "name": "b", "selection": "back"}])"), style,
+        {}, "style.toml");
+    ASSERT_EQ(style.groups.size(), 3u);
+    const GroupSelection picked = select_groups(style, head, roots);
+    size_t total = 0;
+    for (int k = 0; k < 3; ++k) {
+        ASSERT_TRUE(style.groups[k].selection.mask_pixels);
+        EXPECT_GT(picked.selected[k].size(), 2u);
+        for (const uint32_t w : picked.selected[k])
+            EXPECT_LT(roots.masters[w].uv.x(), 0.5f + 1.f / 64);
+        total += picked.selected[k].size();
+    }
+    EXPECT_LT(total, roots.masters.size() - 5);
+    EXPECT_NE(sections.toml("style.toml").find("mask = \"style.back.mask.png\""),
+              std::string::npos);
+}
+
 }  // namespace
 }  // namespace wisp

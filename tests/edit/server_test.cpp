@@ -219,6 +219,53 @@ TEST_F(EditServerTest, SurvivesAHostileSweepWithItsStateIntact) {
     EXPECT_EQ(status_of(get("/api/hair?strands=10")), 200);
 }
 
+// The braid and updo tools' wire: the schema's section numbers (the sliders' ranges and
+// defaults), a placed braid's and updo's expanded paths in the constraints' reply, and a bad
+// value of either a 400 naming the field, the sections unchanged.
+TEST_F(EditServerTest, BraidAndUpdoSendTheirPathsAndBadValuesNameTheField) {
+    const auto schema = nlohmann::json::parse(body_of(get("/api/schema")));
+    const auto number = [&](const std::string& section, const std::string& key) {
+        for (const auto& f : schema["sections"])
+            if (f["section"] == section && f["key"] == key) return f;
+        return nlohmann::json();
+    };
+    EXPECT_EQ(number("braid", "width")["default"], 0.35f);
+    EXPECT_EQ(number("braid", "width")["unit"], "head units");
+    EXPECT_EQ(number("braid", "strands")["max"], 16);
+    EXPECT_EQ(number("updo", "turns")["soft_max"], 6);
+
+    const std::string placed = R"({"sections": [
+        {"section": "braid", "strands": 3, "start": [0, -0.35, -1.15], "width": 0.4},
+        {"section": "updo", "point": [0, 0.55, -1.05], "bun_radius": 0.25}]})";
+    std::string r = post("/api/constraints", placed);
+    ASSERT_EQ(status_of(r), 200) << r;
+    auto j = nlohmann::json::parse(body_of(r));
+    ASSERT_EQ(j["paths"].size(), 2u);
+    EXPECT_EQ(j["paths"][0].size(), 3u);  // one per strand
+    EXPECT_EQ(j["paths"][1].size(), 1u);  // the spiral
+    EXPECT_GT(j["paths"][0][0]["points"].size(), 16u);
+    EXPECT_EQ(nlohmann::json::parse(body_of(get("/api/constraints")))["paths"], j["paths"]);
+
+    const std::vector<std::pair<std::string, std::string>> bad = {
+        {R"({"section": "braid", "strands": 2})", "braid[0].strands"},
+        {R"({"section": "braid", "width": 0})", "braid[0].width"},
+        {R"({"section": "braid", "period": -1})", "braid[0].period"},
+        {R"({"section": "braid", "weight": 1.5})", "braid[0].weight"},
+        {R"({"section": "braid", "axis": [1, 0, 0], "side": [1, 0, 0]})", "braid[0].side"},
+        {R"({"section": "braid", "start": [0, 1]})", "braid[0].start"},
+        {R"({"section": "updo", "turns": 60})", "updo[0].turns"},
+        {R"({"section": "updo", "bun_radius": -0.1})", "updo[0].bun_radius"},
+        {R"({"section": "updo", "facing": [0, 0, 0]})", "updo[0].facing"},
+    };
+    for (const auto& [section, field] : bad) {
+        r = post("/api/constraints", R"({"sections": [)" + section + "]}");
+        ASSERT_EQ(status_of(r), 400) << section << ": " << r;
+        EXPECT_EQ(nlohmann::json::parse(body_of(r))["field"], field) << section;
+    }
+    EXPECT_EQ(nlohmann::json::parse(body_of(get("/api/constraints")))["sections"],
+              nlohmann::json::parse(placed)["sections"]);
+}
+
 // GET /api/events streams the progress of a long run as server-sent events: a picture
 // rendered while the stream is open shows as its stages and its own step, then finished;
 // without the token the stream is refused; stopping the server ends the stream.

@@ -360,5 +360,49 @@ TEST(StyleSchema, DocsDescribeEveryFieldWithItsDefault) {
     }
 }
 
+// The numbers of [[braid]] and [[updo]] the editor's tools set: their defaults are the
+// documented ones, the slider's range lies in the allowed one around the default, and the
+// reader takes the range's ends and refuses what lies beyond them, naming the key.
+TEST(StyleSchema, SectionNumbersAreDocumentedAndCheckedByTheReader) {
+    const std::string docs = read_text(fs::path(WISP_SOURCE_DIR) / "docs/style.md");
+    ASSERT_FALSE(section_schema().empty());
+    for (const SectionField& f : section_schema()) {
+        const std::string section(f.section), key(f.key);
+        // docs/style.md's table under "#### `[[braid]]`", read as a table of [braid].
+        const size_t at = docs.find("#### `[[" + section + "]]`");
+        ASSERT_NE(at, std::string::npos) << section;
+        std::string part = docs.substr(at, docs.find("\n#### ", at + 1) - at);
+        part.replace(4, section.size() + 6, "`[" + section + "]`");
+        const Rows rows = field_rows(part);
+        ASSERT_TRUE(rows.count(section) && rows.at(section).count(key)) << section << "." << key;
+        const auto v = first_number(rows.at(section).at(key)[2]);
+        ASSERT_TRUE(v) << section << "." << key;
+        EXPECT_NEAR(*v, f.get_default(), 1e-6) << section << "." << key;
+        EXPECT_LE(f.lo, f.soft_lo);
+        EXPECT_LT(f.soft_lo, f.soft_hi);
+        EXPECT_LE(f.soft_hi, f.hi);
+        EXPECT_GE(f.get_default(), f.soft_lo) << section << "." << key;
+        EXPECT_LE(f.get_default(), f.soft_hi) << section << "." << key;
+        const auto error_of = [&](double value) -> std::string {
+            std::ostringstream text;
+            text << "[[" << section << "]]\n"
+                 << key << " = " << std::setprecision(12) << value
+                 << (f.type == FieldType::kNumber && value == std::floor(value) ? ".0" : "")
+                 << "\n";
+            try {
+                parse_style(text.str(), "sections");
+            } catch (const Error& e) {
+                return e.what();
+            }
+            return "";
+        };
+        const std::string field = "field '" + section + "[0]." + key + "'";
+        EXPECT_EQ(error_of(f.soft_lo), "");
+        EXPECT_EQ(error_of(f.soft_hi), "");
+        EXPECT_NE(error_of(f.lo_open ? f.lo : f.lo - 1).find(field), std::string::npos);
+        EXPECT_NE(error_of(f.hi + 1).find(field), std::string::npos);
+    }
+}
+
 }  // namespace
 }  // namespace wisp

@@ -12,11 +12,13 @@
 // `{section: "comb", name, trajectory: [[x, y, z], …] cm, smooth: true, radius, weight,
 // head_relative: false}`; a trajectory is a [[group]] whose queue is one trajectory
 // constraint, `{section: "group", name, head_relative: false, constraint: [{kind:
-// "trajectory", trajectory, smooth: true, radius, weight}]}`.
+// "trajectory", trajectory, smooth: true, radius, weight}]}`. Braids and updos are
+// hairdressing.js's.
 import * as THREE from "three";
 import { getJson, postJson, postBinary, decodeMap, encodeGrayPng } from "./api.js";
 import { Painter } from "./paint.js";
 import { groupColor } from "./views.js";
+import { Hairdressing } from "./hairdressing.js";
 
 // How far off the scalp a tie clicked on the head sits (cm): ties hold hair just off it.
 const tieLift = 1.5;
@@ -42,6 +44,8 @@ const toolHints = {
   tie: "click on or near the head: a tie · drag its handle to move it",
   comb: "drag over the head: a comb stroke, in the direction to comb · drag a control point to reshape it",
   trajectory: "drag from the roots outward: a path the hair follows · drag a control point to reshape it",
+  braid: "press on the back of the head and drag down the way it hangs: a braid · drag its start or its end to move it",
+  updo: "click where the bun sits: an updo · drag its centre, or the tip of its arrow to turn it",
 };
 
 // The points of a stroke resampled to `n` points evenly spaced along it.
@@ -115,8 +119,9 @@ class SelectionPainter extends Painter {
 export class Constraints {
   // viewport: the Viewport. onChanged(final): the groups changed on the server (refresh the
   // hair); onEdit(edit): an edit for the undo list ({kind: "constraints", before, after} or
-  // {kind: "selection", path, before, after}); onError(message).
-  constructor(viewport, panel, { onChanged, onEdit, onError }) {
+  // {kind: "selection", path, before, after}); onError(message). sectionFields: the
+  // schema's numbers of [[braid]] and [[updo]] (GET /api/schema "sections").
+  constructor(viewport, panel, { onChanged, onEdit, onError, sectionFields }) {
     this.viewport = viewport;
     this.panel = panel;
     this.list = panel.querySelector(".sections");
@@ -124,6 +129,8 @@ export class Constraints {
     this.onEdit = onEdit;
     this.onError = onError;
     this.sections = [];
+    this.paths = [];  // per section, the server's expansion of its paths (cm)
+    this.hairdressing = new Hairdressing(this, sectionFields);
     this.progress = [];  // GET /api/report's groups
     this.active = false;
     this.tool = "tie";  // what a click or a drag on the head makes: tie, comb or trajectory
@@ -155,8 +162,9 @@ export class Constraints {
   }
 
   async load() {
-    const { sections } = await getJson("/api/constraints");
+    const { sections, paths } = await getJson("/api/constraints");
     this.sections = sections;
+    this.paths = paths ?? [];
     this.draw();
   }
 
@@ -170,6 +178,7 @@ export class Constraints {
       return false;
     }
     this.sections = result.body.sections;
+    this.paths = result.body.paths ?? [];
     if (record) this.onEdit({ kind: "constraints", before, after: this.sections });
     this.draw();
     this.onChanged(true);
@@ -190,7 +199,7 @@ export class Constraints {
     for (const b of this.panel.querySelectorAll("[data-tool]")) b.classList.toggle("on", b.dataset.tool === tool);
     const hint = this.panel.querySelector(".tool-hint");
     if (hint) hint.textContent = toolHints[tool];
-    this.viewport.element.classList.toggle("stroking", this.active && tool !== "tie");
+    this.viewport.element.classList.toggle("stroking", this.active && tool !== "tie" && tool !== "updo");
   }
 
   // Paints the selection of section i (null: stops painting).
@@ -262,6 +271,7 @@ export class Constraints {
     });
     this.sections.forEach((s, i) => {
       for (const { path, points } of pathsOf(s)) this.drawPath(i, path, points);
+      if (s.section === "braid" || s.section === "updo") this.hairdressing.draw(i);
     });
     this.viewport.render();
   }
@@ -353,7 +363,11 @@ export class Constraints {
         const worst = Math.min(...groups.flatMap((g) => g.met.length ? g.met : [0]));
         bar.innerHTML = `<div class="fill" style="width:${(100 * worst).toFixed(0)}%"></div>`;
         const text = document.createElement("span");
-        text.textContent = `${wisps} wisps · met ${met}`;
+        // A braid's strands: each strand's least share, the whole queue in the tooltip.
+        text.textContent = groups.length > 1
+          ? `${wisps} wisps · met ${groups.map((g) => Math.round(100 * Math.min(...g.met.length ? g.met : [0]))).join("/")}%`
+          : `${wisps} wisps · met ${met}`;
+        bar.title = `met ${met}`;
         bar.append(text);
         row.dataset.wisps = wisps;
         row.dataset.met = worst;
@@ -386,6 +400,7 @@ export class Constraints {
         slider("radius", -1, 0.5, 10, 0.1, defaultComb.radius, "the comb's reach (cm): hair this close to its path turns along it", " cm");
         slider("weight", -1, 0.05, 1, 0.05, defaultComb.weight, "how firmly the comb overrides gravity (w of eq. 7)");
       }
+      if (s.section === "braid" || s.section === "updo") this.hairdressing.sliders(row, i);
       for (const { path } of s.section === "group" ? pathsOf(s) : [])
         slider("radius", path, 0.3, 6, 0.1, defaultTrajectory.radius, "the path's tolerance radius (cm): how tightly the hair keeps to it", " cm");
       this.list.append(row);
@@ -437,7 +452,13 @@ export class Constraints {
       this.drag = { handle: hit.object, plane: new THREE.Plane().setFromNormalAndCoplanarPoint(normal, hit.object.position) };
       return;
     }
-    if (this.tool !== "tie") {
+    if (this.hairdressing.down(e)) {
+      e.preventDefault();
+      e.stopImmediatePropagation();
+      this.viewport.controls.enabled = false;
+      return;
+    }
+    if (this.tool === "comb" || this.tool === "trajectory") {
       const p = this.surfacePoint(e);
       if (!p) return;
       e.preventDefault();
@@ -453,6 +474,7 @@ export class Constraints {
   }
 
   move(e) {
+    if (this.hairdressing.move(e)) return;
     if (this.stroke) {
       const p = this.surfacePoint(e);
       const last = this.stroke.points[this.stroke.points.length - 1];
@@ -470,6 +492,7 @@ export class Constraints {
     if (!p) return;
     handle.position.copy(p);
     handle.userData.ring?.position.copy(p);
+    handle.userData.follow?.(p);
     this.drag.moved = true;
     this.viewport.render();
   }
@@ -501,13 +524,21 @@ export class Constraints {
 
   up(e) {
     if (this.stroke) return this.finishStroke();
+    if (this.hairdressing.placing) {
+      this.viewport.controls.enabled = true;
+      return this.hairdressing.finish();
+    }
     if (this.drag) {
       const { handle, moved } = this.drag;
       this.drag = null;
       this.viewport.controls.enabled = true;
       if (!moved) return;
       const next = structuredClone(this.sections);
-      const { section, path, point } = handle.userData;
+      const { section, path, point, role } = handle.userData;
+      if (role) {
+        const reshaped = this.hairdressing.moved(next, handle, handle.position);
+        return reshaped ? this.apply(reshaped) : this.draw();
+      }
       if (path === undefined) next[section].point = rounded(handle.position);
       else (path < 0 ? next[section] : next[section].constraint[path]).trajectory[point] = rounded(handle.position);
       this.apply(next);
@@ -516,6 +547,8 @@ export class Constraints {
     const press = this.press;
     this.press = null;
     if (!press || !this.active || Math.hypot(e.clientX - press.x, e.clientY - press.y) > 4) return;
+    if (this.tool === "updo") return this.hairdressing.placeUpdo(e);
+    if (this.tool !== "tie") return;
     const p = this.tiePoint(e);
     if (!p) return this.onError("click on or near the head to place a tie");
     const n = this.sections.filter((s) => s.section === "tie").length + 1;

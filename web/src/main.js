@@ -185,8 +185,8 @@ window.addEventListener("keydown", (e) => {
     if (k === "p") setPainting(!painter.active);
     else if (k === "m") motion.toggle();
     else if (motion.active && k === " ") { e.preventDefault(); motion.play(!motion.state?.playing); }
-    else if (k === "t" || k === "c") {
-      const tool = k === "t" ? "tie" : "comb";
+    else if (k === "t" || k === "c" || k === "b" || k === "u") {
+      const tool = { t: "tie", c: "comb", b: "braid", u: "updo" }[k];
       if (constraints.active && constraints.tool === tool) setTying(false);
       else {
         constraints.setTool(tool);
@@ -234,6 +234,7 @@ const constraints = new Constraints(viewport, document.getElementById("tie-tools
     redo.length = 0;
   },
   onError: (message) => say(message),
+  sectionFields: schema.sections,
 });
 function selectBrushChanged() {
   const b = constraints.selector.brush;

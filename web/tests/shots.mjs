@@ -1,13 +1,15 @@
 // The pictures of docs/edit.md: the editor with wisp's render beside the live view, painting
-// the density map, a tie with its painted selection coloured by group, and a comb stroke
-// (then coloured by constraint progress). Not a test: run
+// the density map, a tie with its painted selection coloured by group, a comb stroke
+// (then coloured by constraint progress), a braid and an updo. Not a test: run
 // by hand after a change to the editor's look, then look at the pictures.
 //   node web/tests/shots.mjs WISP_EXE OUT_DIR
+// WISP_SHOTS=braid,updo makes only those (editor, paint, tie, comb, braid, updo).
 import { dragThrough, launchChromium, onScreen, openEditor, settler, startEditor, tempFolder, testArguments, viewFromBehind } from "./harness.mjs";
 import { rmSync } from "node:fs";
 import path from "node:path";
 
 const { wisp, outDir } = testArguments();
+const wanted = (name) => !process.env.WISP_SHOTS || process.env.WISP_SHOTS.split(",").includes(name);
 const folder = tempFolder("shots");
 const browser = await launchChromium();
 const servers = [];
@@ -28,7 +30,7 @@ try {
   };
 
   // The editor with wisp's own render beside the live view.
-  {
+  if (wanted("editor")) {
     const { page, settle } = await open("wavy-bob", 30000);
     await page.click("#render");
     await page.waitForFunction(() => document.getElementById("picture-time").textContent.endsWith(" s"), null,
@@ -37,7 +39,7 @@ try {
     await page.screenshot({ path: path.join(outDir, "editor.png") });
   }
   // Painting the density map.
-  {
+  if (wanted("paint")) {
     const { page, settle } = await open("long-straight", 30000);
     await page.click("#paint");
     await page.waitForFunction(() => window.wispEditor?.painter.map !== null, null, { timeout: 300000 });
@@ -64,7 +66,7 @@ try {
     await page.screenshot({ path: path.join(outDir, "paint.png") });
   }
   // A tie with its painted selection, coloured by group.
-  {
+  if (wanted("tie")) {
     const { page, settle } = await open("long-straight", 30000);
     await page.selectOption("#color-by", "group");
     await page.click("#tie");
@@ -87,7 +89,7 @@ try {
     await page.screenshot({ path: path.join(outDir, "tie.png") });
   }
   // A comb stroke across the back of the head, left to right; then coloured by progress.
-  {
+  if (wanted("comb")) {
     const { page, settle } = await open("long-straight", 30000);
     await page.click("#tie");
     await page.click("#tie-tools [data-tool='comb']");
@@ -102,6 +104,32 @@ try {
       { timeout: 300000 });
     await page.waitForTimeout(1500);
     await page.screenshot({ path: path.join(outDir, "comb-progress.png") });
+  }
+  // A braid dragged down the back of the head, on the braid preset's hair (long enough to
+  // reach the nape and be braided) with the preset's own braid taken away.
+  if (wanted("braid")) {
+    const { page, settle } = await open("braid", 30000);
+    await page.click("#tie");
+    await page.evaluate(() => window.wispEditor.constraints.apply([], { record: false }));
+    await page.click("#tie-tools [data-tool='braid']");
+    await viewFromBehind(page, [25, 5, -110]);
+    // The geometry of web/tests/hairdressing_test.mjs.
+    await dragThrough(page, await onScreen(page, [[0, -0.45, -1.2], [0, -2.3, -1.35]]), 10);
+    await page.waitForFunction(() => window.wispEditor.constraints.sections.length === 1, null, { timeout: 300000 });
+    await settle();
+    await page.screenshot({ path: path.join(outDir, "braid.png") });
+  }
+  // An updo clicked on the upper back of the head.
+  if (wanted("updo")) {
+    const { page, settle } = await open("long-straight", 30000);
+    await page.click("#tie");
+    await page.click("#tie-tools [data-tool='updo']");
+    await viewFromBehind(page, [20, 35, -95]);
+    const [at] = await onScreen(page, [[0, 0.55, -1.05]]);
+    await page.mouse.click(...at);
+    await page.waitForFunction(() => window.wispEditor.constraints.sections.length === 1, null, { timeout: 300000 });
+    await settle();
+    await page.screenshot({ path: path.join(outDir, "updo.png") });
   }
 } finally {
   await browser.close();

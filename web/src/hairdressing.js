@@ -1,0 +1,269 @@
+// The braid and updo tools of the Constraints panel (Choe & Ko §6.2, Fig. 15): a braid is
+// placed with a press on the back of the head (its `start`, just off the scalp as a tie is)
+// and a drag along the way it hangs (its axis and length); an updo with a click where the
+// bun sits (its `point`, facing away from the head). Each is then reshaped by its handles
+// (the braid's start and the end of its axis; the bun's centre and the tip of its facing)
+// and by sliders whose ranges, defaults and documentation are the schema's (GET
+// /api/schema "sections"; the reader checks the same ranges and its message names the key).
+//
+// They are kept as the TOML reader reads them, in head units (the sections' default, so a
+// saved braid fits any head): `{section: "braid", name, start: [x, y, z], axis, side,
+// length, strands, width, period, radius, weight}`, `{section: "updo", name, point, facing,
+// bun_radius, turns, radius, weight}`; keys left out take the reader's defaults. What is
+// drawn — each braid strand's figure-eight and the bun's spiral — is the server's expansion
+// of the sections (groom/hairdressing.cpp, the "paths" of /api/constraints), in cm, not a
+// copy of its formulas.
+import * as THREE from "three";
+import { groupColor } from "./views.js";
+
+// A press moved less than this (cm) is a click: the braid takes the reader's axis and length.
+const minDrag = 2;
+// The tubes drawn along a braid's strands (cm): thin enough to see the crossings.
+const strandTube = 0.2;
+
+const round3 = (v) => Math.round(v * 1000) / 1000;
+
+export class Hairdressing {
+  // constraints: the Constraints it serves (its viewport, sections, paths, apply());
+  // fields: the schema's section numbers ([{section, key, type, unit, min, max, min_open,
+  // soft_min, soft_max, doc, default}]).
+  constructor(constraints, fields) {
+    this.c = constraints;
+    this.fields = fields ?? [];
+    this.placing = null;  // a braid being dragged out: { start (cm), plane, line }
+  }
+
+  // Head units ⇄ cm, as the solver maps them (solve/pipeline.cpp head_frame: the scalp
+  // sphere's centre and the distance to its crown).
+  toHead(p) {
+    return p.clone().sub(this.c.center).divideScalar(this.c.radius);
+  }
+  toSpace(a) {
+    return new THREE.Vector3(...a).multiplyScalar(this.c.radius).add(this.c.center);
+  }
+
+  numbers(kind) {
+    return this.fields.filter((f) => f.section === kind);
+  }
+
+  valueOf(s, key) {
+    return s[key] ?? this.fields.find((f) => f.section === s.section && f.key === key)?.default;
+  }
+
+  // The braid's or bun's handles and paths, for section i.
+  draw(i) {
+    const s = this.c.sections[i];
+    const paths = this.c.paths[i] ?? [];
+    const first = this.c.groupIndex(i);
+    const overlay = (m) => Object.assign(m, { depthTest: false, transparent: true });
+    if (s.section === "braid" && paths.length) {
+      // The strands are drawn over the hair and the head but hide each other where they
+      // cross (over and under): the depth is cleared after the hair, before them.
+      const clear = new THREE.Mesh(new THREE.BufferGeometry().setFromPoints([new THREE.Vector3(), new THREE.Vector3(), new THREE.Vector3()]),
+        new THREE.MeshBasicMaterial({ colorWrite: false, depthWrite: false }));
+      clear.frustumCulled = false;
+      clear.renderOrder = 17;
+      clear.onBeforeRender = (renderer) => renderer.clearDepth();
+      this.c.handles.add(clear);
+    }
+    paths.forEach((path, k) => {
+      const [r, g, b] = groupColor(first + (s.section === "braid" ? k : 0));
+      const color = new THREE.Color(r, g, b);
+      const points = path.points.map((q) => new THREE.Vector3(...q));
+      if (points.length < 2) return;
+      const curve = path.smooth ? new THREE.CatmullRomCurve3(points, false, "catmullrom", 0.5)
+        : new THREE.CatmullRomCurve3(points, false, "chordal", 0);
+      const samples = Math.min(2000, 8 * points.length);
+      if (s.section === "braid") {
+        // The strands as shaded tubes.
+        const tube = new THREE.Mesh(new THREE.TubeGeometry(curve, samples, strandTube, 8, false),
+          new THREE.MeshStandardMaterial({ color, roughness: 0.55 }));
+        tube.renderOrder = 18;
+        this.c.handles.add(tube);
+      } else {
+        const line = new THREE.Line(new THREE.BufferGeometry().setFromPoints(curve.getSpacedPoints(samples)),
+          overlay(new THREE.LineBasicMaterial({ color, opacity: 0.95 })));
+        line.renderOrder = 19;
+        const tube = new THREE.Mesh(new THREE.TubeGeometry(curve, samples, path.radius, 8, false),
+          overlay(new THREE.MeshBasicMaterial({ color, opacity: 0.12, depthWrite: false })));
+        tube.renderOrder = 18;
+        this.c.handles.add(tube, line);
+      }
+    });
+    const [r, g, b] = groupColor(first);
+    const color = new THREE.Color(r, g, b);
+    const handle = (p, role, size, tint = color) => {
+      const h = new THREE.Mesh(new THREE.SphereGeometry(size, 20, 12),
+        overlay(new THREE.MeshBasicMaterial({ color: tint, opacity: 0.95 })));
+      h.position.copy(p);
+      h.userData = { section: i, role };
+      h.renderOrder = 21;
+      this.c.handles.add(h);
+      return h;
+    };
+    const stem = (from, to, arrow) => {
+      const line = new THREE.Line(new THREE.BufferGeometry().setFromPoints([from, to]),
+        overlay(new THREE.LineDashedMaterial({ color: 0xffffff, opacity: 0.8, dashSize: 0.6, gapSize: 0.4 })));
+      line.computeLineDistances();
+      line.renderOrder = 20;
+      this.c.handles.add(line);
+      if (!arrow) return;
+      const cone = new THREE.Mesh(new THREE.ConeGeometry(0.45, 1.3, 14),
+        overlay(new THREE.MeshBasicMaterial({ color, opacity: 0.95 })));
+      cone.position.copy(to);
+      cone.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), to.clone().sub(from).normalize());
+      cone.renderOrder = 21;
+      // While dragged, the stem follows the tip.
+      const follow = (p) => {
+        line.geometry.setFromPoints([from, p]);
+        line.computeLineDistances();
+        cone.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), p.clone().sub(from).normalize());
+      };
+      cone.userData = { section: i, role: arrow, follow };
+      this.c.handles.add(cone);
+    };
+    if (s.section === "braid") {
+      // The start, and the axis's end: the strands' phases cancel, so the mean of their
+      // ends is start + length·axis as the server expanded it.
+      const start = s.start ? this.toSpace(s.start) : null;
+      const end = new THREE.Vector3();
+      for (const p of paths) end.add(new THREE.Vector3(...p.points[p.points.length - 1]));
+      if (start) handle(start, "start", 0.6, 0xffffff);
+      if (paths.length && start) stem(start, end.divideScalar(paths.length), "end");
+    } else if (s.section === "updo" && s.point) {
+      const centre = this.toSpace(s.point);
+      handle(centre, "point", 0.6, 0xffffff);
+      if (Array.isArray(s.facing)) {
+        const facing = new THREE.Vector3(...s.facing).normalize();
+        const reach = this.valueOf(s, "bun_radius") * this.c.radius + 3;
+        stem(centre, centre.clone().addScaledVector(facing, reach), "facing");
+      }
+    }
+  }
+
+  // A handle dragged to p (cm): the sections with the braid or bun reshaped.
+  moved(sections, handle, p) {
+    const { section: i, role } = handle.userData;
+    const s = sections[i];
+    const at = this.toHead(p);
+    if (role === "start" || role === "point") {
+      s[role] = at.toArray().map(round3);
+    } else if (role === "end") {
+      const d = at.sub(new THREE.Vector3(...s.start));
+      if (d.length() < minDrag / this.c.radius) return null;
+      Object.assign(s, this.orientation(d, s.side));
+    } else if (role === "facing") {
+      const d = p.clone().sub(this.toSpace(s.point));
+      if (d.length() < 0.5) return null;
+      s.facing = d.normalize().toArray().map(round3);
+    }
+    return sections;
+  }
+
+  // A braid's axis, length and side for an axis vector d (head units): side is `previous`
+  // (or across the view) made perpendicular to the axis, pointing to +x where it can.
+  orientation(d, previous) {
+    const axis = d.clone().normalize();
+    const view = this.c.viewport.camera.getWorldDirection(new THREE.Vector3());
+    let side = previous ? new THREE.Vector3(...previous) : axis.clone().cross(view);
+    side.addScaledVector(axis, -side.dot(axis));
+    if (side.length() < 0.2) side = axis.clone().cross(view);
+    if (side.length() < 0.2) side = axis.clone().cross(new THREE.Vector3(0, 0, 1));
+    side.normalize();
+    if (side.x < -1e-3) side.negate();
+    return { axis: axis.toArray().map(round3), side: side.toArray().map(round3), length: round3(d.length()) };
+  }
+
+  // A free name: "braid 1", "updo 2", …
+  nameFor(kind) {
+    const n = this.c.sections.filter((s) => s.section === kind).length + 1;
+    let name = `${kind} ${n}`;
+    for (let k = n + 1; this.c.sections.some((s) => s.name === name); ++k) name = `${kind} ${k}`;
+    return name;
+  }
+
+  // Where a press or click puts a braid's start or a bun's centre (cm), or null: just off
+  // the head, as a tie is put.
+  anchor(e) {
+    return this.c.tiePoint(e);
+  }
+
+  // The braid tool's press: starts dragging out a braid. True when it took the event.
+  down(e) {
+    if (this.c.tool !== "braid") return false;
+    const start = this.anchor(e);
+    if (!start) return false;
+    const normal = this.c.viewport.camera.getWorldDirection(new THREE.Vector3());
+    const line = new THREE.Line(new THREE.BufferGeometry().setFromPoints([start, start]),
+      new THREE.LineBasicMaterial({ color: 0xd7a05b, depthTest: false, transparent: true }));
+    line.renderOrder = 22;
+    this.c.handles.add(line);
+    this.placing = { start, end: start.clone(), plane: new THREE.Plane().setFromNormalAndCoplanarPoint(normal, start), line };
+    return true;
+  }
+
+  move(e) {
+    if (!this.placing) return false;
+    const p = this.c.ray(e).intersectPlane(this.placing.plane, new THREE.Vector3());
+    if (p) {
+      this.placing.end.copy(p);
+      this.placing.line.geometry.setFromPoints([this.placing.start, p]);
+      this.c.viewport.render();
+    }
+    return true;
+  }
+
+  // The braid dragged out: start where the press was, the axis along the drag (a click:
+  // the reader's axis, side and length).
+  finish() {
+    const { start, end, line } = this.placing;
+    this.placing = null;
+    this.c.handles.remove(line);
+    const section = { section: "braid", name: this.nameFor("braid"), start: this.toHead(start).toArray().map(round3) };
+    if (end.distanceTo(start) >= minDrag) Object.assign(section, this.orientation(this.toHead(end).sub(this.toHead(start))));
+    this.c.apply([...this.c.sections, section]);
+  }
+
+  // The updo tool's click: a bun at p, facing away from the head's centre.
+  placeUpdo(e) {
+    const p = this.anchor(e);
+    if (!p) return this.c.onError("click on or near the head to place a bun");
+    const point = this.toHead(p);
+    this.c.apply([...this.c.sections, {
+      section: "updo", name: this.nameFor("updo"), point: point.toArray().map(round3),
+      facing: point.clone().normalize().toArray().map(round3),
+    }]);
+  }
+
+  // The sliders of section i's numbers, from the schema: its range where a useful value
+  // lies, its unit (head units, also shown in cm) and its documentation as the title.
+  sliders(row, i) {
+    const s = this.c.sections[i];
+    for (const f of this.numbers(s.section)) {
+      const input = document.createElement("input");
+      input.type = "range";
+      const integer = f.type === "integer";
+      const step = integer ? 1 : Math.pow(10, Math.floor(Math.log10(f.soft_max - f.soft_min)) - 2);
+      Object.assign(input, { min: f.soft_min, max: f.soft_max, step });
+      input.value = this.valueOf(s, f.key);
+      input.dataset.key = f.key;
+      input.title = `${f.doc} (${s.section}.${f.key}${f.unit ? `, ${f.unit}` : ""}; default ${f.default})`;
+      const label = document.createElement("label");
+      // Sizes shown in cm, kept in head units (the tooltip gives both).
+      const show = () => {
+        const v = Number(input.value);
+        const text = integer ? `${v}` : v.toFixed(step < 0.01 ? 3 : 2);
+        label.textContent = f.unit === "head units" ? `${f.key} ${(v * this.c.radius).toFixed(1)} cm` : `${f.key} ${text}`;
+        label.title = f.unit ? `${text} ${f.unit}` : text;
+      };
+      show();
+      input.oninput = show;
+      input.onchange = () => {
+        const next = structuredClone(this.c.sections);
+        next[i][f.key] = integer ? parseInt(input.value, 10) : Number(input.value);
+        this.c.apply(next);
+      };
+      row.append(label, input);
+    }
+  }
+}
