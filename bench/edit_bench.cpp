@@ -17,9 +17,13 @@
 // a loaded machine does not inflate). The rows with progress:1 report it as the server does
 // (a ProgressEvents task: each stage, and the solve's layers and the members' wisps inside
 // them), to show that costs nothing measurable against progress:0.
+// Counters roots_ms … encode_ms: each stage's wall time per iteration, as the stage cache
+// timed it (field_ms is the solve's styling field, inside solve_ms; members_ms and color_ms
+// are a preview's subset where only that was grown), so a report can say where the time went.
 // Run: build/release/bin/wisp_bench --benchmark_filter=Edit
 #include <benchmark/benchmark.h>
 
+#include <array>
 #include <cstring>
 #include <memory>
 #include <optional>
@@ -45,12 +49,18 @@ void run(benchmark::State& state, const char* path, const char* a, const char* b
     cache.update();
     bool flip = false;
     size_t bytes = 0, strands = 0;
+    // Per-stage wall ms, summed over the iterations (the stages this answer ran; the styling
+    // field is part of the solve, the preview's members and colour those of a subset).
+    double roots_ms = 0., masters_ms = 0., solve_ms = 0., field_ms = 0., members_ms = 0.,
+           color_ms = 0., encode_ms = 0.;
     ProgressEvents events;
     for (auto _ : state) {
         cache.set(path, (flip = !flip) ? a : b);
         std::optional<ProgressEvents::Task> task;
         if (progress) task.emplace(events, "update", kStageCount);
         const CancelToken token(task ? task->fractions() : nullptr);
+        const Stage stale = cache.stale();
+        const std::array<int, kStageCount> runs = cache.runs();
         const StageProgress stages = task ? task->stages() : StageProgress{};
         std::string out;
         std::shared_ptr<const std::string> sent;
@@ -78,6 +88,20 @@ void run(benchmark::State& state, const char* path, const char* a, const char* b
             strands = count;
         }
         bytes = sent ? sent->size() : out.size();
+        const auto ran = [&](Stage s) { return cache.runs()[int(s)] != runs[int(s)]; };
+        const auto ms = [&](Stage s) { return ran(s) ? cache.last_ms()[int(s)] : 0.; };
+        roots_ms += ms(Stage::kRoots);
+        masters_ms += ms(Stage::kMasters);
+        solve_ms += ms(Stage::kSolve);
+        if (ran(Stage::kSolve)) field_ms += cache.field_ms();
+        if (answer == Answer::kPreview && stale <= Stage::kMembers && !ran(Stage::kMembers)) {
+            members_ms += cache.preview_members_ms();
+            color_ms += cache.preview_color_ms();
+        } else {
+            members_ms += ms(Stage::kMembers);
+            color_ms += ms(Stage::kColor);
+        }
+        if (sent) encode_ms += cache.encode_ms();
         benchmark::DoNotOptimize(sent ? sent->data() : out.data());
         sent.reset();
         task.reset();
@@ -87,6 +111,16 @@ void run(benchmark::State& state, const char* path, const char* a, const char* b
     }
     state.counters["bytes"] = static_cast<double>(bytes);
     state.counters["strands"] = static_cast<double>(strands);
+    const auto per_iteration = [&](const char* name, double total) {
+        if (total > 0.) state.counters[name] = total / static_cast<double>(state.iterations());
+    };
+    per_iteration("roots_ms", roots_ms);
+    per_iteration("masters_ms", masters_ms);
+    per_iteration("solve_ms", solve_ms);
+    per_iteration("field_ms", field_ms);
+    per_iteration("members_ms", members_ms);
+    per_iteration("color_ms", color_ms);
+    per_iteration("encode_ms", encode_ms);
 }
 
 void BM_EditColor20k(benchmark::State& state) {

@@ -123,8 +123,10 @@ bool StageCache::run_until(Stage last, const CancelToken& cancel, const StagePro
                 Masters solved = masters_;
                 SolveStats stats;
                 if (style_.solve.enabled) {
+                    Stopwatch field_watch;
                     const StylingField& field =
                         styling_field_for(solve_bounds(style_, head_, roots_, masters_));
+                    field_ms_ = field_watch.ms();
                     stats = solve_stage(style_, head_, *head_field_, roots_, groups_, solved,
                                         nullptr, &field, cancel);
                     if (stats.cancelled) return false;
@@ -198,10 +200,12 @@ const Hair* StageCache::update_preview(size_t strands, const CancelToken& cancel
                                     groups_.wisp_group, nullptr, ids, cancel);
     if (cancel.cancelled()) return nullptr;
     preview_ = std::move(m.hair);
+    preview_members_ms_ = watch.ms();
     // Strand i is strand ids[i] of the full hair, so it takes that strand's colour, unless the
     // cut removed strands and shifted the indices.
     color_stage(style_, preview_, m.strands_removed == 0 ? ids : std::span<const uint32_t>());
     preview_ms_ = watch.ms();
+    preview_color_ms_ = preview_ms_ - preview_members_ms_;
     return &preview_;
 }
 
@@ -217,11 +221,14 @@ std::shared_ptr<const std::string> StageCache::hair_bytes(size_t strands, const 
         // A preview: strand i of preview_ is already strand_order[i] of the full hair.
         const Hair* preview = update_preview(strands, cancel, progress);
         if (!preview) return nullptr;
+        Stopwatch watch;
         std::vector<uint32_t> ids(preview->strand_count());
         for (size_t i = 0; i < ids.size(); ++i)
             ids[i] = static_cast<uint32_t>(i);
-        return std::make_shared<const std::string>(
+        auto bytes = std::make_shared<const std::string>(
             encode_strands(*preview, ids, roots_.members.size()));
+        encode_ms_ = watch.ms();
+        return bytes;
     }
     // The members are up to date, or all of them are asked for.
     if (!run_until(Stage::kMembers, cancel, progress)) return nullptr;
@@ -244,6 +251,7 @@ std::shared_ptr<const std::string> StageCache::hair_bytes(size_t strands, const 
     // The positions encoded last time stay when the hair and the count are the same and no
     // one holds that buffer any more (use_count is exact here: copies are made under the
     // caller's lock only, and a holder that lets go only lowers it).
+    Stopwatch watch;
     const bool held = bytes_ && bytes_.use_count() > 1;
     // A holder's reads come before its release of the buffer: seen released, they are over.
     std::atomic_thread_fence(std::memory_order_acquire);
@@ -253,6 +261,7 @@ std::shared_ptr<const std::string> StageCache::hair_bytes(size_t strands, const 
         bytes_strands_ = count;
     }
     write_strand_colors(colors, *bytes_);
+    encode_ms_ = watch.ms();
     return bytes_;
 }
 

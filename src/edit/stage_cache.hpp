@@ -120,8 +120,16 @@ class StageCache {
     int head_field_runs() const { return head_field_runs_; }
     // How many times the styling field was built (kept while only κ, τ and the like move).
     int styling_field_runs() const { return styling_field_runs_; }
-    // How long the last update_preview of a subset took after the solve (ms).
+    // How long the last update_preview of a subset took after the solve (ms), and its two
+    // parts: the members (growth, cut, push out of the head) and their colours.
     double preview_ms() const { return preview_ms_; }
+    double preview_members_ms() const { return preview_members_ms_; }
+    double preview_color_ms() const { return preview_color_ms_; }
+    // How long the last solve stage spent getting its styling field (0 when it was kept), and
+    // the last hair_bytes call encoding (ms): with last_ms() and the preview's parts, the
+    // stage breakdown of BM_EditMapStroke20k.
+    double field_ms() const { return field_ms_; }
+    double encode_ms() const { return encode_ms_; }
 
   private:
     void mark(Stage stage);
@@ -162,6 +170,10 @@ class StageCache {
     int head_field_runs_ = 0;
     int styling_field_runs_ = 0;
     double preview_ms_ = 0.;
+    double preview_members_ms_ = 0.;
+    double preview_color_ms_ = 0.;
+    double field_ms_ = 0.;
+    double encode_ms_ = 0.;
 };
 
 }  // namespace wisp
