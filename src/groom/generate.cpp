@@ -31,14 +31,13 @@ Roots grow_roots(const Style& style, const Head& head, const MeshDistance* scalp
     return place_roots(*head.scalp, density, params, scalp_surface);
 }
 
-Masters synthesize_masters(const Style& style, const Head& head, const Roots& roots) {
+Masters master_outlines(const Style& style, const Head& head, const Roots& roots) {
     const Scalp& scalp = *head.scalp;
     const MapSampler length_map(style.length, scalp);
     const MapSampler protrusion_map(style.protrusion, scalp);
     const GrowthField growth_field(style.growth, scalp);
     const size_t w_count = roots.masters.size();
     const int n = style.points_per_strand;
-    const int h = style.prototype.window;
 
     Masters m;
     m.points = n;
@@ -51,28 +50,12 @@ Masters synthesize_masters(const Style& style, const Head& head, const Roots& ro
     m.frames.resize(w_count * n);
     m.control.resize(w_count * n);
 
-    float longest = 0.f;
     for (size_t w = 0; w < w_count; ++w) {
         const float len = length_map(m.roots[w]);
         if (!(len > 0.f) || !std::isfinite(len))
             fail("length map gives ", len, " cm at a root: hair length must be > 0");
         m.segment[w] = len / static_cast<float>(n - 1);
-        longest = std::max(longest, m.segment[w]);
     }
-
-    // The prototype: presets are generated long enough for any master; a user polyline
-    // must be long enough to hold a window at the coarsest segment length.
-    PrototypeSpec proto_spec = style.prototype;
-    if (proto_spec.kind != PrototypeSpec::Kind::kPolyline)
-        proto_spec.length = std::max(proto_spec.length, static_cast<float>(h + 16) * longest);
-    const PrototypeCurve curve = make_prototype_curve(proto_spec);
-    const bool straight = is_straight(proto_spec);
-    if (proto_spec.kind == PrototypeSpec::Kind::kPolyline &&
-        curve.centre_arc.back() < static_cast<float>(h + 2) * longest)
-        fail("prototype.points: the polyline's outline is ", curve.centre_arc.back(),
-             " cm long, but a window of ", h, " needs at least ",
-             static_cast<float>(h + 2) * longest,
-             " cm at the longest master's segment length (length / (points_per_strand-1))");
 
     parallel_for(
         w_count,
@@ -91,12 +74,46 @@ Masters synthesize_masters(const Style& style, const Head& head, const Roots& ro
             f.n = (spin * f.n).normalized();
             f.b = f.t.cross(f.n);
             m.root_frame[w] = f;
+            for (int i = 0; i < n; ++i)
+                m.outline[w * n + i] = root.position + (m.segment[w] * static_cast<float>(i)) * dir;
+        },
+        64);
+    return m;
+}
 
+MasterPrototype master_prototype(const Style& style, const Masters& masters) {
+    const int h = style.prototype.window;
+    float longest = 0.f;
+    for (const float s : masters.segment)
+        longest = std::max(longest, s);
+    // Presets are generated long enough for any master; a user polyline must be long enough
+    // to hold a window at the coarsest segment length.
+    PrototypeSpec spec = style.prototype;
+    if (spec.kind != PrototypeSpec::Kind::kPolyline)
+        spec.length = std::max(spec.length, static_cast<float>(h + 16) * longest);
+    MasterPrototype p{make_prototype_curve(spec), is_straight(spec)};
+    if (spec.kind == PrototypeSpec::Kind::kPolyline &&
+        p.curve.centre_arc.back() < static_cast<float>(h + 2) * longest)
+        fail("prototype.points: the polyline's outline is ", p.curve.centre_arc.back(),
+             " cm long, but a window of ", h, " needs at least ",
+             static_cast<float>(h + 2) * longest,
+             " cm at the longest master's segment length (length / (points_per_strand-1))");
+    return p;
+}
+
+void synthesize_master_details(const Style& style, const MasterPrototype& prototype, Masters& m,
+                               bool update_frames) {
+    const int n = m.points;
+    const int h = style.prototype.window;
+    parallel_for(
+        m.count(),
+        [&](size_t w) {
             SynthesisParams sp;
             sp.window = h;
-            sp.substeps = straight ? 1 : synthesis_substeps(m.segment[w], style.prototype.period);
+            sp.substeps =
+                prototype.straight ? 1 : synthesis_substeps(m.segment[w], style.prototype.period);
             sp.temperature = style.prototype.temperature;
-            const std::vector<Vec3f> proto = decompose(curve, m.segment[w] / sp.substeps);
+            const std::vector<Vec3f> proto = decompose(prototype.curve, m.segment[w] / sp.substeps);
             // Fully rewritten by each call: reusing it per thread changes no result.
             static thread_local SynthesisScratch scratch;
             std::span<Vec3f> details(m.details.data() + w * n, static_cast<size_t>(n));
@@ -107,11 +124,14 @@ Masters synthesize_masters(const Style& style, const Head& head, const Roots& ro
             const Vec3f d0 = details[0];
             for (Vec3f& d : details)
                 d -= d0;
-            for (int i = 0; i < n; ++i)
-                m.outline[w * n + i] = root.position + (m.segment[w] * static_cast<float>(i)) * dir;
-            update_master(m, w);
+            if (update_frames) update_master(m, w);
         },
         8);
+}
+
+Masters synthesize_masters(const Style& style, const Head& head, const Roots& roots) {
+    Masters m = master_outlines(style, head, roots);
+    synthesize_master_details(style, master_prototype(style, m), m);
     return m;
 }
 

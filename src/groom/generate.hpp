@@ -10,6 +10,7 @@
 #include "core/timer.hpp"
 #include "groom/head.hpp"
 #include "groom/master.hpp"
+#include "groom/prototype.hpp"
 #include "groom/roots.hpp"
 #include "groom/style.hpp"
 
@@ -22,6 +23,25 @@ Roots grow_roots(const Style& style, const Head& head, const MeshDistance* scalp
 // Stage 2 (§2.2): master outlines along the protrusion direction with details synthesized
 // from the prototype. Throws wisp::Error if the prototype is too short for the window.
 Masters synthesize_masters(const Style& style, const Head& head, const Roots& roots);
+
+// Stage 2 in its parts, synthesize_masters being master_outlines, then master_prototype, then
+// synthesize_master_details. The outlines are what the solve reads before its end (roots,
+// segment, direction, root_frame and the straight outline): the editor synthesizes the
+// details beside the solve (edit/stage_cache.cpp). master_outlines leaves details, frames
+// and control sized #W·n and zero; throws wisp::Error on a length map's bad value.
+Masters master_outlines(const Style& style, const Head& head, const Roots& roots);
+// The prototype curve every master's details are drawn from, for the masters' segment
+// lengths. Throws wisp::Error if a polyline prototype is too short for the window.
+struct MasterPrototype {
+    PrototypeCurve curve;
+    bool straight = false;  // is_straight(): one substep per segment
+};
+MasterPrototype master_prototype(const Style& style, const Masters& masters);
+// Fills masters.details (#W·n) from the prototype, each wisp from its own stream, and with
+// `update_frames` the frames and control points that follow (update_master); without, they
+// are left for the caller to compute (the solve moves the outline first).
+void synthesize_master_details(const Style& style, const MasterPrototype& prototype,
+                               Masters& masters, bool update_frames = true);
 
 // Stage 4 (§2.1): every member strand of every wisp, with widths, wisp ids and the scalp UV
 // and normal of its root (no colors, no groups).

@@ -201,7 +201,8 @@ StylingField styling_field(const Style& style, const Head& head, const Box3& bou
 
 SolveStats solve_stage(const Style& style, const Head& head, const HeadField& head_field,
                        const Roots& roots, const GroupSelection& groups, Masters& masters,
-                       StageTimes* times, const StylingField* kept, const CancelToken& cancel) {
+                       StageTimes* times, const StylingField* kept, const CancelToken& cancel,
+                       bool update_frames) {
     Stopwatch watch;
     const HeadFrame frame = head_frame(*head.scalp);
     StylingField own;
@@ -235,6 +236,7 @@ SolveStats solve_stage(const Style& style, const Head& head, const HeadField& he
         in.radius_profile[k] =
             deviation_radius(style.wisp.deviation_radius, static_cast<float>(k) / (n - 1)) / r0;
     in.cancel = &cancel;
+    in.update_frames = update_frames;
     SolveStats stats = solve_masters(masters, in, style.solve, density);
     if (times) times->emplace_back("solve", watch.ms());
     return stats;

@@ -75,11 +75,12 @@ StylingField styling_field(const Style& style, const Head& head, const Box3& bou
 // Styling field, density grid and Algorithm 1 (§3, §4): solves `masters` in place. `field`,
 // when given, is styling_field(style, head, solve_bounds(…)) kept from an earlier solve (the
 // editor keeps it while only κ or τ move). A cancelled solve (SolveStats::cancelled) leaves
-// `masters` partly solved.
+// `masters` partly solved. Without `update_frames`, the masters' frames and control points are
+// left for the caller to compute (SolveInput::update_frames).
 SolveStats solve_stage(const Style& style, const Head& head, const HeadField& head_field,
                        const Roots& roots, const GroupSelection& groups, Masters& masters,
                        StageTimes* times = nullptr, const StylingField* field = nullptr,
-                       const CancelToken& cancel = {});
+                       const CancelToken& cancel = {}, bool update_frames = true);
 
 struct MembersResult {
     Hair hair;  // without colors

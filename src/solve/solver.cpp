@@ -187,8 +187,9 @@ class Solver {
             stats_.projected += c.projected;
             stats_.constrained += c.constrained;
         }
-        parallel_for(
-            w_count, [&](size_t w) { update_master(m_, w); }, 64);
+        if (in_.update_frames)
+            parallel_for(
+                w_count, [&](size_t w) { update_master(m_, w); }, 64);
         for (size_t w = 0; w < w_count; ++w) {
             // A wisp that a tie pulled but collisions kept from meeting it (the group moved
             // on without it) is tied where it came closest: it lies with the tied hair.

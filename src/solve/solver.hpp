@@ -84,6 +84,10 @@ struct SolveInput {
     // kIdOrder by default: on 2 idle cores kConcurrent's waits cost what its overlap gains
     // (BM_Solve2000Wisps 56.3 ms against 48.1, BM_EditStiffnessMasters 20.1 against 17.6).
     Schedule schedule = Schedule::kIdOrder;
+    // The solve ends with every master's frames and control points (update_master); false
+    // leaves them to the caller, whose details may still be being synthesized (the solve reads
+    // only the outlines, roots, segments and directions).
+    bool update_frames = true;
 };
 
 // Algorithm 1. Masters' outlines are rebuilt joint by joint from their roots; details ride on

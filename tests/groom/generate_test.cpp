@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <unordered_set>
 
 #include "core/error.hpp"
@@ -180,6 +181,60 @@ TEST(Generate, SameSeedSameHairAtAnyThreadCount) {
         ASSERT_EQ(a.points[i], b.points[i]) << i;
     for (size_t i = 0; i < a.colors.size(); ++i)
         ASSERT_EQ(a.colors[i], b.colors[i]) << i;
+}
+
+// The roots are the same bytes at one and two threads: each candidate and member root draws
+// from its own stream, and the Lloyd centroids are summed in candidate order.
+TEST(Generate, RootsAreTheSameAtOneAndTwoThreads) {
+    Style style = small_style();
+    style.wisps = 600;
+    style.strands = 20000;
+    Roots a, b;
+    {
+        const ThreadLimit one(1);
+        a = grow_roots(style, builtin());
+    }
+    {
+        const ThreadLimit two(2);
+        b = grow_roots(style, builtin());
+    }
+    const auto bytes = [](const auto& v) {
+        return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(v[0]));
+    };
+    EXPECT_EQ(a.lloyd_iterations, b.lloyd_iterations);
+    EXPECT_TRUE(bytes(a.masters) == bytes(b.masters));
+    EXPECT_TRUE(bytes(a.members) == bytes(b.members));
+    EXPECT_EQ(a.wisp_offsets, b.wisp_offsets);
+    EXPECT_EQ(a.wisp_radius, b.wisp_radius);
+}
+
+// synthesize_masters is its parts one after the other, byte for byte, and the details
+// synthesized without their frames, then update_master, give the same masters (what the
+// editor does beside the solve).
+TEST(Generate, MasterPartsGiveSynthesizeMasters) {
+    Style style = small_style();
+    style.prototype.kind = PrototypeSpec::Kind::kCurly;
+    const Roots roots = grow_roots(style, builtin());
+    const Masters whole = synthesize_masters(style, builtin(), roots);
+    Masters parts = master_outlines(style, builtin(), roots);
+    const MasterPrototype prototype = master_prototype(style, parts);
+    Masters later = parts;
+    synthesize_master_details(style, prototype, parts);
+    synthesize_master_details(style, prototype, later, /*update_frames=*/false);
+    for (size_t w = 0; w < later.count(); ++w)
+        update_master(later, w);
+    const auto bytes = [](const auto& v) {
+        return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(v[0]));
+    };
+    for (const Masters* m : {&parts, &later}) {
+        EXPECT_TRUE(bytes(m->segment) == bytes(whole.segment));
+        EXPECT_TRUE(bytes(m->direction) == bytes(whole.direction));
+        EXPECT_TRUE(bytes(m->root_frame) == bytes(whole.root_frame));
+        EXPECT_TRUE(bytes(m->outline) == bytes(whole.outline));
+        EXPECT_TRUE(bytes(m->details) == bytes(whole.details));
+        EXPECT_TRUE(bytes(m->frames) == bytes(whole.frames));
+        EXPECT_TRUE(bytes(m->control) == bytes(whole.control));
+    }
 }
 
 TEST(Generate, DifferentSeedsDiffer) {

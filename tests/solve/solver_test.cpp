@@ -7,9 +7,12 @@
 #include <string>
 #include <thread>
 
+#include <tbb/task_group.h>
+
 #include "core/parallel.hpp"
 #include "core/rng.hpp"
 #include "geometry/mesh_distance.hpp"
+#include "groom/generate.hpp"
 #include "solve/pipeline.hpp"
 
 namespace wisp {
@@ -231,6 +234,45 @@ TEST(Solver, ConcurrentScheduleGivesTheSerialBytes) {
             EXPECT_EQ(r.stats.groups.at(0).met, serial.stats.groups.at(0).met);
             EXPECT_EQ(r.stats.groups.at(0).completed, serial.stats.groups.at(0).completed);
         }
+}
+
+// The editor's map stroke (StageCache::solve_synthesizing): the solve of the masters'
+// outlines without their frames (SolveInput::update_frames), while a task synthesizes the
+// details, then update_master, gives the bytes of synthesize_masters then solve_stage, at one
+// and two threads.
+TEST(Solver, SynthesizingWhileSolvingGivesTheSameBytes) {
+    Style style = small_style();
+    style.solve.field = SolveSpec{}.field;
+    style.prototype.kind = PrototypeSpec::Kind::kWavy;
+    const Head& head = builtin();
+    const Roots roots = grow_roots(style, head);
+    const GroupSelection groups = select_groups(style, head, roots);
+    Masters serial = synthesize_masters(style, head, roots);
+    const SolveStats expected = solve_stage(style, head, builtin_field(), roots, groups, serial);
+    const auto bytes = [](const auto& v) {
+        return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(v[0]));
+    };
+    for (const int threads : {1, 2}) {
+        SCOPED_TRACE(testing::Message() << threads << " threads");
+        const ThreadLimit limit(threads);
+        Masters synthesized = master_outlines(style, head, roots);
+        const MasterPrototype prototype = master_prototype(style, synthesized);
+        Masters solved = synthesized;
+        tbb::task_group tasks;
+        tasks.run([&] { synthesize_master_details(style, prototype, synthesized); });
+        const SolveStats stats = solve_stage(style, head, builtin_field(), roots, groups, solved,
+                                             nullptr, nullptr, {}, /*update_frames=*/false);
+        tasks.wait();
+        solved.details = synthesized.details;
+        for (size_t w = 0; w < solved.count(); ++w)
+            update_master(solved, w);
+        EXPECT_TRUE(bytes(solved.outline) == bytes(serial.outline));
+        EXPECT_TRUE(bytes(solved.details) == bytes(serial.details));
+        EXPECT_TRUE(bytes(solved.frames) == bytes(serial.frames));
+        EXPECT_TRUE(bytes(solved.control) == bytes(serial.control));
+        EXPECT_EQ(stats.joints, expected.joints);
+        EXPECT_EQ(stats.bends, expected.bends);
+    }
 }
 
 TEST(Solver, DepthFirstIsAnOptionAndDiffers) {
