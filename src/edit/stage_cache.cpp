@@ -5,7 +5,10 @@
 #include <cmath>
 #include <utility>
 
+#include <tbb/task_group.h>
+
 #include "core/error.hpp"
+#include "core/parallel.hpp"
 #include "core/timer.hpp"
 #include "edit/wire.hpp"
 #include "groom/color.hpp"
@@ -95,10 +98,54 @@ const StylingField& StageCache::styling_field_for(const Box3& bounds) {
     return *field_;
 }
 
+void StageCache::complete_masters(const MasterPrototype& prototype) {
+    synthesize_master_details(style_, prototype, masters_);
+}
+
+SolveStats StageCache::solve_synthesizing(const MasterPrototype& prototype,
+                                          const StylingField& field, Masters& solved,
+                                          const CancelToken& cancel) {
+    // `solved` is a copy of the outlines: the solve moves its outline while the task writes
+    // masters_'s details, frames and control points, so the two never touch the same memory.
+    // Each master's frames and control points are then update_master's of its solved outline
+    // and its details, as synthesize_masters followed by solve_stage leave them, byte for
+    // byte (update_master is a function of the one master alone).
+    tbb::task_group tasks;
+    tasks.run([&] { complete_masters(prototype); });
+    SolveStats stats;
+    try {
+        stats = solve_stage(style_, head_, *head_field_, roots_, groups_, solved, nullptr, &field,
+                            cancel, /*update_frames=*/false);
+    } catch (...) {
+        tasks.wait();
+        throw;
+    }
+    tasks.wait();
+    if (stats.cancelled) return stats;
+    solved.details = masters_.details;
+    parallel_for(
+        solved.count(), [&](size_t w) { update_master(solved, w); }, 64);
+    return stats;
+}
+
 bool StageCache::run_until(Stage last, const CancelToken& cancel, const StageProgress& progress) {
     // A stage that finishes is published even if the token fires just after (its output is
     // right for the style, and the next request need not redo it); one that was cancelled
     // part way publishes nothing and leaves the cache stale from it.
+    //
+    // When the solve follows the masters here, the masters stage makes their outlines only
+    // (all the solve reads until its end) and the details are synthesized beside the solve,
+    // on the core its serial breadth-first layers leave idle (solve_synthesizing).
+    std::optional<MasterPrototype> details;  // the masters' details are still to synthesize
+    // Published masters are whole: a return before the solve took them on (cancelled, or a
+    // solve bounds error) synthesizes them here.
+    struct CompleteMasters {
+        StageCache& cache;
+        std::optional<MasterPrototype>& details;
+        ~CompleteMasters() {
+            if (details) cache.complete_masters(*details);
+        }
+    } complete{*this, details};
     for (int s = int(stale_); s <= int(last) && s < kStageCount; ++s) {
         if (progress) progress(Stage(s));
         if (cancel.cancelled()) return false;
@@ -115,7 +162,12 @@ bool StageCache::run_until(Stage last, const CancelToken& cancel, const StagePro
                 roots_ = grow_roots(style_, head_, &*scalp_surface_);
                 break;
             case Stage::kMasters:
-                masters_ = synthesize_masters(style_, head_, roots_);
+                if (last >= Stage::kSolve && style_.solve.enabled) {
+                    masters_ = master_outlines(style_, head_, roots_);
+                    details.emplace(master_prototype(style_, masters_));
+                } else {
+                    masters_ = synthesize_masters(style_, head_, roots_);
+                }
                 break;
             case Stage::kSolve: {
                 head_field();
@@ -127,8 +179,13 @@ bool StageCache::run_until(Stage last, const CancelToken& cancel, const StagePro
                     const StylingField& field =
                         styling_field_for(solve_bounds(style_, head_, roots_, masters_));
                     field_ms_ = field_watch.ms();
-                    stats = solve_stage(style_, head_, *head_field_, roots_, groups_, solved,
-                                        nullptr, &field, cancel);
+                    if (details) {
+                        stats = solve_synthesizing(*details, field, solved, cancel);
+                        details.reset();
+                    } else {
+                        stats = solve_stage(style_, head_, *head_field_, roots_, groups_, solved,
+                                            nullptr, &field, cancel);
+                    }
                     if (stats.cancelled) return false;
                 }
                 result_.wisp_group = groups_.wisp_group;

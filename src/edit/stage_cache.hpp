@@ -15,6 +15,7 @@
 
 #include "core/cancel.hpp"
 #include "geometry/mesh_distance.hpp"
+#include "groom/generate.hpp"
 #include "groom/head.hpp"
 #include "groom/style.hpp"
 #include "groom/style_schema.hpp"
@@ -135,6 +136,14 @@ class StageCache {
     void mark(Stage stage);
     // Runs the stale stages up to `last` inclusive; false when cancelled.
     bool run_until(Stage last, const CancelToken& cancel, const StageProgress& progress);
+    // The masters' details, frames and control points (synthesize_master_details) after the
+    // masters stage made their outlines only.
+    void complete_masters(const MasterPrototype& prototype);
+    // The solve stage's solve while complete_masters() runs beside it (a tbb::task_group):
+    // `solved`, a copy of the outlines, ends as solve_stage leaves synthesize_masters' masters,
+    // byte for byte; masters_ ends as synthesize_masters gives them, cancelled or not.
+    SolveStats solve_synthesizing(const MasterPrototype& prototype, const StylingField& field,
+                                  Masters& solved, const CancelToken& cancel);
     // The head field at the style's cell, built when missing or when solve.cell moved it.
     const HeadField& head_field();
     // The styling field for the current style and solve bounds, kept while they stay.

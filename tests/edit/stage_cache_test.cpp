@@ -206,6 +206,31 @@ TEST(StageCache, ACancelledUpdateLeavesTheCacheConsistentAndTheNextOneMatchesGen
     }
 }
 
+// A map stroke synthesizes the masters' details beside the solve (solve_synthesizing): a solve
+// cancelled half way through its layers still leaves whole masters, so the update that
+// follows (from the solve) gives the bytes of a fresh generate, masters and hair.
+TEST(StageCache, ASolveCancelledWhileTheDetailsAreSynthesizedLeavesWholeMasters) {
+    StageCache cache(small_style());
+    cache.update();
+    cache.set("maps.density", "{ procedural = \"crown\", low = 0.5, high = 1 }");
+    std::atomic<uint64_t> newest{1};
+    const FractionReport halfway = [&](float f) {
+        if (f >= 0.5f) newest = 2;
+    };
+    const Runs before = cache.runs();
+    EXPECT_EQ(cache.update(CancelToken(newest, 1, &halfway)), nullptr);
+    EXPECT_EQ(cache.stale(), Stage::kSolve);
+    EXPECT_EQ(delta(before, cache.runs()), (Runs{0, 1, 1, 0, 0, 0}));
+    const HairstyleResult& next = cache.update();
+    const HairstyleResult fresh = generate_hairstyle(cache.style(), cache.head());
+    expect_same_hair(next.hair, fresh.hair);
+    EXPECT_EQ(next.masters.control, fresh.masters.control);
+    EXPECT_EQ(next.masters.frames.size(), fresh.masters.frames.size());
+    EXPECT_TRUE(std::equal(
+        next.masters.frames.begin(), next.masters.frames.end(), fresh.masters.frames.begin(),
+        [](const Frame& a, const Frame& b) { return a.t == b.t && a.n == b.n && a.b == b.b; }));
+}
+
 // The solver polls the token between layers of joints: a solve cancelled part way is dropped,
 // and the masters the cache hands out are those of a finished solve.
 TEST(StageCache, ACancelledSolveLeavesTheLastSolvedMastersAlone) {
