@@ -37,22 +37,27 @@ PointGrid::PointGrid(std::span<const Vec3f> points, float cell)
     std::vector<uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
     for (size_t i = 0; i < points_.size(); ++i)
         items_[fill[cell_of[i]]++] = static_cast<uint32_t>(i);
+    sorted_.resize(points_.size());
+    for (size_t k = 0; k < items_.size(); ++k)
+        sorted_[k] = points_[items_[k]];
 }
 
 int PointGrid::nearest(const Vec3f& q, int hint) const {
     if (points_.empty()) return -1;
     float best = std::numeric_limits<float>::infinity();
     int best_i = -1;
-    auto visit = [&](size_t cell) {
-        for (uint32_t k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k) {
-            const uint32_t i = items_[k];
-            const float d = (points_[i] - q).squaredNorm();
-            if (d < best || (d == best && static_cast<int>(i) < best_i)) {
+    // The points of cells first … last (one run of sorted_): the nearest is the least
+    // (distance, index) pair over every point visited, whatever the order of the visits.
+    auto visit_run = [&](size_t first, size_t last) {
+        for (uint32_t k = cell_start_[first], end = cell_start_[last + 1]; k < end; ++k) {
+            const float d = (sorted_[k] - q).squaredNorm();
+            if (d < best || (d == best && static_cast<int>(items_[k]) < best_i)) {
                 best = d;
-                best_i = static_cast<int>(i);
+                best_i = static_cast<int>(items_[k]);
             }
         }
     };
+    auto visit = [&](size_t cell) { visit_run(cell, cell); };
     auto cell_index = [&](int x, int y, int z) {
         return (static_cast<size_t>(z) * dims_.y() + y) * dims_.x() + x;
     };
@@ -86,10 +91,10 @@ int PointGrid::nearest(const Vec3f& q, int hint) const {
         hi[a] = std::clamp(static_cast<int>(std::floor((q[a] + r - origin_[a]) / cell_)), 0,
                            dims_[a] - 1);
     }
+    // Row by row along x: a row's cells are one run of sorted_.
     for (int z = lo[2]; z <= hi[2]; ++z)
         for (int y = lo[1]; y <= hi[1]; ++y)
-            for (int x = lo[0]; x <= hi[0]; ++x)
-                visit(cell_index(x, y, z));
+            visit_run(cell_index(lo[0], y, z), cell_index(hi[0], y, z));
     return best_i;
 }
 

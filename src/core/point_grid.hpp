@@ -24,8 +24,11 @@ class PointGrid {
     Vec3f origin_ = Vec3f::Zero();
     float cell_ = 1.f;
     Vec3i dims_ = Vec3i::Zero();
-    std::vector<uint32_t> cell_start_;  // #cells+1, CSR into items_
+    std::vector<uint32_t> cell_start_;  // #cells+1, CSR into items_ and sorted_
     std::vector<uint32_t> items_;       // point indices sorted by cell
+    // points_[items_[k]]: the points in cell order, so that a row of cells along x is one
+    // contiguous run that a query scans without indirection.
+    std::vector<Vec3f> sorted_;
 };
 
 }  // namespace wisp

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <vector>
 
 #include "core/rng.hpp"
@@ -22,6 +23,37 @@ TEST(PointGrid, NearestMatchesBruteForce) {
             if ((pts[i] - x).squaredNorm() < (pts[best] - x).squaredNorm()) best = i;
         EXPECT_EQ(grid.nearest(x), best);
         EXPECT_EQ(grid.nearest(x, q % 500), best);  // any hint gives the same answer
+    }
+}
+
+// Scanning rows of cells in sorted order (not in index order) never loses a tie: on a
+// lattice of duplicated points at cell corners, with queries on the lattice, on cell faces
+// and at equal distances from several points, the answer is the lowest index among the
+// nearest, as a brute force scan in index order gives.
+TEST(PointGrid, RowRunsKeepTiesToTheLowestIndex) {
+    std::vector<Vec3f> pts;
+    for (int copy = 0; copy < 2; ++copy)
+        for (int z = 0; z < 6; ++z)
+            for (int y = 0; y < 6; ++y)
+                for (int x = 0; x < 6; ++x)
+                    pts.emplace_back(0.5f * x, 0.5f * y, 0.5f * z);
+    Rng rng(5);
+    for (const float cell : {0.5f, 0.37f, 1.f}) {
+        const PointGrid grid(pts, cell);
+        for (int q = 0; q < 3000; ++q) {
+            // Coordinates on the lattice, halfway between its points, or anywhere.
+            Vec3f x;
+            for (int a = 0; a < 3; ++a) {
+                const int kind = static_cast<int>(rng.uniform(0, 3));
+                const float k = std::floor(rng.uniform(-1, 7));
+                x[a] = kind == 0 ? 0.5f * k : kind == 1 ? 0.5f * k + 0.25f : rng.uniform(-1, 4);
+            }
+            int best = 0;
+            for (size_t i = 1; i < pts.size(); ++i)
+                if ((pts[i] - x).squaredNorm() < (pts[best] - x).squaredNorm()) best = i;
+            ASSERT_EQ(grid.nearest(x), best) << x.transpose();
+            ASSERT_EQ(grid.nearest(x, static_cast<int>(pts.size()) - 1 - q % 216), best);
+        }
     }
 }
 
