@@ -122,6 +122,7 @@ try {
   });
   await page.mouse.move(...from);
   await page.mouse.down();
+  const t0 = Date.now();
   const [dx, dy] = kind === "braid" ? [90, -15] : [40, 25];
   for (let i = 1; i <= 8; ++i) await page.mouse.move(from[0] + (dx * i) / 8, from[1] + (dy * i) / 8);
   // Still held: the server has the moved section, the paths and the hair follow.
@@ -138,11 +139,13 @@ try {
     for (let i = 0; i < Math.min(p.length, 300000); ++i) sum += p[i] * ((i % 7) + 1);
     return sum !== before;
   }, printBefore, { timeout: 120000, polling: 250 });
+  const followedMs = Date.now() - t0;
   ({ sections, paths } = await editor());
   if (JSON.stringify(paths) === openedPaths) fail("the paths drawn did not follow the drag");
   if (!(await page.evaluate(() => Boolean(window.wispEditor.constraints.drag)))) fail("the drag ended before the release");
   console.log(`mid-drag: ${kind}.${key} ${JSON.stringify(opened[key])} → ${JSON.stringify(sections[0][key])}; ` +
-    `${await page.evaluate(() => window.hairRequests)} hair preview(s) drawn before the release`);
+    `${await page.evaluate(() => window.hairRequests)} hair preview(s) asked for, the hair drawn changed ` +
+    `${followedMs} ms after the press, before the release`);
   await page.screenshot({ path: path.join(outDir, `open-${kind}-drag.png`) });
   await page.mouse.up();
   await page.waitForFunction(() => window.wispEditor.constraints.drag === null);
