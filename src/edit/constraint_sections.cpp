@@ -95,6 +95,28 @@ std::string ConstraintSections::mask_file(const std::string& document, const std
 void ConstraintSections::load(const Style& style, const std::filesystem::path& base_dir) {
     sections_ = nlohmann::json::array();
     masks_.clear();
+    // The sections as the file wrote them (a [[braid]] stays a braid, with its handles and
+    // sliders), if they still expand into the style's groups: groups set since (by the
+    // Python layer, say) make them stale, and then the groups are what there is.
+    if (!style.sections.empty()) {
+        nlohmann::json written = nlohmann::json::array();
+        for (const SectionSource& s : style.sections) {
+            nlohmann::json section = nlohmann::json::parse(s.table, nullptr, false);
+            if (!section.is_object()) break;
+            section["section"] = s.kind;
+            written.push_back(std::move(section));
+        }
+        try {
+            if (written.size() == style.sections.size() &&
+                groups_to_toml(parse(written, style, base_dir, "untitled.toml"), base_dir) ==
+                    groups_to_toml(style.groups, base_dir)) {
+                sections_ = std::move(written);
+                return;
+            }
+        } catch (const Error&) {
+            // Not the editor's to show as written: fall back to the groups.
+        }
+    }
     const toml::table root = toml::parse(groups_to_toml(style.groups, base_dir));
     if (const toml::array* groups = root["group"].as_array())
         for (const toml::node& g : *groups) {

@@ -1,8 +1,9 @@
 #pragma once
 // The editor's constraint sections (issue 16, placing constraints; Choe & Ko §4, §6.2): the
-// [[tie]], [[comb]] and [[group]] tables the user places, kept as the TOML reader reads them
-// so that Save writes them as a user would (`[[tie]] point = …`), and the selections painted
-// on the scalp, held as images until Save writes them beside the style.
+// [[tie]], [[comb]], [[braid]], [[updo]] and [[group]] tables the user places or opens, kept
+// as the TOML reader reads them so that Save writes them as a user would (`[[tie]] point =
+// …`), and the selections painted on the scalp, held as images until Save writes them beside
+// the style.
 //
 // A section is a JSON object: "section" (group, tie, braid, updo or comb) and the section's
 // TOML keys as docs/style.md gives them ({"section": "tie", "name": "ponytail", "point": [0,
@@ -47,8 +48,9 @@ class ConstraintSections {
     // The most sections the editor holds (the reader allows 256 groups in all).
     static constexpr size_t kMaxSections = 256;
 
-    // The sections of a style read from a file or a preset: its groups (the hairdressing
-    // sections already expanded) as [[group]] tables. Painted masks are forgotten.
+    // The sections of a style read from a file or a preset: as the file wrote them
+    // (Style::sections: a [[braid]] stays a braid) when they expand into its groups, else its
+    // groups as [[group]] tables. Painted masks are forgotten.
     void load(const Style& style, const std::filesystem::path& base_dir);
 
     // Replaces the sections, checked by the style reader (parse_style) against `style`'s

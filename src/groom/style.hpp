@@ -198,6 +198,15 @@ struct DynamicsSpec {
     float linear_density = 6.5e-5f;  // g per cm of one strand (node masses), > 0
 };
 
+// A constraint section as the style file wrote it ([[group]], [[tie]], [[braid]], [[updo]]
+// or [[comb]]): its kind and its table as JSON text (toml_to_json). The groups are what the
+// solver uses; these are for the editor, which shows and saves a braid as a braid rather than
+// as the groups it expands into.
+struct SectionSource {
+    std::string kind;   // "braid"
+    std::string table;  // {"name": "braid", "start": [0.0, -0.45, -1.15], …}
+};
+
 struct Style {
     std::string name;  // from the file name or preset
     uint64_t seed = 1;
@@ -216,8 +225,12 @@ struct Style {
     WispSpec wisp;
     ColorSpec color;
     SolveSpec solve;
-    std::vector<GroupSpec> groups;  // constraint groups, including those the hairdressing
-                                    // sections (tie, braid, updo, comb) expand into
+    std::vector<GroupSpec> groups;        // constraint groups, including those the hairdressing
+                                          // sections (tie, braid, updo, comb) expand into
+    std::vector<SectionSource> sections;  // the sections the groups were read from, in file
+                                          // order (empty when not read from TOML); setting
+                                          // `groups` leaves them stale, so a reader of them
+                                          // checks that they still expand into `groups`
     CutSpec cut;
     DynamicsSpec dynamics;
 };

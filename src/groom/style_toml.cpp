@@ -1245,6 +1245,7 @@ void Parser::read_groups(const toml::table* root, Style& style) const {
     // so groups queue in the order they are written.
     struct Entry {
         uint32_t line;
+        std::string kind;
         std::string path;
         Reader reader;
         const toml::table* table;
@@ -1255,7 +1256,8 @@ void Parser::read_groups(const toml::table* root, Style& style) const {
         if (!array) continue;
         for (size_t i = 0; i < array->size(); ++i) {
             const toml::table* table = (*array)[i].as_table();
-            entries.push_back({table->source().begin.line, cat(key, "[", i, "]"), reader, table});
+            entries.push_back(
+                {table->source().begin.line, key, cat(key, "[", i, "]"), reader, table});
         }
     }
     std::stable_sort(entries.begin(), entries.end(),
@@ -1270,6 +1272,7 @@ void Parser::read_groups(const toml::table* root, Style& style) const {
                   cat("too many constraint groups: at most ", kMaxGroups, " in all"));
         for (GroupSpec& g : groups)
             style.groups.push_back(std::move(g));
+        style.sections.push_back({e.kind, toml_to_json(*e.table).dump()});
     }
 }
 

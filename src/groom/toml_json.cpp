@@ -1,8 +1,8 @@
 #include "groom/toml_json.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 
 #include "core/error.hpp"
@@ -26,8 +26,11 @@ void to_toml(const nlohmann::json& v, const std::string& field, int depth, std::
         case nlohmann::json::value_t::number_float: {
             const double d = v.get<double>();
             if (!std::isfinite(d)) fail("field '", excerpt(field), "': must be a finite number");
+            // The shortest text that reads back to the same double (0.55, not
+            // 0.55000000000000004): what a user wrote comes back as written on Save.
             char buffer[32];
-            std::snprintf(buffer, sizeof buffer, "%.17g", d);
+            const auto end = std::to_chars(buffer, buffer + sizeof buffer - 1, d).ptr;
+            *end = '\0';
             out += buffer;
             // TOML needs a fraction or exponent for a float; 2.0 prints as "2".
             if (!std::strpbrk(buffer, ".eEn")) out += ".0";

@@ -127,6 +127,54 @@ TEST(ConstraintSections, LoadedGroupsSetBackToTheSameGroups) {
     EXPECT_EQ(groups_to_toml(again), groups_to_toml(style.groups));
 }
 
+// A style read from TOML keeps its sections as written: the braid and updo presets load as a
+// [[braid]] and an [[updo]] with the file's keys and values (as the tools make them, so they
+// get their handles and sliders), not as the [[group]] tables they expand into; their text
+// reads back to the same groups and, loaded again, writes the same bytes.
+TEST(ConstraintSections, BraidAndUpdoFromTomlLoadAsWrittenAndSaveTheSameBytes) {
+    for (const std::string preset : {"braid", "updo", "ponytail", "combed-back"}) {
+        SCOPED_TRACE(preset);
+        const Style style = load_preset(preset);
+        ConstraintSections sections;
+        sections.load(style, {});
+        ASSERT_EQ(sections.json().size(), style.sections.size());
+        const nlohmann::json& s = sections.json()[0];
+        EXPECT_EQ(s["section"], style.sections[0].kind);
+        if (preset == "braid") {
+            EXPECT_EQ(s["section"], "braid");
+            EXPECT_EQ(s["strands"], 3);
+            EXPECT_EQ(s["start"], nlohmann::json({0.0, -0.45, -1.15}));
+            EXPECT_EQ(s["period"], 0.55);
+        }
+        if (preset == "updo") {
+            EXPECT_EQ(s["section"], "updo");
+            EXPECT_EQ(s["bun_radius"], 0.38);
+        }
+        const std::string text = sections.toml("style.toml");
+        EXPECT_NE(text.find("[[" + style.sections[0].kind + "]]\n"), std::string::npos) << text;
+        EXPECT_EQ(text.find("[[group]]"), std::string::npos) << text;
+        if (preset == "braid") EXPECT_NE(text.find("period = 0.55\n"), std::string::npos) << text;
+        // The text as Save writes it reads back to the same groups, and again to the same text.
+        Style read = parse_style(cat("[roots]\nwisps = ", style.wisps, "\n", text), "saved");
+        EXPECT_EQ(groups_to_toml(read.groups), groups_to_toml(style.groups));
+        ConstraintSections again;
+        again.load(read, {});
+        EXPECT_EQ(again.toml("style.toml"), text);
+    }
+}
+
+// Sections that no longer expand into the style's groups (the groups were set since) are not
+// shown: the groups are, as [[group]] tables.
+TEST(ConstraintSections, StaleSectionsLoadAsTheGroups) {
+    Style style = load_preset("braid");
+    style.groups.pop_back();
+    ConstraintSections sections;
+    sections.load(style, {});
+    ASSERT_EQ(sections.json().size(), style.groups.size());
+    for (const nlohmann::json& s : sections.json())
+        EXPECT_EQ(s["section"], "group");
+}
+
 // A braid and an updo placed in the editor (in head units, the sections' default) read as
 // the CLI reads the same text, and the paths sent for drawing are the solver's trajectories
 // (groom/hairdressing.cpp's expansion) in cm: one per braid strand, the updo's spiral, none

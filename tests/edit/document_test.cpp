@@ -238,6 +238,47 @@ TEST_F(EditDocumentTest, SaveWritesATomlAndMapsThatGenerateTurnsIntoTheSameHair)
     EXPECT_EQ(header[3], 1u);  // an image file
 }
 
+// A style file's braid and updo (the presets' text, opened): the constraints' reply lists
+// them as a [[braid]] and an [[updo]] with the file's values, not as the groups they expand
+// into; Save writes them back as such, the saved file generates the editor's hair, and Open
+// and Save again give the same bytes.
+TEST_F(EditDocumentTest, AnOpenedBraidAndUpdoListAsWrittenAndSaveTheSameBytesAgain) {
+    for (const std::string kind : {"braid", "updo"}) {
+        SCOPED_TRACE(kind);
+        std::string text(preset_text(kind));
+        // Fewer wisps and strands: the line `KEY = …` of [roots] set to `KEY = value`.
+        const auto set_line = [&](const std::string& key, const std::string& value) {
+            const size_t at = text.find("\n" + key + " = ") + 1;
+            text.replace(at, text.find('\n', at) - at, key + " = " + value);
+        };
+        set_line("wisps", "60");
+        set_line("strands", "1500");
+        { std::ofstream(folder_ / (kind + ".toml")) << text; }
+        const std::string o = post("/api/open", {{"name", kind + ".toml"}});
+        ASSERT_EQ(status_of(o), 200) << o;
+        const nlohmann::json sections = json(get("/api/constraints"))["sections"];
+        ASSERT_EQ(sections.size(), 1u) << sections;
+        EXPECT_EQ(sections[0]["section"], kind);
+        EXPECT_EQ(sections[0]["weight"], 1.0);
+        EXPECT_EQ(sections[0].contains("constraint"), false);
+
+        ASSERT_EQ(status_of(post("/api/save", {{"name", "saved.toml"}})), 200);
+        const std::string saved = file_bytes(folder_ / "saved.toml");
+        EXPECT_NE(saved.find("\n[[" + kind + "]]\n"), std::string::npos) << saved;
+        EXPECT_EQ(saved.find("[[group]]"), std::string::npos) << saved;
+        EXPECT_NE(saved.find(kind == "braid" ? "\nperiod = 0.55\n" : "\nbun_radius = 0.38\n"),
+                  std::string::npos)
+            << saved;
+        const Style read = load_style(folder_ / "saved.toml");
+        write_hair(folder_ / "cli.hair", generate_hairstyle(read, load_head(read.head)).hair);
+        EXPECT_EQ(file_bytes(folder_ / "cli.hair"), exported("editor.hair"));
+
+        ASSERT_EQ(status_of(post("/api/open", {{"name", "saved.toml"}})), 200);
+        ASSERT_EQ(status_of(post("/api/save", {{"name", "again.toml"}})), 200);
+        EXPECT_EQ(file_bytes(folder_ / "again.toml"), saved);
+    }
+}
+
 TEST_F(EditDocumentTest, AutosaveWritesASidecarThatReadsBackToTheSameHair) {
     ASSERT_EQ(status_of(post_map("field=maps.protrusion", encode_gray_png(left_half(16)))), 200);
     const std::string r = post("/api/autosave", nlohmann::json::object());

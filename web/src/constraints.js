@@ -18,7 +18,7 @@ import * as THREE from "three";
 import { getJson, postJson, postBinary, decodeMap, encodeGrayPng } from "./api.js";
 import { Painter } from "./paint.js";
 import { groupColor } from "./views.js";
-import { Hairdressing } from "./hairdressing.js";
+import { Hairdressing, sliderRow } from "./hairdressing.js";
 
 // How far off the scalp a tie clicked on the head sits (cm): ties hold hair just off it.
 const tieLift = 1.5;
@@ -168,10 +168,10 @@ export class Constraints {
     this.draw();
   }
 
-  // Sends the sections; with `record`, the change goes on the undo list. Resolves to
-  // whether the server took them (its message is shown otherwise).
-  async apply(sections, { record = true } = {}) {
-    const before = this.sections;
+  // Sends the sections; with `record`, the change goes on the undo list (as from `before`,
+  // the sections a drag started from). Resolves to whether the server took them (its
+  // message is shown otherwise).
+  async apply(sections, { record = true, before = this.sections } = {}) {
     const result = await postJson("/api/constraints", { sections });
     if (!result.ok) {
       this.onError(`${result.body.field ?? ""}: ${result.body.error}`);
@@ -392,9 +392,9 @@ export class Constraints {
           (path < 0 ? next[i] : next[i].constraint[path])[key] = Number(input.value);
           this.apply(next);
         };
-        row.append(label, input);
+        row.append(sliderRow(label, input));
       };
-      if (s.section === "tie")
+      if (s.section === "tie" && s.head_relative === false)
         slider("radius", -1, 0.3, 5, 0.1, defaultTieRadius, "the tie's tolerance radius (cm): how tight it gathers the hair", " cm");
       if (s.section === "comb" && s.head_relative === false) {
         slider("radius", -1, 0.5, 10, 0.1, defaultComb.radius, "the comb's reach (cm): hair this close to its path turns along it", " cm");
@@ -449,7 +449,8 @@ export class Constraints {
       e.stopImmediatePropagation();
       this.viewport.controls.enabled = false;
       const normal = this.viewport.camera.getWorldDirection(new THREE.Vector3());
-      this.drag = { handle: hit.object, plane: new THREE.Plane().setFromNormalAndCoplanarPoint(normal, hit.object.position) };
+      this.drag = { handle: hit.object, plane: new THREE.Plane().setFromNormalAndCoplanarPoint(normal, hit.object.position),
+        before: this.sections };
       return;
     }
     if (this.hairdressing.down(e)) {
@@ -490,10 +491,69 @@ export class Constraints {
       ? this.surfacePoint(e) ?? this.ray(e).intersectPlane(this.drag.plane, new THREE.Vector3())
       : this.ray(e).intersectPlane(this.drag.plane, new THREE.Vector3());
     if (!p) return;
+    this.place(handle, p);
+    this.drag.at = p.clone();
+    this.drag.moved = true;
+    this.viewport.render();
+    this.preview();
+  }
+
+  place(handle, p) {
     handle.position.copy(p);
     handle.userData.ring?.position.copy(p);
     handle.userData.follow?.(p);
-    this.drag.moved = true;
+  }
+
+  // `sections` (a copy) with the dragged handle's section as the handle leaves it, or null
+  // when it leaves none (a braid's end dragged onto its start).
+  reshaped(sections, handle) {
+    const { section, path, point, role } = handle.userData;
+    if (role) return this.hairdressing.moved(sections, handle, handle.position);
+    if (path === undefined) sections[section].point = rounded(handle.position);
+    else (path < 0 ? sections[section] : sections[section].constraint[path]).trajectory[point] = rounded(handle.position);
+    return sections;
+  }
+
+  // While a handle is dragged the hair follows it, as it follows a moving slider: the
+  // sections as the handle would leave them go to the server off the undo list, one request
+  // at a time (the positions that come meanwhile fold into the next one: the newest wins),
+  // and each answer redraws the paths and asks for a preview of the hair (main.js debounces
+  // it; the server cancels an update a newer request made stale). The release sends the
+  // last position as one edit from where the drag started.
+  preview() {
+    const drag = this.drag;
+    if (drag.sending) {
+      drag.pending = true;
+      return;
+    }
+    drag.pending = false;
+    const next = this.reshaped(structuredClone(this.sections), drag.handle);
+    if (!next) return;
+    drag.previewed = true;
+    drag.sending = postJson("/api/constraints", { sections: next }).then((result) => {
+      if (!result.ok) return;  // the release says why
+      this.sections = result.body.sections;
+      this.paths = result.body.paths ?? [];
+      if (this.drag === drag) {
+        this.drawHandles();
+        this.rebind(drag);
+      }
+      this.onChanged(false);
+    }).finally(() => {
+      drag.sending = null;
+      if (drag.pending && this.drag === drag) this.preview();
+    });
+  }
+
+  // After a redraw, the drag holds the new handle of its section, role and point, at the
+  // pointer (which may have moved on since the positions drawn were sent).
+  rebind(drag) {
+    const u = drag.handle.userData;
+    const same = this.handles.children.find((h) => h.userData.section === u.section && h.userData.role === u.role &&
+      h.userData.path === u.path && h.userData.point === u.point);
+    if (!same) return;
+    drag.handle = same;
+    this.place(same, drag.at);
     this.viewport.render();
   }
 
@@ -522,26 +582,23 @@ export class Constraints {
     this.apply([...this.sections, section]);
   }
 
-  up(e) {
+  async up(e) {
     if (this.stroke) return this.finishStroke();
     if (this.hairdressing.placing) {
       this.viewport.controls.enabled = true;
       return this.hairdressing.finish();
     }
     if (this.drag) {
-      const { handle, moved } = this.drag;
+      const drag = this.drag;
       this.drag = null;
       this.viewport.controls.enabled = true;
-      if (!moved) return;
-      const next = structuredClone(this.sections);
-      const { section, path, point, role } = handle.userData;
-      if (role) {
-        const reshaped = this.hairdressing.moved(next, handle, handle.position);
-        return reshaped ? this.apply(reshaped) : this.draw();
-      }
-      if (path === undefined) next[section].point = rounded(handle.position);
-      else (path < 0 ? next[section] : next[section].constraint[path]).trajectory[point] = rounded(handle.position);
-      this.apply(next);
+      if (!drag.moved) return;
+      await drag.sending;  // the last preview lands before the edit, not over it
+      const next = this.reshaped(structuredClone(this.sections), drag.handle);
+      // Nothing to keep, or the server refused it: back to where the drag started.
+      const back = () => drag.previewed ? this.apply(drag.before, { record: false }) : this.draw();
+      if (!next) return back();
+      if (!(await this.apply(next, { before: drag.before }))) back();
       return;
     }
     const press = this.press;

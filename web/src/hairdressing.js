@@ -23,6 +23,15 @@ const strandTube = 0.2;
 
 const round3 = (v) => Math.round(v * 1000) / 1000;
 
+// A slider of a section's number (here and in constraints.js): its label, the name and value
+// on one line, and the range beside it.
+export function sliderRow(label, input) {
+  const row = document.createElement("div");
+  row.className = "slider";
+  row.append(label, input);
+  return row;
+}
+
 export class Hairdressing {
   // constraints: the Constraints it serves (its viewport, sections, paths, apply());
   // fields: the schema's section numbers ([{section, key, type, unit, min, max, min_open,
@@ -263,7 +272,7 @@ export class Hairdressing {
         next[i][f.key] = integer ? parseInt(input.value, 10) : Number(input.value);
         this.c.apply(next);
       };
-      row.append(label, input);
+      row.append(sliderRow(label, input));
     }
   }
 }

@@ -224,10 +224,19 @@ const painter = new Painter(viewport, {
   onError: (message) => say(message),
   onLoaded: () => brushChanged(),
 });
+let constraintTimer = null;
 const constraints = new Constraints(viewport, document.getElementById("tie-tools"), {
+  // A dragged handle's previews (final false) come as fast as the server answers them: the
+  // hair follows a moment after the newest, as it follows a moving slider; the release's
+  // edit (final) drops a preview still waiting.
   onChanged: (final) => {
+    clearTimeout(constraintTimer);
+    if (!final) {
+      constraintTimer = setTimeout(() => refreshHair(false), 30);
+      return;
+    }
     edited();
-    refreshHair(final);
+    refreshHair(true);
   },
   onEdit: (edit) => {
     undo.push(edit);

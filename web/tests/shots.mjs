@@ -3,7 +3,8 @@
 // (then coloured by constraint progress), a braid and an updo. Not a test: run
 // by hand after a change to the editor's look, then look at the pictures.
 //   node web/tests/shots.mjs WISP_EXE OUT_DIR
-// WISP_SHOTS=braid,updo makes only those (editor, paint, tie, comb, braid, updo).
+// WISP_SHOTS=braid,updo makes only those (editor, paint, tie, comb, braid, updo,
+// braid-preset, updo-preset).
 import { dragThrough, launchChromium, onScreen, openEditor, settler, startEditor, tempFolder, testArguments, viewFromBehind } from "./harness.mjs";
 import { rmSync } from "node:fs";
 import path from "node:path";
@@ -130,6 +131,15 @@ try {
     await page.waitForFunction(() => window.wispEditor.constraints.sections.length === 1, null, { timeout: 300000 });
     await settle();
     await page.screenshot({ path: path.join(outDir, "updo.png") });
+  }
+  // The braid and updo presets as opened: their sections with handles and sliders.
+  for (const [kind, behind] of [["braid", [25, 5, -110]], ["updo", [20, 35, -95]]]) {
+    if (!wanted(`${kind}-preset`)) continue;
+    const { page, settle } = await open(kind, 30000);
+    await page.click("#tie");
+    await viewFromBehind(page, behind);
+    await settle();
+    await page.screenshot({ path: path.join(outDir, `${kind}-preset.png`) });
   }
 } finally {
   await browser.close();
