@@ -51,21 +51,17 @@ class Grid3 {
 
     // Trilinear interpolation of the eight nodes around p; p outside is clamped to the box.
     T trilinear(const Vec3f& p) const {
-        const Vec3f g = (p - origin_) / cell_;
-        int i[3];
-        float f[3];
-        for (int a = 0; a < 3; ++a) {
-            const float x = std::clamp(g[a], 0.f, static_cast<float>(dims_[a] - 1));
-            i[a] = std::min(static_cast<int>(x), dims_[a] - 2);
-            if (i[a] < 0) i[a] = 0;
-            f[a] = dims_[a] > 1 ? x - static_cast<float>(i[a]) : 0.f;
-        }
-        const int i1 = std::min(i[0] + 1, dims_[0] - 1), j1 = std::min(i[1] + 1, dims_[1] - 1),
-                  k1 = std::min(i[2] + 1, dims_[2] - 1);
-        const T c00 = at(i[0], i[1], i[2]) * (1 - f[0]) + at(i1, i[1], i[2]) * f[0];
-        const T c10 = at(i[0], j1, i[2]) * (1 - f[0]) + at(i1, j1, i[2]) * f[0];
-        const T c01 = at(i[0], i[1], k1) * (1 - f[0]) + at(i1, i[1], k1) * f[0];
-        const T c11 = at(i[0], j1, k1) * (1 - f[0]) + at(i1, j1, k1) * f[0];
+        const Corner c = corner(p);
+        const T* v = data_.data() + c.index;
+        const float* f = c.f;
+        // The eight nodes by index steps from the first, sparing at()'s index arithmetic per
+        // node (the solver and the push out of the head look up millions of points); the
+        // textbook formula's operations in its order, so the value is the same to the bit.
+        const T c00 = v[0] * (1 - f[0]) + v[c.step[0]] * f[0];
+        const T c10 = v[c.step[1]] * (1 - f[0]) + v[c.step[1] + c.step[0]] * f[0];
+        const T c01 = v[c.step[2]] * (1 - f[0]) + v[c.step[2] + c.step[0]] * f[0];
+        const T c11 =
+            v[c.step[2] + c.step[1]] * (1 - f[0]) + v[c.step[2] + c.step[1] + c.step[0]] * f[0];
         const T c0 = c00 * (1 - f[1]) + c10 * f[1];
         const T c1 = c01 * (1 - f[1]) + c11 * f[1];
         return c0 * (1 - f[2]) + c1 * f[2];
@@ -75,23 +71,14 @@ class Grid3 {
     // trilinear interpolant inside the cell holding p (one-sided on a cell face), zero along
     // an axis where p lies outside the box (the clamped value does not change there).
     T trilinear(const Vec3f& p, Vec3f* gradient) const requires std::same_as<T, float> {
-        const Vec3f g = (p - origin_) / cell_;
-        int i[3];
-        float f[3];
-        bool inside[3];
-        for (int a = 0; a < 3; ++a) {
-            const float x = std::clamp(g[a], 0.f, static_cast<float>(dims_[a] - 1));
-            inside[a] = g[a] == x && dims_[a] > 1;
-            i[a] = std::min(static_cast<int>(x), dims_[a] - 2);
-            if (i[a] < 0) i[a] = 0;
-            f[a] = dims_[a] > 1 ? x - static_cast<float>(i[a]) : 0.f;
-        }
-        const int i1 = std::min(i[0] + 1, dims_[0] - 1), j1 = std::min(i[1] + 1, dims_[1] - 1),
-                  k1 = std::min(i[2] + 1, dims_[2] - 1);
-        const T v000 = at(i[0], i[1], i[2]), v100 = at(i1, i[1], i[2]);
-        const T v010 = at(i[0], j1, i[2]), v110 = at(i1, j1, i[2]);
-        const T v001 = at(i[0], i[1], k1), v101 = at(i1, i[1], k1);
-        const T v011 = at(i[0], j1, k1), v111 = at(i1, j1, k1);
+        const Corner c = corner(p);
+        const T* v = data_.data() + c.index;
+        const float* f = c.f;
+        const size_t x = c.step[0], y = c.step[1], z = c.step[2];
+        const T v000 = v[0], v100 = v[x];
+        const T v010 = v[y], v110 = v[y + x];
+        const T v001 = v[z], v101 = v[z + x];
+        const T v011 = v[z + y], v111 = v[z + y + x];
         // The same operations in the same order as trilinear(p), so the values agree exactly.
         const T c00 = v000 * (1 - f[0]) + v100 * f[0];
         const T c10 = v010 * (1 - f[0]) + v110 * f[0];
@@ -105,14 +92,41 @@ class Grid3 {
             const T dx1 = dx01 * (1 - f[1]) + dx11 * f[1];
             const T dy0 = c10 - c00, dy1 = c11 - c01;
             const float inv = 1.f / cell_;
-            (*gradient)[0] = inside[0] ? (dx0 * (1 - f[2]) + dx1 * f[2]) * inv : T{};
-            (*gradient)[1] = inside[1] ? (dy0 * (1 - f[2]) + dy1 * f[2]) * inv : T{};
-            (*gradient)[2] = inside[2] ? (c1 - c0) * inv : T{};
+            (*gradient)[0] = c.inside[0] ? (dx0 * (1 - f[2]) + dx1 * f[2]) * inv : T{};
+            (*gradient)[1] = c.inside[1] ? (dy0 * (1 - f[2]) + dy1 * f[2]) * inv : T{};
+            (*gradient)[2] = c.inside[2] ? (c1 - c0) * inv : T{};
         }
         return c0 * (1 - f[2]) + c1 * f[2];
     }
 
   private:
+    // The cell a lookup at p reads: the index of its first node, the index step to its far
+    // node along each axis (0 along an axis of one node, which the lookup then reads twice),
+    // p's fractions within it (p clamped to the box) and whether p lay inside along each axis.
+    struct Corner {
+        size_t index;
+        size_t step[3];
+        float f[3];
+        bool inside[3];
+    };
+    Corner corner(const Vec3f& p) const {
+        const Vec3f g = (p - origin_) / cell_;
+        Corner c;
+        int i[3];
+        size_t stride = 1;
+        for (int a = 0; a < 3; ++a) {
+            const float x = std::clamp(g[a], 0.f, static_cast<float>(dims_[a] - 1));
+            c.inside[a] = g[a] == x && dims_[a] > 1;
+            i[a] = std::min(static_cast<int>(x), dims_[a] - 2);
+            if (i[a] < 0) i[a] = 0;
+            c.f[a] = dims_[a] > 1 ? x - static_cast<float>(i[a]) : 0.f;
+            c.step[a] = dims_[a] > 1 ? stride : 0;
+            stride *= static_cast<size_t>(dims_[a]);
+        }
+        c.index = index(i[0], i[1], i[2]);
+        return c;
+    }
+
     Vec3f origin_ = Vec3f::Zero();
     float cell_ = 1.f;
     Vec3i dims_ = Vec3i::Zero();

@@ -155,21 +155,6 @@ HeadField::HeadField(const Mesh& open_mesh, float cell) {
         1);
 }
 
-float HeadField::sdf(const Vec3f& p) const {
-    if (grid_.size() == 0) return 1e6f;
-    for (int a = 0; a < 3; ++a)
-        if (p[a] < box_.lo[a] || p[a] > box_.hi[a]) return 1e6f;
-    return grid_.trilinear(p);
-}
-
-float HeadField::sdf(const Vec3f& p, Vec3f* gradient) const {
-    gradient->setZero();
-    if (grid_.size() == 0) return 1e6f;
-    for (int a = 0; a < 3; ++a)
-        if (p[a] < box_.lo[a] || p[a] > box_.hi[a]) return 1e6f;
-    return grid_.trilinear(p, gradient);
-}
-
 Vec3f HeadField::gradient(const Vec3f& p) const {
     const float h = 0.5f * grid_.cell();
     Vec3f g;

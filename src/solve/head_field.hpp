@@ -26,10 +26,21 @@ class HeadField {
     static double node_count(const Box3& mesh_bounds, float cell);
 
     // Trilinear signed distance, cm; points outside the grid get a large positive value.
-    float sdf(const Vec3f& p) const;
+    // Inline: the solver asks it for several points per try of every joint, and the push out
+    // of the head for every member point near the skin.
+    float sdf(const Vec3f& p) const {
+        if (!inside_box(p)) return kOutside;
+        return grid_.trilinear(p);
+    }
     // The same distance and, in *gradient, the exact gradient of the trilinear interpolant
     // (≈ outward normal; zero outside the grid), for the price of one lookup.
-    float sdf(const Vec3f& p, Vec3f* gradient) const;
+    float sdf(const Vec3f& p, Vec3f* gradient) const {
+        if (!inside_box(p)) {
+            gradient->setZero();
+            return kOutside;
+        }
+        return grid_.trilinear(p, gradient);
+    }
     // Gradient of the trilinear signed distance (central differences), ≈ outward normal.
     Vec3f gradient(const Vec3f& p) const;
     // True only when sdf(p) ≥ `distance` is certain from the cell holding p alone: the
@@ -61,6 +72,16 @@ class HeadField {
   private:
     // cm: more than the rounding of a trilinear lookup of distances of up to a few metres.
     static constexpr float kBeyondSlack = 1e-3f;
+    // cm: sdf() outside the grid (and everywhere for an empty field).
+    static constexpr float kOutside = 1e6f;
+    // False for an empty field and for p outside the grid's box (a NaN coordinate fails both
+    // comparisons and counts as inside: the lookup's clamping then decides, as it always did).
+    bool inside_box(const Vec3f& p) const {
+        if (grid_.size() == 0) return false;
+        for (int a = 0; a < 3; ++a)
+            if (p[a] < box_.lo[a] || p[a] > box_.hi[a]) return false;
+        return true;
+    }
     Grid3<float> grid_;
     Box3 box_;
     std::vector<float> cell_min_;  // #cells (dims − 1 per axis, x fastest): the smallest

@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <bit>
+#include <cstdint>
+
 #include "core/rng.hpp"
 
 namespace wisp {
@@ -60,6 +64,79 @@ TEST(Grid3, GradientIsTheInterpolantsDerivative) {
     }
     g.trilinear(Vec3f(50, 0, 0), &grad);
     EXPECT_EQ(grad.x(), 0.f);
+}
+
+// The textbook trilinear formula, each node found by at(): what trilinear() computed before it
+// stepped between nodes by index.
+template <typename T>
+T textbook_trilinear(const Grid3<T>& g, const Vec3f& p) {
+    const Vec3f x = (p - g.origin()) / g.cell();
+    const Vec3i& dims = g.dims();
+    int i[3];
+    float f[3];
+    for (int a = 0; a < 3; ++a) {
+        const float c = std::clamp(x[a], 0.f, static_cast<float>(dims[a] - 1));
+        i[a] = std::min(static_cast<int>(c), dims[a] - 2);
+        if (i[a] < 0) i[a] = 0;
+        f[a] = dims[a] > 1 ? c - static_cast<float>(i[a]) : 0.f;
+    }
+    const int i1 = std::min(i[0] + 1, dims[0] - 1), j1 = std::min(i[1] + 1, dims[1] - 1),
+              k1 = std::min(i[2] + 1, dims[2] - 1);
+    const T c00 = g.at(i[0], i[1], i[2]) * (1 - f[0]) + g.at(i1, i[1], i[2]) * f[0];
+    const T c10 = g.at(i[0], j1, i[2]) * (1 - f[0]) + g.at(i1, j1, i[2]) * f[0];
+    const T c01 = g.at(i[0], i[1], k1) * (1 - f[0]) + g.at(i1, i[1], k1) * f[0];
+    const T c11 = g.at(i[0], j1, k1) * (1 - f[0]) + g.at(i1, j1, k1) * f[0];
+    const T c0 = c00 * (1 - f[1]) + c10 * f[1];
+    const T c1 = c01 * (1 - f[1]) + c11 * f[1];
+    return c0 * (1 - f[2]) + c1 * f[2];
+}
+
+// Seeded grids of every shape from one node per axis up, scalar and vector, looked up at
+// random points inside, at nodes and on the box's faces and far outside (clamped): the same
+// floats, to the bit, as the textbook formula, and the gradient overload's value with them.
+TEST(Grid3, TrilinearIsTheTextbookFormulaToTheBit) {
+    Rng rng(16);
+    for (int shape = 0; shape < 40; ++shape) {
+        const Vec3i dims(1 + int(rng.next() % 6), 1 + int(rng.next() % 6), 1 + int(rng.next() % 6));
+        const Vec3f origin(rng.uniform(-5.f, 5.f), rng.uniform(-5.f, 5.f), rng.uniform(-5.f, 5.f));
+        const float cell = rng.uniform(0.1f, 2.f);
+        Grid3<float> g(origin, cell, dims);
+        Grid3<Vec3f> v(origin, cell, dims);
+        for (float& x : g.data())
+            x = rng.uniform(-10.f, 10.f);
+        for (Vec3f& x : v.data())
+            x = Vec3f(rng.uniform(-1.f, 1.f), rng.uniform(-1.f, 1.f), rng.uniform(-1.f, 1.f));
+        const Vec3f top = cell * (dims - Vec3i::Ones()).cast<float>();
+        for (int n = 0; n < 300; ++n) {
+            Vec3f u;
+            for (int a = 0; a < 3; ++a) {
+                switch (rng.next() % 4) {
+                    case 0:  // a node, its faces included
+                        u[a] = cell * float(rng.next() % dims[a]);
+                        break;
+                    case 1:  // outside, clamped
+                        u[a] = rng.next() % 2 ? -rng.uniform(0.01f, 5.f)
+                                              : top[a] + rng.uniform(0.01f, 5.f);
+                        break;
+                    default:  // inside
+                        u[a] = rng.uniform(0.f, 1.f) * top[a];
+                }
+            }
+            const Vec3f p = origin + u;
+            const float expected = textbook_trilinear(g, p);
+            const float got = g.trilinear(p);
+            ASSERT_EQ(std::bit_cast<uint32_t>(got), std::bit_cast<uint32_t>(expected))
+                << shape << " " << n;
+            Vec3f grad;
+            ASSERT_EQ(std::bit_cast<uint32_t>(g.trilinear(p, &grad)),
+                      std::bit_cast<uint32_t>(expected))
+                << shape << " " << n;
+            const Vec3f ve = textbook_trilinear(v, p), vg = v.trilinear(p);
+            for (int a = 0; a < 3; ++a)
+                ASSERT_EQ(std::bit_cast<uint32_t>(vg[a]), std::bit_cast<uint32_t>(ve[a]))
+                    << shape << " " << n << " axis " << a;
+        }
+    }
 }
 
 }  // namespace wisp

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <bit>
 #include <cmath>
 #include <string>
 #include <thread>
@@ -492,6 +493,51 @@ TEST(HeadField, BeyondNeverClaimsAPointCloserThanItsDistance) {
     }
     EXPECT_GT(far, 1000u);
     EXPECT_GT(claimed, 0.8 * double(far));  // most points a few cells out are spared
+}
+
+// sdf(p, &gradient) is the solver's one-lookup distance and normal, sdf(p) the push out of
+// the head's: over random points around the head, at nodes, on the grid's faces and beyond
+// them, both give the same distance to the bit (the grid's trilinear lookup inside its box, a
+// large positive value and a zero gradient outside it).
+TEST(HeadField, TheLookupWithTheGradientGivesTheSameDistance) {
+    const HeadField& field = builtin_field();
+    const Grid3<float>& grid = field.grid();
+    const Vec3f lo = grid.origin();
+    const Vec3f hi = grid.node(grid.dims().x() - 1, grid.dims().y() - 1, grid.dims().z() - 1);
+    Rng rng(16);
+    size_t outside = 0;
+    for (int t = 0; t < 100000; ++t) {
+        Vec3f p;
+        for (int a = 0; a < 3; ++a) {
+            switch (rng.next() % 4) {
+                case 0:  // a node plane
+                    p[a] = lo[a] + grid.cell() * float(rng.next() % grid.dims()[a]);
+                    break;
+                case 1:  // a face of the box
+                    p[a] = rng.next() % 2 ? lo[a] : hi[a];
+                    break;
+                default:  // around the box, a little beyond it
+                    p[a] = rng.uniform(lo[a] - 2.f, hi[a] + 2.f);
+            }
+        }
+        Vec3f gradient = Vec3f::Constant(7.f);
+        const float d = field.sdf(p);
+        ASSERT_EQ(std::bit_cast<uint32_t>(field.sdf(p, &gradient)), std::bit_cast<uint32_t>(d))
+            << p.transpose();
+        bool in = true;
+        for (int a = 0; a < 3; ++a)
+            in = in && p[a] >= lo[a] && p[a] <= hi[a];
+        if (in) {
+            ASSERT_EQ(std::bit_cast<uint32_t>(d), std::bit_cast<uint32_t>(grid.trilinear(p)))
+                << p.transpose();
+        } else {
+            ++outside;
+            ASSERT_EQ(d, 1e6f) << p.transpose();
+            ASSERT_EQ(gradient, Vec3f::Zero()) << p.transpose();
+        }
+    }
+    EXPECT_GT(outside, 1000u);
+    EXPECT_LT(outside, 90000u);
 }
 
 TEST(Solver, ACancelledSolveStopsAtOnceAndSaysSo) {
