@@ -171,7 +171,10 @@ class StageCache {
     std::shared_ptr<std::string> bytes_;
     uint64_t bytes_run_ = 0;
     size_t bytes_strands_ = 0;
-    uint64_t hair_run_ = 0;    // bumped each time the members stage publishes new hair
+    uint64_t hair_run_ = 0;  // bumped each time the members stage publishes new hair
+    // The last answer of a preview (hair_bytes of fewer strands than all while the members
+    // are stale), written over by the next one once no one holds it.
+    std::shared_ptr<std::string> preview_bytes_;
     Masters preview_masters_;  // the last coarse solve of update_masters_preview
     Stage stale_ = Stage::kRoots;
     std::array<int, kStageCount> runs_{};

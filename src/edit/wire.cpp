@@ -42,6 +42,13 @@ std::vector<uint32_t> strand_order(size_t n) {
 }
 
 std::string encode_strands(const Hair& hair, std::span<const uint32_t> ids, size_t total) {
+    std::string out;
+    encode_strands(hair, ids, total, out);
+    return out;
+}
+
+void encode_strands(const Hair& hair, std::span<const uint32_t> ids, size_t total,
+                    std::string& out) {
     static_assert(sizeof(Vec3f) == 12, "positions and colours are copied as float32 triples");
     const size_t count = ids.size();
     // Where each strand's points go: the offsets sent, computed once and copied in parallel.
@@ -56,7 +63,11 @@ std::string encode_strands(const Hair& hair, std::span<const uint32_t> ids, size
                                 static_cast<uint32_t>(total)};
     const size_t at_offsets = 8 + sizeof header, at_points = at_offsets + 4 * (count + 1),
                  at_colors = at_points + 12 * points;
-    std::string out(at_colors + 12 * count, '\0');
+    // resize() clears only what the buffer grows by (the rest is written below), and a buffer
+    // too small is emptied first so that growing it copies nothing.
+    const size_t size = at_colors + 12 * count;
+    if (out.capacity() < size) out.clear();
+    out.resize(size);
     char* bytes = out.data();
     std::memcpy(bytes, "WISPHAIR", 8);
     std::memcpy(bytes + 8, header, sizeof header);
@@ -71,7 +82,6 @@ std::string encode_strands(const Hair& hair, std::span<const uint32_t> ids, size
             std::memcpy(bytes + at_colors + 12 * i, color.data(), 12);
         },
         1024);
-    return out;
 }
 
 std::string encode_strands(const Hair& hair, size_t limit, size_t total) {

@@ -78,5 +78,29 @@ TEST(Wire, StrandsAreSentInTheOrderGivenWithTheirColoursLast) {
     EXPECT_THROW(encode_strands(hair, std::vector<uint32_t>{2}, 2), Error);
 }
 
+// Encoding into a buffer that held other bytes, larger, smaller or the same size, writes every
+// byte: the result is the fresh encoding's, and a buffer large enough keeps its memory.
+TEST(Wire, EncodingIntoAUsedBufferGivesTheFreshBytes) {
+    Hair hair;
+    hair.add_strand(std::vector<Vec3f>{{0, 0, 0}, {0, 1, 0}});
+    hair.add_strand(std::vector<Vec3f>{{1, 0, 0}, {1, 1, 0}, {1, 2, 0}});
+    hair.add_strand(std::vector<Vec3f>{{2, 0, 0}, {2, 1, 0}, {2, 2, 0}, {2, 3, 0}});
+    hair.colors = {{0.1f, 0.2f, 0.3f}, {0.4f, 0.5f, 0.6f}, {0.7f, 0.8f, 0.9f}};
+    const std::vector<std::vector<uint32_t>> asks{{2, 0, 1}, {1}, {0, 2}, {2, 1, 0}, {}};
+    for (const std::string& used : {std::string(), std::string(200, '\xff'), std::string(3, '\x55'),
+                                    std::string(80, '\x7f')}) {
+        for (const auto& ids : asks) {
+            std::string out = used;
+            encode_strands(hair, ids, 9, out);
+            EXPECT_EQ(out, encode_strands(hair, ids, 9)) << used.size() << " " << ids.size();
+        }
+    }
+    std::string out(500, '\xff');
+    const char* memory = out.data();
+    encode_strands(hair, asks[0], 3, out);
+    EXPECT_EQ(out.data(), memory);
+    EXPECT_EQ(out, encode_strands(hair, asks[0], 3));
+}
+
 }  // namespace
 }  // namespace wisp
