@@ -103,13 +103,15 @@ class Grid3 {
     // The cell a lookup at p reads: the index of its first node, the index step to its far
     // node along each axis (0 along an axis of one node, which the lookup then reads twice),
     // p's fractions within it (p clamped to the box) and whether p lay inside along each axis.
+    // Always inline: where a caller looks up several points (push_out_of_head), GCC otherwise
+    // calls it, and the call and the 56-byte result cost as much as the arithmetic.
     struct Corner {
         size_t index;
         size_t step[3];
         float f[3];
         bool inside[3];
     };
-    Corner corner(const Vec3f& p) const {
+    [[gnu::always_inline]] Corner corner(const Vec3f& p) const {
         const Vec3f g = (p - origin_) / cell_;
         Corner c;
         int i[3];
