@@ -249,17 +249,37 @@ class AwtSimulation {
     struct SegmentSums {
         ContactSums child, parent;
     };
+    // A contact found by the narrow phase, with the terms both its segments gather (computed
+    // once, in parallel, where the pair is tested).
     struct Contact {
         uint32_t a, b;  // positions in grid order
         float s, t;     // closest points along a and b, parent → child
-        float push;     // repulsion (r − d)/d, 0 when none
+        float k;        // friction rate k_f = α·m (eq. 1)
+        uint32_t push;  // index of its repulsion in the chunk's `pushes`, or kNoPush
+        Vec3f va, vb;   // velocities at the closest points of a and b
+    };
+    static constexpr uint32_t kNoPush = UINT32_MAX;
+    // A contact's repulsion (eq. 2): on a (b takes −force), stiffness k_r and normal matrix
+    // k_r·n·nᵀ.
+    struct Push {
+        Vec3f force;
+        float k_r;
+        Mat3f normal;
     };
     struct ChunkContacts {
         std::vector<Contact> list;
+        std::vector<Push> pushes;
         uint32_t tests = 0;
+        size_t first = 0;  // index of its first contact in the step's contact order
     };
     BoxGrid grid_;
     std::vector<ChunkContacts> contacts_;
+    // Every contact of the step, in chunk order (a pointer into its chunk's list), and per
+    // segment (CSR: incoming_begin_ #segments+1) the contacts it takes part in, in that order,
+    // as 2·index + (1 when it is the pair's second segment).
+    std::vector<const Contact*> contact_order_;
+    std::vector<const Push*> push_order_;  // each contact's repulsion, or null
+    std::vector<uint32_t> incoming_begin_, incoming_, incoming_cursor_;
     std::vector<Box4> boxes_;
     std::vector<Segment> segments_;
     std::vector<SegmentSums> sums_;
