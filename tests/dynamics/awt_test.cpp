@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "core/error.hpp"
 #include "core/parallel.hpp"
@@ -411,6 +412,39 @@ TEST(Skin, ASubsetIsTheFullSkinAtItsStrands) {
     EXPECT_THROW(bind_subset(h, binding, rest.offsets, bad), Error);
     std::vector<Vec3f> short_points(points.size() - 1);
     EXPECT_THROW(skin_strands(h, subset, sim.positions(), rotations, short_points), Error);
+}
+
+// The subset skin (SSE where the target has it) is the scalar formula's bits at every strand,
+// in both of its output forms, after a drastic motion has turned every segment.
+TEST(Skin, TheSubsetSkinIsTheScalarFormulaToTheBitAtEveryStrand) {
+    const Scene& s = scene("long-straight");
+    const Hierarchy& h = s.hierarchy;
+    const Hair& rest = s.groomed.hair;
+    AwtSimulation sim(h, s.spheres, motion_preset("shake", s.groomed.head), params_of(s));
+    for (int step = 0; step < 40; ++step)
+        sim.step();
+    sim.sync();
+    std::vector<Mat3f> rotations;
+    sim.finest_rotations(rotations);
+    const StrandBinding binding = bind_strands(rest, h);
+    Hair all = rest;
+    skin_strands(h, binding, sim.positions(), rotations, all);
+    std::vector<uint32_t> strands(rest.strand_count());
+    for (size_t i = 0; i < strands.size(); ++i)
+        strands[i] = static_cast<uint32_t>(strands.size() - 1 - i);  // backwards: any order
+    const SubsetBinding subset = bind_subset(h, binding, rest.offsets, strands);
+    std::vector<Vec3f> points(subset.point_count());
+    skin_strands(h, subset, sim.positions(), rotations, points);
+    std::string bytes(12 * subset.point_count(), '\0');
+    skin_strands(h, subset, sim.positions(), rotations, std::span<char>(bytes));
+    size_t at = 0;
+    for (uint32_t strand : strands)
+        for (const Vec3f& p : all.strand(strand)) {
+            ASSERT_EQ(std::memcmp(points[at].data(), p.data(), 12), 0) << "strand " << strand;
+            ASSERT_EQ(std::memcmp(bytes.data() + 12 * at, p.data(), 12), 0) << "strand " << strand;
+            ++at;
+        }
+    EXPECT_EQ(at, points.size());
 }
 
 TEST(Awt, SingleLevelKeepsEveryFinestNodeActive) {
