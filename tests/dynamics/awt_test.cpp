@@ -246,6 +246,35 @@ TEST(Awt, ShakenDenseHairIsNotFlungUp) {
     EXPECT_LT(highest - top, 3.f);
 }
 
+// Dense hair under a shake: segments take contacts found in many chunks of the narrow phase,
+// as the first of their pairs and as the second, with repulsions. Each segment sums its
+// contacts in the chunks' order whatever thread found them, so the bits do not depend on the
+// thread count.
+TEST(Awt, DenseContactsSumToTheSameBitsAtOneAndTwoThreads) {
+    test::Groomed g = test::groomed("default", 700, 2800, 16);
+    const Hierarchy h = build_hierarchy(g.hair, hierarchy_options(g.style.dynamics));
+    const std::vector<Sphere> spheres = body_spheres_for(*test::builtin_head().mesh, g.head, h);
+    const Motion motion = motion_preset("shake", g.head);
+    const AwtParams params = awt_params(g.style.dynamics, g.style.prototype.kind, false);
+    const auto run = [&](int threads, uint64_t& contacts) {
+        const ThreadLimit limit(threads);
+        AwtSimulation sim(h, spheres, motion, params);
+        contacts = 0;
+        for (int step = 0; step < 60; ++step) {
+            sim.step();
+            contacts += sim.last_step().hair_contacts;
+        }
+        return std::vector<Vec3f>(sim.velocities().begin(), sim.velocities().end());
+    };
+    uint64_t one = 0, two = 0;
+    const std::vector<Vec3f> a = run(1, one), b = run(2, two);
+    EXPECT_GT(one, 60u * 20 * h.level_begin[1]) << "the hair is not dense enough to test this";
+    EXPECT_EQ(one, two);
+    ASSERT_EQ(a.size(), b.size());
+    for (size_t i = 0; i < a.size(); ++i)
+        ASSERT_EQ(std::memcmp(a[i].data(), b[i].data(), 12), 0) << "node " << i;
+}
+
 // A ponytail under a shake: what the tie holds (scalp to tie) moves rigidly with the head,
 // and the tail swings from the tie. Without the tie's hold the same nodes sway off the head.
 TEST(Awt, TiedHairMovesWithTheHeadAndTheTailSwingsFromTheTie) {
