@@ -61,9 +61,11 @@ constexpr float kSettleTime = 0.5f;
 constexpr float kHoldStiffness = 4000.f;
 
 // Closest points of segments p1 + s·d1 and p2 + t·d2, s and t in [0, 1], given a = |d1|² and
-// e = |d2|² (Ericson, Real-Time Collision Detection §5.1.9).
-void closest_points(const Vec3f& p1, const Vec3f& d1, float a, const Vec3f& p2, const Vec3f& d2,
-                    float e, float& s, float& t) {
+// e = |d2|² (Ericson, Real-Time Collision Detection §5.1.9). Inlined: it runs for every pair
+// tested, and a call kept its operands out of registers.
+[[gnu::always_inline]] inline void closest_points(const Vec3f& p1, const Vec3f& d1, float a,
+                                                  const Vec3f& p2, const Vec3f& d2, float e,
+                                                  float& s, float& t) {
     const Vec3f r = p1 - p2;
     const float f = d2.dot(r);
     constexpr float eps = 1e-12f;
@@ -479,25 +481,14 @@ void AwtSimulation::interact() {
             return ++found < kMaxContacts;
         });
     });
-    // The contacts in chunk order, and each segment's share of them in that order (CSR).
+    // Each segment's share of the contacts, in chunk order (CSR): pointers to the chunks'
+    // contacts, tagged 1 where the segment is the pair's second.
     size_t total = 0;
     for (size_t chunk = 0; chunk < chunks; ++chunk) {
-        ChunkContacts& c = contacts_[chunk];
-        c.first = total;
-        total += c.list.size();
-        last_.pair_tests += c.tests;
+        total += contacts_[chunk].list.size();
+        last_.pair_tests += contacts_[chunk].tests;
     }
     last_.hair_contacts += static_cast<uint32_t>(total);
-    contact_order_.resize(total);
-    push_order_.resize(total);
-    parallel_for(chunks, [&](size_t chunk) {
-        const ChunkContacts& c = contacts_[chunk];
-        for (size_t i = 0; i < c.list.size(); ++i) {
-            contact_order_[c.first + i] = &c.list[i];
-            push_order_[c.first + i] =
-                c.list[i].push == kNoPush ? nullptr : &c.pushes[c.list[i].push];
-        }
-    });
     incoming_begin_.assign(order.size() + 1, 0);
     for (size_t chunk = 0; chunk < chunks; ++chunk)
         for (const Contact& c : contacts_[chunk].list) {
@@ -508,11 +499,12 @@ void AwtSimulation::interact() {
         incoming_begin_[e + 1] += incoming_begin_[e];
     incoming_.resize(2 * total);
     incoming_cursor_.assign(incoming_begin_.begin(), incoming_begin_.end() - 1);
-    for (size_t chunk = 0, index = 0; chunk < chunks; ++chunk)
+    static_assert(alignof(Contact) >= 2, "the low bit of a contact's address is free");
+    for (size_t chunk = 0; chunk < chunks; ++chunk)
         for (const Contact& c : contacts_[chunk].list) {
-            incoming_[incoming_cursor_[c.a]++] = static_cast<uint32_t>(2 * index);
-            incoming_[incoming_cursor_[c.b]++] = static_cast<uint32_t>(2 * index + 1);
-            ++index;
+            const auto at = reinterpret_cast<uintptr_t>(&c);
+            incoming_[incoming_cursor_[c.a]++] = at;
+            incoming_[incoming_cursor_[c.b]++] = at | 1;
         }
     // Every segment sums its own contacts, split to its nodes by eq. (3): P = u·N_p + (1 −
     // u)·N_c with u = 1 − s (s runs parent → child).
@@ -521,8 +513,8 @@ void AwtSimulation::interact() {
         [&](size_t e) {
             SegmentSums sums;
             for (uint32_t at = incoming_begin_[e]; at < incoming_begin_[e + 1]; ++at) {
-                const uint32_t entry = incoming_[at];
-                const Contact& contact = *contact_order_[entry >> 1];
+                const uintptr_t entry = incoming_[at];
+                const Contact& contact = *reinterpret_cast<const Contact*>(entry & ~uintptr_t{1});
                 const bool second = (entry & 1) != 0;
                 const float k = contact.k;
                 const Vec3f& other = second ? contact.va : contact.vb;
@@ -531,8 +523,9 @@ void AwtSimulation::interact() {
                     end.friction += w * k * other;
                 };
                 at_ends(sums, second ? contact.t : contact.s, rub);
-                const Push* push = push_order_[entry >> 1];
-                if (!push) continue;
+                if (contact.push == kNoPush) continue;
+                // A contact's chunk is its first segment's.
+                const Push* push = &contacts_[contact.a / kChunk].pushes[contact.push];
                 const Vec3f force = second ? Vec3f(-push->force) : push->force;
                 // Eigen evaluates w·(N·v) as (w·N)·v: spelled as it was when the terms were
                 // summed serially, so the bits are the same.

@@ -270,16 +270,13 @@ class AwtSimulation {
         std::vector<Contact> list;
         std::vector<Push> pushes;
         uint32_t tests = 0;
-        size_t first = 0;  // index of its first contact in the step's contact order
     };
     BoxGrid grid_;
     std::vector<ChunkContacts> contacts_;
-    // Every contact of the step, in chunk order (a pointer into its chunk's list), and per
-    // segment (CSR: incoming_begin_ #segments+1) the contacts it takes part in, in that order,
-    // as 2·index + (1 when it is the pair's second segment).
-    std::vector<const Contact*> contact_order_;
-    std::vector<const Push*> push_order_;  // each contact's repulsion, or null
-    std::vector<uint32_t> incoming_begin_, incoming_, incoming_cursor_;
+    // Per segment (CSR: incoming_begin_ #segments+1), the contacts it takes part in, in chunk
+    // order: the address of each in its chunk's list, + 1 where it is the pair's second.
+    std::vector<uint32_t> incoming_begin_, incoming_cursor_;
+    std::vector<uintptr_t> incoming_;
     std::vector<Box4> boxes_;
     std::vector<Segment> segments_;
     std::vector<SegmentSums> sums_;
