@@ -1,5 +1,7 @@
 #include "dynamics/awt.hpp"
 
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -481,65 +483,80 @@ void AwtSimulation::interact() {
             return ++found < kMaxContacts;
         });
     });
-    // Each segment's share of the contacts, in chunk order (CSR): pointers to the chunks'
-    // contacts, tagged 1 where the segment is the pair's second.
     size_t total = 0;
     for (size_t chunk = 0; chunk < chunks; ++chunk) {
         total += contacts_[chunk].list.size();
         last_.pair_tests += contacts_[chunk].tests;
     }
     last_.hair_contacts += static_cast<uint32_t>(total);
-    incoming_begin_.assign(order.size() + 1, 0);
-    for (size_t chunk = 0; chunk < chunks; ++chunk)
-        for (const Contact& c : contacts_[chunk].list) {
-            ++incoming_begin_[c.a + 1];
-            ++incoming_begin_[c.b + 1];
-        }
-    for (size_t e = 0; e < order.size(); ++e)
-        incoming_begin_[e + 1] += incoming_begin_[e];
-    incoming_.resize(2 * total);
-    incoming_cursor_.assign(incoming_begin_.begin(), incoming_begin_.end() - 1);
-    static_assert(alignof(Contact) >= 2, "the low bit of a contact's address is free");
-    for (size_t chunk = 0; chunk < chunks; ++chunk)
-        for (const Contact& c : contacts_[chunk].list) {
-            const auto at = reinterpret_cast<uintptr_t>(&c);
-            incoming_[incoming_cursor_[c.a]++] = at;
-            incoming_[incoming_cursor_[c.b]++] = at | 1;
-        }
-    // Every segment sums its own contacts, split to its nodes by eq. (3): P = u·N_p + (1 −
-    // u)·N_c with u = 1 − s (s runs parent → child).
-    parallel_for(
-        order.size(),
-        [&](size_t e) {
-            SegmentSums sums;
-            for (uint32_t at = incoming_begin_[e]; at < incoming_begin_[e + 1]; ++at) {
-                const uintptr_t entry = incoming_[at];
-                const Contact& contact = *reinterpret_cast<const Contact*>(entry & ~uintptr_t{1});
-                const bool second = (entry & 1) != 0;
-                const float k = contact.k;
-                const Vec3f& other = second ? contact.va : contact.vb;
-                const auto rub = [&](ContactSums& end, float w) {
-                    end.drag += w * k;
-                    end.friction += w * k * other;
-                };
-                at_ends(sums, second ? contact.t : contact.s, rub);
-                if (contact.push == kNoPush) continue;
-                // A contact's chunk is its first segment's.
-                const Push* push = &contacts_[contact.a / kChunk].pushes[contact.push];
-                const Vec3f force = second ? Vec3f(-push->force) : push->force;
-                // Eigen evaluates w·(N·v) as (w·N)·v: spelled as it was when the terms were
-                // summed serially, so the bits are the same.
-                const auto repel = [&](ContactSums& end, float w) {
-                    end.force += w * force;
-                    end.stiffness += w * push->k_r;
-                    end.normal += w * push->normal;
-                    end.pushed_with += w * (push->normal * other);
-                };
-                at_ends(sums, second ? contact.t : contact.s, repel);
+    // A contact's share for one of its segments (the second when `second`), split to the
+    // segment's nodes by eq. (3): P = u·N_p + (1 − u)·N_c with u = 1 − s (s runs parent →
+    // child).
+    const auto gather = [&](SegmentSums& sums, const Contact& contact, bool second) {
+        const float k = contact.k;
+        const Vec3f& other = second ? contact.va : contact.vb;
+        const float w = second ? contact.t : contact.s;
+        at_ends(sums, w, [&](ContactSums& end, float u) {
+            end.drag += u * k;
+            end.friction += u * k * other;
+        });
+        if (contact.push == kNoPush) return;
+        // A contact's chunk is its first segment's.
+        const Push& push = contacts_[contact.a / kChunk].pushes[contact.push];
+        const Vec3f force = second ? Vec3f(-push.force) : push.force;
+        // Eigen evaluates u·(N·v) as (u·N)·v: spelled as it was when the terms were summed
+        // in one serial loop, so the bits are the same.
+        at_ends(sums, w, [&](ContactSums& end, float u) {
+            end.force += u * force;
+            end.stiffness += u * push.k_r;
+            end.normal += u * push.normal;
+            end.pushed_with += u * (push.normal * other);
+        });
+    };
+    if (tbb::this_task_arena::max_concurrency() == 1) {
+        // One thread: the contacts in chunk order, each to its two segments, as listed.
+        parallel_for(
+            order.size(), [&](size_t e) { sums_[e] = SegmentSums{}; }, kGrain);
+        for (size_t chunk = 0; chunk < chunks; ++chunk)
+            for (const Contact& c : contacts_[chunk].list) {
+                gather(sums_[c.a], c, false);
+                gather(sums_[c.b], c, true);
             }
-            sums_[e] = sums;
-        },
-        kGrain);
+    } else {
+        // More: each segment sums its own share in parallel, in the same order. Its share is
+        // listed per segment (CSR): pointers to the chunks' contacts, tagged 1 where the
+        // segment is the pair's second. Listing costs about what the summing saves on one
+        // thread, so one thread does not list.
+        incoming_begin_.assign(order.size() + 1, 0);
+        for (size_t chunk = 0; chunk < chunks; ++chunk)
+            for (const Contact& c : contacts_[chunk].list) {
+                ++incoming_begin_[c.a + 1];
+                ++incoming_begin_[c.b + 1];
+            }
+        for (size_t e = 0; e < order.size(); ++e)
+            incoming_begin_[e + 1] += incoming_begin_[e];
+        incoming_.resize(2 * total);
+        incoming_cursor_.assign(incoming_begin_.begin(), incoming_begin_.end() - 1);
+        static_assert(alignof(Contact) >= 2, "the low bit of a contact's address is free");
+        for (size_t chunk = 0; chunk < chunks; ++chunk)
+            for (const Contact& c : contacts_[chunk].list) {
+                const auto at = reinterpret_cast<uintptr_t>(&c);
+                incoming_[incoming_cursor_[c.a]++] = at;
+                incoming_[incoming_cursor_[c.b]++] = at | 1;
+            }
+        parallel_for(
+            order.size(),
+            [&](size_t e) {
+                SegmentSums sums;
+                for (uint32_t at = incoming_begin_[e]; at < incoming_begin_[e + 1]; ++at) {
+                    const uintptr_t entry = incoming_[at];
+                    gather(sums, *reinterpret_cast<const Contact*>(entry & ~uintptr_t{1}),
+                           (entry & 1) != 0);
+                }
+                sums_[e] = sums;
+            },
+            kGrain);
+    }
     // Roots are not simulated: what falls on them is dropped.
     for (size_t e = 0; e < segments_.size(); ++e) {
         contact_[segments_[e].child].add(sums_[e].child);
