@@ -1,5 +1,6 @@
 #include "dynamics/awt.hpp"
 
+#include <tbb/global_control.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -63,11 +64,9 @@ constexpr float kSettleTime = 0.5f;
 constexpr float kHoldStiffness = 4000.f;
 
 // Closest points of segments p1 + s·d1 and p2 + t·d2, s and t in [0, 1], given a = |d1|² and
-// e = |d2|² (Ericson, Real-Time Collision Detection §5.1.9). Inlined: it runs for every pair
-// tested, and a call kept its operands out of registers.
-[[gnu::always_inline]] inline void closest_points(const Vec3f& p1, const Vec3f& d1, float a,
-                                                  const Vec3f& p2, const Vec3f& d2, float e,
-                                                  float& s, float& t) {
+// e = |d2|² (Ericson, Real-Time Collision Detection §5.1.9).
+void closest_points(const Vec3f& p1, const Vec3f& d1, float a, const Vec3f& p2, const Vec3f& d2,
+                    float e, float& s, float& t) {
     const Vec3f r = p1 - p2;
     const float f = d2.dot(r);
     constexpr float eps = 1e-12f;
@@ -426,7 +425,9 @@ void AwtSimulation::interact() {
         out.tests = 0;
         size_t current = SIZE_MAX;
         uint32_t found = 0;  // contacts of segment `current`, as the first of the pair
-        grid_.for_each_overlap(chunk * kChunk, (chunk + 1) * kChunk, [&](size_t ia, size_t ib) {
+        // Inlined into the broad phase's loop: it runs for every overlapping pair, and a call
+        // per pair cost more than the tests that reject most of them.
+        const auto visit = [&](size_t ia, size_t ib) __attribute__((always_inline)) {
             if (ia != current) {
                 current = ia;
                 found = 0;
@@ -481,7 +482,8 @@ void AwtSimulation::interact() {
             // Enough contacts saturate the node's caps (below): the rest of a dense bundle
             // would only cost time, quadratic in the hair packed in one place.
             return ++found < kMaxContacts;
-        });
+        };
+        grid_.for_each_overlap(chunk * kChunk, (chunk + 1) * kChunk, visit);
     });
     size_t total = 0;
     for (size_t chunk = 0; chunk < chunks; ++chunk) {
@@ -513,7 +515,11 @@ void AwtSimulation::interact() {
             end.pushed_with += u * (push.normal * other);
         });
     };
-    if (tbb::this_task_arena::max_concurrency() == 1) {
+    // The threads the loops may use: the arena's, within a ThreadLimit.
+    const size_t threads =
+        std::min(static_cast<size_t>(tbb::this_task_arena::max_concurrency()),
+                 tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+    if (threads == 1) {
         // One thread: the contacts in chunk order, each to its two segments, as listed.
         parallel_for(
             order.size(), [&](size_t e) { sums_[e] = SegmentSums{}; }, kGrain);
