@@ -1,8 +1,5 @@
 #include "dynamics/awt.hpp"
 
-#include <tbb/global_control.h>
-#include <tbb/task_arena.h>
-
 #include <algorithm>
 #include <cmath>
 
@@ -392,6 +389,7 @@ void AwtSimulation::interact() {
     parallel_for(
         order.size(),
         [&](size_t e) {
+            sums_[e] = SegmentSums{};
             const uint32_t c = active_[order[e]], p = parent_[c];
             Segment& g = segments_[e];
             g.xp = x_[p];
@@ -412,22 +410,18 @@ void AwtSimulation::interact() {
         },
         kGrain);
     const float alpha = params_.friction, kr = params_.repulsion;
-    // The tests run in parallel over fixed chunks of the grid, each listing its contacts with
-    // the terms both of their segments take (computed once per contact); each segment then
-    // sums its contacts in chunk order, so the sums never depend on the thread count.
+    // The tests run in parallel over fixed chunks of the grid, each listing its contacts; the
+    // contacts then act in chunk order, so the sums never depend on the thread count.
     const size_t chunks = std::max<size_t>(1, (order.size() + kChunk - 1) / kChunk);
     if (contacts_.size() < chunks) contacts_.resize(chunks);
     const float cos2 = cos_repulsion_ * cos_repulsion_;
     parallel_for(chunks, [&](size_t chunk) {
         ChunkContacts& out = contacts_[chunk];
         out.list.clear();
-        out.pushes.clear();
         out.tests = 0;
         size_t current = SIZE_MAX;
         uint32_t found = 0;  // contacts of segment `current`, as the first of the pair
-        // Inlined into the broad phase's loop: it runs for every overlapping pair, and a call
-        // per pair cost more than the tests that reject most of them.
-        const auto visit = [&](size_t ia, size_t ib) __attribute__((always_inline)) {
+        grid_.for_each_overlap(chunk * kChunk, (chunk + 1) * kChunk, [&](size_t ia, size_t ib) {
             if (ia != current) {
                 current = ia;
                 found = 0;
@@ -448,12 +442,7 @@ void AwtSimulation::interact() {
             const float r = a.radius + b.radius;
             const float dist2 = d.squaredNorm();
             if (dist2 >= r * r) return true;
-            const float m = std::min(a.mass, b.mass);
-            // Eq. (1), k_f = α·m, drawing each segment toward the other's velocity at the
-            // contact (integrated implicitly, integrate()).
-            Contact contact{
-                static_cast<uint32_t>(ia), static_cast<uint32_t>(ib), s, t, alpha * m, kNoPush,
-                a.vp + s * (a.vc - a.vp),  b.vp + t * (b.vc - b.vp)};
+            Contact contact{static_cast<uint32_t>(ia), static_cast<uint32_t>(ib), s, t, 0.f};
             const float la2 = a.length2, lb2 = b.length2;
             const float dot = a.axis.dot(b.axis);
             if (la2 > 0 && lb2 > 0 && dist2 > 1e-12f && dot * dot < cos2 * la2 * lb2) {
@@ -467,101 +456,56 @@ void AwtSimulation::interact() {
                                           .norm();
                 const float reach = std::min(r, at_rest);
                 const float dist = std::sqrt(dist2);
-                if (dist < reach) {
-                    const float k_r = kr * m;
-                    // The repulsion, with its stiffness and normal matrix for its implicit
-                    // integration relative to the other segment's motion (integrate()), along
-                    // the contact normal only: the implicit response resists approach, not
-                    // sliding (that is friction's business).
-                    const Mat3f nn = (k_r / dist2) * (d * d.transpose());
-                    contact.push = static_cast<uint32_t>(out.pushes.size());
-                    out.pushes.push_back({k_r * ((reach - dist) / dist) * d, k_r, nn});
-                }
+                if (dist < reach) contact.push = (reach - dist) / dist;
             }
             out.list.push_back(contact);
             // Enough contacts saturate the node's caps (below): the rest of a dense bundle
             // would only cost time, quadratic in the hair packed in one place.
             return ++found < kMaxContacts;
-        };
-        grid_.for_each_overlap(chunk * kChunk, (chunk + 1) * kChunk, visit);
+        });
     });
-    size_t total = 0;
     for (size_t chunk = 0; chunk < chunks; ++chunk) {
-        total += contacts_[chunk].list.size();
         last_.pair_tests += contacts_[chunk].tests;
-    }
-    last_.hair_contacts += static_cast<uint32_t>(total);
-    // A contact's share for one of its segments (the second when `second`), split to the
-    // segment's nodes by eq. (3): P = u·N_p + (1 − u)·N_c with u = 1 − s (s runs parent →
-    // child).
-    const auto gather = [&](SegmentSums& sums, const Contact& contact, bool second) {
-        const float k = contact.k;
-        const Vec3f& other = second ? contact.va : contact.vb;
-        const float w = second ? contact.t : contact.s;
-        at_ends(sums, w, [&](ContactSums& end, float u) {
-            end.drag += u * k;
-            end.friction += u * k * other;
-        });
-        if (contact.push == kNoPush) return;
-        // A contact's chunk is its first segment's.
-        const Push& push = contacts_[contact.a / kChunk].pushes[contact.push];
-        const Vec3f force = second ? Vec3f(-push.force) : push.force;
-        // Eigen evaluates u·(N·v) as (u·N)·v: spelled as it was when the terms were summed
-        // in one serial loop, so the bits are the same.
-        at_ends(sums, w, [&](ContactSums& end, float u) {
-            end.force += u * force;
-            end.stiffness += u * push.k_r;
-            end.normal += u * push.normal;
-            end.pushed_with += u * (push.normal * other);
-        });
-    };
-    // The threads the loops may use: the arena's, within a ThreadLimit.
-    const size_t threads =
-        std::min(static_cast<size_t>(tbb::this_task_arena::max_concurrency()),
-                 tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
-    if (threads == 1) {
-        // One thread: the contacts in chunk order, each to its two segments, as listed.
-        parallel_for(
-            order.size(), [&](size_t e) { sums_[e] = SegmentSums{}; }, kGrain);
-        for (size_t chunk = 0; chunk < chunks; ++chunk)
-            for (const Contact& c : contacts_[chunk].list) {
-                gather(sums_[c.a], c, false);
-                gather(sums_[c.b], c, true);
-            }
-    } else {
-        // More: each segment sums its own share in parallel, in the same order. Its share is
-        // listed per segment (CSR): pointers to the chunks' contacts, tagged 1 where the
-        // segment is the pair's second. Listing costs about what the summing saves on one
-        // thread, so one thread does not list.
-        incoming_begin_.assign(order.size() + 1, 0);
-        for (size_t chunk = 0; chunk < chunks; ++chunk)
-            for (const Contact& c : contacts_[chunk].list) {
-                ++incoming_begin_[c.a + 1];
-                ++incoming_begin_[c.b + 1];
-            }
-        for (size_t e = 0; e < order.size(); ++e)
-            incoming_begin_[e + 1] += incoming_begin_[e];
-        incoming_.resize(2 * total);
-        incoming_cursor_.assign(incoming_begin_.begin(), incoming_begin_.end() - 1);
-        static_assert(alignof(Contact) >= 2, "the low bit of a contact's address is free");
-        for (size_t chunk = 0; chunk < chunks; ++chunk)
-            for (const Contact& c : contacts_[chunk].list) {
-                const auto at = reinterpret_cast<uintptr_t>(&c);
-                incoming_[incoming_cursor_[c.a]++] = at;
-                incoming_[incoming_cursor_[c.b]++] = at | 1;
-            }
-        parallel_for(
-            order.size(),
-            [&](size_t e) {
-                SegmentSums sums;
-                for (uint32_t at = incoming_begin_[e]; at < incoming_begin_[e + 1]; ++at) {
-                    const uintptr_t entry = incoming_[at];
-                    gather(sums, *reinterpret_cast<const Contact*>(entry & ~uintptr_t{1}),
-                           (entry & 1) != 0);
-                }
-                sums_[e] = sums;
-            },
-            kGrain);
+        last_.hair_contacts += static_cast<uint32_t>(contacts_[chunk].list.size());
+        for (const Contact& contact : contacts_[chunk].list) {
+            const Segment& a = segments_[contact.a];
+            const Segment& b = segments_[contact.b];
+            SegmentSums& fa = sums_[contact.a];
+            SegmentSums& fb = sums_[contact.b];
+            const float s = contact.s, t = contact.t;
+            const float m = std::min(a.mass, b.mass);
+            const float k = alpha * m;
+            const Vec3f v1 = a.vp + s * (a.vc - a.vp);
+            const Vec3f v2 = b.vp + t * (b.vc - b.vp);
+            // Eq. (1), k_f = α·m, split to the nodes by eq. (3): P = u·N_p + (1 − u)·N_c with
+            // u = 1 − s (s runs parent → child). It is integrated implicitly (each node is
+            // drawn toward the other segment's velocity), so many contacts on one node never
+            // reverse its relative motion.
+            const auto rub = [&](ContactSums& end, float w, const Vec3f& other) {
+                end.drag += w * k;
+                end.friction += w * k * other;
+            };
+            at_ends(fa, s, rub, v2);
+            at_ends(fb, t, rub, v1);
+            if (contact.push == 0) continue;
+            const float k_r = kr * m;
+            const Vec3f d = (a.xp + s * a.axis) - (b.xp + t * b.axis);
+            const Vec3f f = k_r * contact.push * d;
+            // The repulsion, with its stiffness and Σ k_r·v_other for its implicit integration
+            // relative to the other segment's motion (integrate()), along the contact normal
+            // only: the implicit response resists approach, not sliding (that is friction's
+            // business).
+            const Mat3f nn = (k_r / d.squaredNorm()) * (d * d.transpose());
+            const auto push = [&](ContactSums& end, float w, const Vec3f& force,
+                                  const Vec3f& other) {
+                end.force += w * force;
+                end.stiffness += w * k_r;
+                end.normal += w * nn;
+                end.pushed_with += w * (nn * other);
+            };
+            at_ends(fa, s, push, f, v2);
+            at_ends(fb, t, push, Vec3f(-f), v1);
+        }
     }
     // Roots are not simulated: what falls on them is dropped.
     for (size_t e = 0; e < segments_.size(); ++e) {

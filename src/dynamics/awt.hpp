@@ -249,34 +249,17 @@ class AwtSimulation {
     struct SegmentSums {
         ContactSums child, parent;
     };
-    // A contact found by the narrow phase, with the terms both its segments gather (computed
-    // once, in parallel, where the pair is tested).
     struct Contact {
         uint32_t a, b;  // positions in grid order
         float s, t;     // closest points along a and b, parent → child
-        float k;        // friction rate k_f = α·m (eq. 1)
-        uint32_t push;  // index of its repulsion in the chunk's `pushes`, or kNoPush
-        Vec3f va, vb;   // velocities at the closest points of a and b
-    };
-    static constexpr uint32_t kNoPush = UINT32_MAX;
-    // A contact's repulsion (eq. 2): on a (b takes −force), stiffness k_r and normal matrix
-    // k_r·n·nᵀ.
-    struct Push {
-        Vec3f force;
-        float k_r;
-        Mat3f normal;
+        float push;     // repulsion (r − d)/d, 0 when none
     };
     struct ChunkContacts {
         std::vector<Contact> list;
-        std::vector<Push> pushes;
         uint32_t tests = 0;
     };
     BoxGrid grid_;
     std::vector<ChunkContacts> contacts_;
-    // Per segment (CSR: incoming_begin_ #segments+1), the contacts it takes part in, in chunk
-    // order: the address of each in its chunk's list, + 1 where it is the pair's second.
-    std::vector<uint32_t> incoming_begin_, incoming_cursor_;
-    std::vector<uintptr_t> incoming_;
     std::vector<Box4> boxes_;
     std::vector<Segment> segments_;
     std::vector<SegmentSums> sums_;

@@ -247,9 +247,8 @@ TEST(Awt, ShakenDenseHairIsNotFlungUp) {
 }
 
 // Dense hair under a shake: segments take contacts found in many chunks of the narrow phase,
-// as the first of their pairs and as the second, with repulsions. Each segment sums its
-// contacts in the chunks' order whatever thread found them, so the bits do not depend on the
-// thread count.
+// as the first of their pairs and as the second, with repulsions. The contacts act in the
+// chunks' order whatever thread found them, so the bits do not depend on the thread count.
 TEST(Awt, DenseContactsSumToTheSameBitsAtOneAndTwoThreads) {
     test::Groomed g = test::groomed("default", 700, 2800, 16);
     const Hierarchy h = build_hierarchy(g.hair, hierarchy_options(g.style.dynamics));
