@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cstring>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "core/error.hpp"
 #include "core/parallel.hpp"
@@ -137,10 +140,20 @@ SubsetBinding bind_subset(const Hierarchy& h, const StrandBinding& b,
 
 namespace {
 
-// skin_strands() of a subset, each point handed to store(i, p).
-template <class Store>
+#if defined(__SSE2__)
+// x, y, z, 0 from three floats, reading none past them.
+inline __m128 load3(const float* p) {
+    return _mm_movelh_ps(_mm_castpd_ps(_mm_load_sd(reinterpret_cast<const double*>(p))),
+                         _mm_load_ss(p + 2));
+}
+
+// Strands of up to this many sections keep their nodes' columns in registers' reach.
+constexpr int kMaxSseSections = 64;
+#endif
+
+// skin_strands() of a subset, written as float32 triples from `out` (#P' × 3 floats).
 void skin_subset(const Hierarchy& h, const SubsetBinding& subset, std::span<const Vec3f> positions,
-                 std::span<const Mat3f> rotations, size_t count, const Store& store) {
+                 std::span<const Mat3f> rotations, size_t count, float* out) {
     if (count != subset.point_count())
         fail("dynamics: ", count, " points given for strands holding ", subset.point_count());
     const uint32_t finest = h.finest_begin();
@@ -149,12 +162,58 @@ void skin_subset(const Hierarchy& h, const SubsetBinding& subset, std::span<cons
     const size_t strands = subset.gc.size();
     parallel_for((strands + kBlock - 1) / kBlock, [&](size_t block) {
         const size_t end = std::min(strands, (block + 1) * kBlock);
+#if defined(__SSE2__)
+        // skinned() four lanes at a time, the same operations in the same order, so the same
+        // bits: Eigen's M·o is o₀·M₀ + (o₁·M₁ + o₂·M₂) per row (its unrolled reduction halves
+        // the sum), the columns loaded once per strand. Most of skinning was the scalar
+        // arithmetic of the two 3×3 products per point.
+        if (n >= 2 && n <= kMaxSseSections) {
+            __m128 columns[kMaxSseSections][3], nodes[kMaxSseSections];
+            for (size_t j = block * kBlock; j < end; ++j) {
+                const uint32_t g = subset.gc[j];
+                const Vec3f* x = positions.data() + h.node(g, 0);
+                const Mat3f* m = rotations.data() + static_cast<size_t>(g - finest) * n;
+                for (int k = 0; k < n; ++k) {
+                    nodes[k] = load3(x[k].data());
+                    for (int c = 0; c < 3; ++c)
+                        columns[k][c] = load3(m[k].data() + 3 * c);
+                }
+                const auto at = [&](int k, __m128 o0, __m128 o1, __m128 o2) {
+                    return _mm_add_ps(nodes[k],
+                                      _mm_add_ps(_mm_mul_ps(columns[k][0], o0),
+                                                 _mm_add_ps(_mm_mul_ps(columns[k][1], o1),
+                                                            _mm_mul_ps(columns[k][2], o2))));
+                };
+                const uint32_t first = subset.first[j], last = subset.first[j + 1];
+                for (uint32_t i = first; i < last; ++i) {
+                    const float u = subset.u[i];
+                    const int k = std::min(static_cast<int>(u), n - 2);
+                    const float f = u - static_cast<float>(k);
+                    const __m128 o = load3(subset.offset[i].data());
+                    const __m128 o0 = _mm_shuffle_ps(o, o, 0x00), o1 = _mm_shuffle_ps(o, o, 0x55),
+                                 o2 = _mm_shuffle_ps(o, o, 0xaa);
+                    const __m128 p = _mm_add_ps(_mm_mul_ps(_mm_set1_ps(1 - f), at(k, o0, o1, o2)),
+                                                _mm_mul_ps(_mm_set1_ps(f), at(k + 1, o0, o1, o2)));
+                    float* to = out + 3 * size_t{i};
+                    if (i + 1 < last) {
+                        _mm_storeu_ps(to, p);  // its fourth lane is the next point's x, next
+                    } else {
+                        _mm_storel_pi(reinterpret_cast<__m64*>(to), p);
+                        _mm_store_ss(to + 2, _mm_movehl_ps(p, p));
+                    }
+                }
+            }
+            return;
+        }
+#endif
         for (size_t j = block * kBlock; j < end; ++j) {
             const uint32_t g = subset.gc[j];
             const Vec3f* x = positions.data() + h.node(g, 0);
             const Mat3f* m = rotations.data() + static_cast<size_t>(g - finest) * n;
-            for (uint32_t i = subset.first[j]; i < subset.first[j + 1]; ++i)
-                store(i, skinned(n, subset.u[i], subset.offset[i], x, m));
+            for (uint32_t i = subset.first[j]; i < subset.first[j + 1]; ++i) {
+                const Vec3f p = skinned(n, subset.u[i], subset.offset[i], x, m);
+                std::memcpy(out + 3 * size_t{i}, p.data(), 12);
+            }
         }
     });
 }
@@ -163,18 +222,17 @@ void skin_subset(const Hierarchy& h, const SubsetBinding& subset, std::span<cons
 
 void skin_strands(const Hierarchy& h, const SubsetBinding& subset, std::span<const Vec3f> positions,
                   std::span<const Mat3f> rotations, std::span<Vec3f> points) {
+    static_assert(sizeof(Vec3f) == 12, "positions are float32 triples");
     skin_subset(h, subset, positions, rotations, points.size(),
-                [&](uint32_t i, const Vec3f& p) { points[i] = p; });
+                reinterpret_cast<float*>(points.data()));
 }
 
 void skin_strands(const Hierarchy& h, const SubsetBinding& subset, std::span<const Vec3f> positions,
                   std::span<const Mat3f> rotations, std::span<char> xyz) {
     static_assert(sizeof(Vec3f) == 12, "positions are float32 triples");
     if (xyz.size() % 12 != 0) fail("dynamics: ", xyz.size(), " bytes is not a number of points");
-    char* out = xyz.data();
-    skin_subset(h, subset, positions, rotations, xyz.size() / 12, [&](uint32_t i, const Vec3f& p) {
-        std::memcpy(out + 12 * size_t{i}, p.data(), 12);
-    });
+    skin_subset(h, subset, positions, rotations, xyz.size() / 12,
+                reinterpret_cast<float*>(xyz.data()));
 }
 
 }  // namespace wisp

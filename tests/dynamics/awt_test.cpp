@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "core/error.hpp"
 #include "core/parallel.hpp"
@@ -245,6 +246,34 @@ TEST(Awt, ShakenDenseHairIsNotFlungUp) {
     EXPECT_LT(highest - top, 3.f);
 }
 
+// Dense hair under a shake: segments take contacts found in many chunks of the narrow phase,
+// as the first of their pairs and as the second, with repulsions. The contacts act in the
+// chunks' order whatever thread found them, so the bits do not depend on the thread count.
+TEST(Awt, DenseContactsSumToTheSameBitsAtOneAndTwoThreads) {
+    test::Groomed g = test::groomed("default", 700, 2800, 16);
+    const Hierarchy h = build_hierarchy(g.hair, hierarchy_options(g.style.dynamics));
+    const std::vector<Sphere> spheres = body_spheres_for(*test::builtin_head().mesh, g.head, h);
+    const Motion motion = motion_preset("shake", g.head);
+    const AwtParams params = awt_params(g.style.dynamics, g.style.prototype.kind, false);
+    const auto run = [&](int threads, uint64_t& contacts) {
+        const ThreadLimit limit(threads);
+        AwtSimulation sim(h, spheres, motion, params);
+        contacts = 0;
+        for (int step = 0; step < 60; ++step) {
+            sim.step();
+            contacts += sim.last_step().hair_contacts;
+        }
+        return std::vector<Vec3f>(sim.velocities().begin(), sim.velocities().end());
+    };
+    uint64_t one = 0, two = 0;
+    const std::vector<Vec3f> a = run(1, one), b = run(2, two);
+    EXPECT_GT(one, 60u * 20 * h.level_begin[1]) << "the hair is not dense enough to test this";
+    EXPECT_EQ(one, two);
+    ASSERT_EQ(a.size(), b.size());
+    for (size_t i = 0; i < a.size(); ++i)
+        ASSERT_EQ(std::memcmp(a[i].data(), b[i].data(), 12), 0) << "node " << i;
+}
+
 // A ponytail under a shake: what the tie holds (scalp to tie) moves rigidly with the head,
 // and the tail swings from the tie. Without the tie's hold the same nodes sway off the head.
 TEST(Awt, TiedHairMovesWithTheHeadAndTheTailSwingsFromTheTie) {
@@ -411,6 +440,39 @@ TEST(Skin, ASubsetIsTheFullSkinAtItsStrands) {
     EXPECT_THROW(bind_subset(h, binding, rest.offsets, bad), Error);
     std::vector<Vec3f> short_points(points.size() - 1);
     EXPECT_THROW(skin_strands(h, subset, sim.positions(), rotations, short_points), Error);
+}
+
+// The subset skin (SSE where the target has it) is the scalar formula's bits at every strand,
+// in both of its output forms, after a drastic motion has turned every segment.
+TEST(Skin, TheSubsetSkinIsTheScalarFormulaToTheBitAtEveryStrand) {
+    const Scene& s = scene("long-straight");
+    const Hierarchy& h = s.hierarchy;
+    const Hair& rest = s.groomed.hair;
+    AwtSimulation sim(h, s.spheres, motion_preset("shake", s.groomed.head), params_of(s));
+    for (int step = 0; step < 40; ++step)
+        sim.step();
+    sim.sync();
+    std::vector<Mat3f> rotations;
+    sim.finest_rotations(rotations);
+    const StrandBinding binding = bind_strands(rest, h);
+    Hair all = rest;
+    skin_strands(h, binding, sim.positions(), rotations, all);
+    std::vector<uint32_t> strands(rest.strand_count());
+    for (size_t i = 0; i < strands.size(); ++i)
+        strands[i] = static_cast<uint32_t>(strands.size() - 1 - i);  // backwards: any order
+    const SubsetBinding subset = bind_subset(h, binding, rest.offsets, strands);
+    std::vector<Vec3f> points(subset.point_count());
+    skin_strands(h, subset, sim.positions(), rotations, points);
+    std::string bytes(12 * subset.point_count(), '\0');
+    skin_strands(h, subset, sim.positions(), rotations, std::span<char>(bytes));
+    size_t at = 0;
+    for (uint32_t strand : strands)
+        for (const Vec3f& p : all.strand(strand)) {
+            ASSERT_EQ(std::memcmp(points[at].data(), p.data(), 12), 0) << "strand " << strand;
+            ASSERT_EQ(std::memcmp(bytes.data() + 12 * at, p.data(), 12), 0) << "strand " << strand;
+            ++at;
+        }
+    EXPECT_EQ(at, points.size());
 }
 
 TEST(Awt, SingleLevelKeepsEveryFinestNodeActive) {
