@@ -46,7 +46,25 @@ StageCache::StageCache(Style style, std::filesystem::path base_dir)
 }
 
 void StageCache::mark(Stage stage) {
-    if (stage != Stage::kNone && stage < stale_) stale_ = stage;
+    if (stage == Stage::kNone) return;
+    if (stage < stale_) stale_ = stage;
+    // Whatever changed may be the colours' spec or seed, or the roots.
+    preview_colors_ready_ = false;
+}
+
+void StageCache::make_preview_colors(size_t strands) {
+    preview_colors_ready_ = false;
+    const size_t all = roots_.members.size();
+    if (strands >= all) return;
+    const std::span<const uint32_t> ids(order(all).data(), strands);
+    const std::vector<uint32_t>& offsets = roots_.wisp_offsets;
+    std::vector<int32_t> wisp(strands);
+    for (size_t i = 0; i < strands; ++i)
+        wisp[i] = static_cast<int32_t>(std::upper_bound(offsets.begin(), offsets.end(), ids[i]) -
+                                       offsets.begin() - 1);
+    preview_colors_.resize(strands);
+    color_strands(style_.color, style_.seed, wisp, preview_colors_, ids);
+    preview_colors_ready_ = true;
 }
 
 void StageCache::set(std::string_view path, std::string_view toml_value,
@@ -128,7 +146,8 @@ SolveStats StageCache::solve_synthesizing(const MasterPrototype& prototype,
     return stats;
 }
 
-bool StageCache::run_until(Stage last, const CancelToken& cancel, const StageProgress& progress) {
+bool StageCache::run_until(Stage last, const CancelToken& cancel, const StageProgress& progress,
+                           const std::function<void()>& beside_solve) {
     // A stage that finishes is published even if the token fires just after (its output is
     // right for the style, and the next request need not redo it); one that was cancelled
     // part way publishes nothing and leaves the cache stale from it.
@@ -170,21 +189,38 @@ bool StageCache::run_until(Stage last, const CancelToken& cancel, const StagePro
                 }
                 break;
             case Stage::kSolve: {
+                // The task is always waited for, whatever ends the solve (a cancel, a bounds
+                // error). Its own exception is dropped: it says it finished by what it leaves.
+                tbb::task_group beside;
+                struct WaitBeside {
+                    tbb::task_group& tasks;
+                    ~WaitBeside() {
+                        try {
+                            tasks.wait();
+                        } catch (...) {
+                        }
+                    }
+                } wait_beside{beside};
                 head_field();
                 groups_ = select_groups(style_, head_, roots_);
                 Masters solved = masters_;
                 SolveStats stats;
+                const StylingField* field = nullptr;
                 if (style_.solve.enabled) {
                     Stopwatch field_watch;
-                    const StylingField& field =
-                        styling_field_for(solve_bounds(style_, head_, roots_, masters_));
+                    field = &styling_field_for(solve_bounds(style_, head_, roots_, masters_));
                     field_ms_ = field_watch.ms();
+                }
+                // After the styling field, whose build runs on both cores, so the task takes
+                // the core the solve's serial layers leave idle.
+                if (beside_solve) beside.run(beside_solve);
+                if (style_.solve.enabled) {
                     if (details) {
-                        stats = solve_synthesizing(*details, field, solved, cancel);
+                        stats = solve_synthesizing(*details, *field, solved, cancel);
                         details.reset();
                     } else {
                         stats = solve_stage(style_, head_, *head_field_, roots_, groups_, solved,
-                                            nullptr, &field, cancel);
+                                            nullptr, field, cancel);
                     }
                     if (stats.cancelled) return false;
                 }
@@ -244,7 +280,8 @@ const Masters* StageCache::update_masters(const CancelToken& cancel,
 
 const Hair* StageCache::update_preview(size_t strands, const CancelToken& cancel,
                                        const StageProgress& progress) {
-    if (!run_until(Stage::kSolve, cancel, progress)) return nullptr;
+    if (!run_until(Stage::kSolve, cancel, progress, [&] { make_preview_colors(strands); }))
+        return nullptr;
     if (stale_ > Stage::kMembers || strands >= roots_.members.size()) {
         const HairstyleResult* r = update(cancel, progress);
         return r ? &r->hair : nullptr;
@@ -260,7 +297,11 @@ const Hair* StageCache::update_preview(size_t strands, const CancelToken& cancel
     preview_members_ms_ = watch.ms();
     // Strand i is strand ids[i] of the full hair, so it takes that strand's colour, unless the
     // cut removed strands and shifted the indices.
-    color_stage(style_, preview_, m.strands_removed == 0 ? ids : std::span<const uint32_t>());
+    if (preview_colors_ready_ && m.strands_removed == 0 &&
+        preview_colors_.size() == preview_.strand_count())
+        preview_.colors = preview_colors_;
+    else
+        color_stage(style_, preview_, m.strands_removed == 0 ? ids : std::span<const uint32_t>());
     preview_ms_ = watch.ms();
     preview_color_ms_ = preview_ms_ - preview_members_ms_;
     return &preview_;
@@ -273,7 +314,8 @@ const std::vector<uint32_t>& StageCache::order(size_t n) {
 
 std::shared_ptr<const std::string> StageCache::hair_bytes(size_t strands, const CancelToken& cancel,
                                                           const StageProgress& progress) {
-    if (!run_until(Stage::kSolve, cancel, progress)) return nullptr;
+    if (!run_until(Stage::kSolve, cancel, progress, [&] { make_preview_colors(strands); }))
+        return nullptr;
     if (stale_ <= Stage::kMembers && strands < roots_.members.size()) {
         // A preview: strand i of preview_ is already strand_order[i] of the full hair.
         const Hair* preview = update_preview(strands, cancel, progress);

@@ -273,6 +273,33 @@ TEST(StageCache, PreviewIsTheShuffledSubsetOfTheFullHair) {
     EXPECT_EQ(cache.update_preview(500), &cache.update().hair);
 }
 
+// A preview's colours are made beside the solve, from the roots alone (a strand's id and
+// wisp): after a change that moves the roots (so the strands change wisps) and after one that
+// re-runs the solve only, they are the full hair's colours of the same strands, to the bit,
+// with each wisp's own hue offset.
+TEST(StageCache, PreviewColoursMadeBesideTheSolveAreTheFullHairs) {
+    Style style = small_style();
+    style.color.wisp_hue = 6.f;
+    StageCache cache(style);
+    cache.update();
+    for (const auto& [path, value] :
+         {std::pair{"maps.density", "\"crown\""}, std::pair{"solve.stiffness", "0.4"},
+          std::pair{"seed", "11"}}) {
+        cache.set(path, value);
+        const Hair* preview = cache.update_preview(700);
+        ASSERT_NE(preview, nullptr) << path;
+        ASSERT_EQ(preview->colors.size(), 700u) << path;
+        const std::vector<Vec3f> colors = preview->colors;
+        const std::vector<int32_t> wisps = preview->wisp;
+        const Hair& full = cache.update().hair;
+        const std::vector<uint32_t> order = strand_order(full.strand_count());
+        for (size_t i = 0; i < 700; ++i) {
+            ASSERT_EQ(wisps[i], full.wisp[order[i]]) << path << " " << i;
+            ASSERT_EQ(colors[i], full.colors[order[i]]) << path << " " << i;
+        }
+    }
+}
+
 // What GET /api/hair sends is the encoding of the full hair's first strands in strand_order,
 // byte for byte, whatever the answer left out: a colour change colours only the strands sent
 // (over positions encoded before) and leaves the colour stage to the update; a κ change grows
