@@ -101,7 +101,7 @@ TEST(Grid3, TrilinearIsTheTextbookFormulaToTheBit) {
         const Vec3f origin(rng.uniform(-5.f, 5.f), rng.uniform(-5.f, 5.f), rng.uniform(-5.f, 5.f));
         const float cell = rng.uniform(0.1f, 2.f);
         Grid3<float> g(origin, cell, dims);
-        Grid3<Vec3f> v(origin, cell, dims);
+        Grid3<Vec3f> v(origin, cell, dims, Vec3f::Zero());  // Vec3f{} is uninitialised
         for (float& x : g.data())
             x = rng.uniform(-10.f, 10.f);
         for (Vec3f& x : v.data())
