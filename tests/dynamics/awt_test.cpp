@@ -408,38 +408,50 @@ TEST(Awt, OneAndTwoThreadsGiveTheSameBits) {
     ASSERT_EQ(a.skinned, b.skinned);
 }
 
+// The long-straight scene after `steps` steps of a motion preset: the simulation, its finest
+// rotations, the strands' binding and the whole hair skinned (the reference of the subset
+// skins).
+struct Skinned {
+    Skinned(const Scene& s, const char* motion, int steps)
+        : sim(s.hierarchy, s.spheres, motion_preset(motion, s.groomed.head), params_of(s)),
+          binding(bind_strands(s.groomed.hair, s.hierarchy)),
+          all(s.groomed.hair) {
+        for (int step = 0; step < steps; ++step)
+            sim.step();
+        sim.sync();
+        sim.finest_rotations(rotations);
+        skin_strands(s.hierarchy, binding, sim.positions(), rotations, all);
+    }
+    AwtSimulation sim;
+    std::vector<Mat3f> rotations;
+    StrandBinding binding;
+    Hair all;
+};
+
 // A subset skinned from its gathered binding is the full skin at those strands, bit for bit.
 TEST(Skin, ASubsetIsTheFullSkinAtItsStrands) {
     const Scene& s = scene("long-straight");
     const Hierarchy& h = s.hierarchy;
     const Hair& rest = s.groomed.hair;
-    AwtSimulation sim(h, s.spheres, motion_preset("nod", s.groomed.head), params_of(s));
-    for (int step = 0; step < 30; ++step)
-        sim.step();
-    sim.sync();
-    std::vector<Mat3f> rotations;
-    sim.finest_rotations(rotations);
-    const StrandBinding binding = bind_strands(rest, h);
-    Hair all = rest;
-    skin_strands(h, binding, sim.positions(), rotations, all);
+    const Skinned k(s, "nod", 30);
     const std::vector<uint32_t> strands = {7, 0, 3, static_cast<uint32_t>(rest.strand_count() - 1),
                                            3};
-    const SubsetBinding subset = bind_subset(h, binding, rest.offsets, strands);
+    const SubsetBinding subset = bind_subset(h, k.binding, rest.offsets, strands);
     std::vector<Vec3f> points(subset.point_count());
-    skin_strands(h, subset, sim.positions(), rotations, points);
+    skin_strands(h, subset, k.sim.positions(), k.rotations, points);
     size_t at = 0;
     for (uint32_t strand : strands)
-        for (const Vec3f& p : all.strand(strand))
+        for (const Vec3f& p : k.all.strand(strand))
             ASSERT_EQ(points[at++], p) << "strand " << strand;
     EXPECT_EQ(at, points.size());
     // The per-call form gives the same.
     std::vector<Vec3f> again(points.size());
-    skin_strands(h, binding, sim.positions(), rotations, rest.offsets, strands, again);
+    skin_strands(h, k.binding, k.sim.positions(), k.rotations, rest.offsets, strands, again);
     EXPECT_EQ(again, points);
     const std::vector<uint32_t> bad = {static_cast<uint32_t>(rest.strand_count())};
-    EXPECT_THROW(bind_subset(h, binding, rest.offsets, bad), Error);
+    EXPECT_THROW(bind_subset(h, k.binding, rest.offsets, bad), Error);
     std::vector<Vec3f> short_points(points.size() - 1);
-    EXPECT_THROW(skin_strands(h, subset, sim.positions(), rotations, short_points), Error);
+    EXPECT_THROW(skin_strands(h, subset, k.sim.positions(), k.rotations, short_points), Error);
 }
 
 // The subset skin (SSE where the target has it) is the scalar formula's bits at every strand,
@@ -448,26 +460,18 @@ TEST(Skin, TheSubsetSkinIsTheScalarFormulaToTheBitAtEveryStrand) {
     const Scene& s = scene("long-straight");
     const Hierarchy& h = s.hierarchy;
     const Hair& rest = s.groomed.hair;
-    AwtSimulation sim(h, s.spheres, motion_preset("shake", s.groomed.head), params_of(s));
-    for (int step = 0; step < 40; ++step)
-        sim.step();
-    sim.sync();
-    std::vector<Mat3f> rotations;
-    sim.finest_rotations(rotations);
-    const StrandBinding binding = bind_strands(rest, h);
-    Hair all = rest;
-    skin_strands(h, binding, sim.positions(), rotations, all);
+    const Skinned k(s, "shake", 40);
     std::vector<uint32_t> strands(rest.strand_count());
     for (size_t i = 0; i < strands.size(); ++i)
         strands[i] = static_cast<uint32_t>(strands.size() - 1 - i);  // backwards: any order
-    const SubsetBinding subset = bind_subset(h, binding, rest.offsets, strands);
+    const SubsetBinding subset = bind_subset(h, k.binding, rest.offsets, strands);
     std::vector<Vec3f> points(subset.point_count());
-    skin_strands(h, subset, sim.positions(), rotations, points);
+    skin_strands(h, subset, k.sim.positions(), k.rotations, points);
     std::string bytes(12 * subset.point_count(), '\0');
-    skin_strands(h, subset, sim.positions(), rotations, std::span<char>(bytes));
+    skin_strands(h, subset, k.sim.positions(), k.rotations, std::span<char>(bytes));
     size_t at = 0;
     for (uint32_t strand : strands)
-        for (const Vec3f& p : all.strand(strand)) {
+        for (const Vec3f& p : k.all.strand(strand)) {
             ASSERT_EQ(std::memcmp(points[at].data(), p.data(), 12), 0) << "strand " << strand;
             ASSERT_EQ(std::memcmp(bytes.data() + 12 * at, p.data(), 12), 0) << "strand " << strand;
             ++at;
