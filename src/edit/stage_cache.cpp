@@ -57,11 +57,8 @@ void StageCache::make_preview_colors(size_t strands) {
     const size_t all = roots_.members.size();
     if (strands >= all) return;
     const std::span<const uint32_t> ids(order(all).data(), strands);
-    const std::vector<uint32_t>& offsets = roots_.wisp_offsets;
     std::vector<int32_t> wisp(strands);
-    for (size_t i = 0; i < strands; ++i)
-        wisp[i] = static_cast<int32_t>(std::upper_bound(offsets.begin(), offsets.end(), ids[i]) -
-                                       offsets.begin() - 1);
+    member_wisps(roots_, ids, wisp);
     preview_colors_.resize(strands);
     color_strands(style_.color, style_.seed, wisp, preview_colors_, ids);
     preview_colors_ready_ = true;
@@ -216,8 +213,11 @@ bool StageCache::run_until(Stage last, const CancelToken& cancel, const StagePro
                 if (beside_solve) beside.run(beside_solve);
                 if (style_.solve.enabled) {
                     if (details) {
-                        stats = solve_synthesizing(*details, *field, solved, cancel);
+                        // solve_synthesizing completes the masters however it ends (it waits
+                        // for the task even when the solve throws), so the guard need not.
+                        const MasterPrototype prototype = std::move(*details);
                         details.reset();
+                        stats = solve_synthesizing(prototype, *field, solved, cancel);
                     } else {
                         stats = solve_stage(style_, head_, *head_field_, roots_, groups_, solved,
                                             nullptr, field, cancel);

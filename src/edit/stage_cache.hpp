@@ -142,7 +142,7 @@ class StageCache {
     // The colours of a preview of `strands` strands (color_stage's, to the bit, while the cut
     // removes no strand), made from the roots alone: a strand's colour is a function of its id
     // and its wisp (color_strands), and the wisp of strand_order[i] is the members stage's
-    // (grow_members' upper_bound). Run beside the solve, on the core its serial layers leave
+    // (member_wisps). Run beside the solve, on the core its serial layers leave
     // idle, instead of after the members (2 ms of a 20,000-strand preview). Ready until the
     // next change (mark).
     void make_preview_colors(size_t strands);

@@ -31,6 +31,13 @@ Roots grow_roots(const Style& style, const Head& head, const MeshDistance* scalp
     return place_roots(*head.scalp, density, params, scalp_surface);
 }
 
+void member_wisps(const Roots& roots, std::span<const uint32_t> ids, std::span<int32_t> out) {
+    const std::vector<uint32_t>& offsets = roots.wisp_offsets;
+    for (size_t i = 0; i < ids.size(); ++i)
+        out[i] = static_cast<int32_t>(std::upper_bound(offsets.begin(), offsets.end(), ids[i]) -
+                                      offsets.begin() - 1);
+}
+
 Masters master_outlines(const Style& style, const Head& head, const Roots& roots) {
     const Scalp& scalp = *head.scalp;
     const MapSampler length_map(style.length, scalp);
@@ -164,10 +171,7 @@ Hair grow_members(const Style& style, const Masters& masters, const Roots& roots
             for (uint32_t j = roots.wisp_offsets[w]; j < roots.wisp_offsets[w + 1]; ++j)
                 hair.wisp[j] = static_cast<int32_t>(w);
     } else {
-        for (size_t i = 0; i < s_count; ++i)
-            hair.wisp[i] = static_cast<int32_t>(
-                std::upper_bound(roots.wisp_offsets.begin(), roots.wisp_offsets.end(), only[i]) -
-                roots.wisp_offsets.begin() - 1);
+        member_wisps(roots, only, hair.wisp);
     }
     for (size_t i = 0; i < s_count; ++i)
         hair.offsets[i + 1] = hair.offsets[i] + member_point_count(n, u[i]);

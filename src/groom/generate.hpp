@@ -52,6 +52,10 @@ void synthesize_master_details(const Style& style, const MasterPrototype& protot
 Hair grow_members(const Style& style, const Masters& masters, const Roots& roots,
                   std::span<const uint32_t> only = {}, const CancelToken& cancel = {});
 
+// The wisp of each member root in `ids` (wisp w owns roots.members[wisp_offsets[w] ..
+// wisp_offsets[w+1])): grow_members' wisp ids for `only`, which a strand's colour needs.
+void member_wisps(const Roots& roots, std::span<const uint32_t> ids, std::span<int32_t> out);
+
 // The masters as strands (the guides a DCC or Unreal rebuilds or drives the members from):
 // strand w is master w's control points, wisp id w, its root's scalp UV and normal, width
 // `width`, and group wisp_group[w] (#W, or empty for none).
