@@ -142,13 +142,14 @@ Masters synthesize_masters(const Style& style, const Head& head, const Roots& ro
     return m;
 }
 
-Hair grow_members(const Style& style, const Masters& masters, const Roots& roots,
-                  std::span<const uint32_t> only, const CancelToken& cancel) {
-    const size_t w_count = masters.count();
+MemberGrowth::MemberGrowth(const Style& style, const Roots& roots, int points,
+                           std::span<const uint32_t> only)
+    : roots_(roots), only_(only.begin(), only.end()), n_(points), fuzziness_(style.wisp.fuzziness) {
+    const size_t w_count = roots.masters.size();
     const size_t s_count = only.empty() ? roots.members.size() : only.size();
     const auto id = [&](size_t i) { return only.empty() ? static_cast<uint32_t>(i) : only[i]; };
-    const int n = masters.points;
-    Hair hair;
+    const int n = points;
+    Hair& hair = hair_;
     hair.default_width = style.root_width;
     hair.wisp.resize(s_count);
     hair.root_uv.resize(s_count);
@@ -158,12 +159,12 @@ Hair grow_members(const Style& style, const Masters& masters, const Roots& roots
         hair.root_normal[i] = roots.members[id(i)].normal;
     }
     hair.offsets.assign(s_count + 1, 0);
-    std::vector<float> u(s_count);
+    u_.resize(s_count);
     parallel_for(
         s_count,
         [&](size_t i) {
             Rng rng(style.seed, Stream::kLength, id(i));
-            u[i] = std::clamp(sample(style.wisp.length, rng), 1e-3f, 1.f);
+            u_[i] = std::clamp(sample(style.wisp.length, rng), 1e-3f, 1.f);
         },
         4096);
     if (only.empty()) {
@@ -174,7 +175,7 @@ Hair grow_members(const Style& style, const Masters& masters, const Roots& roots
         member_wisps(roots, only, hair.wisp);
     }
     for (size_t i = 0; i < s_count; ++i)
-        hair.offsets[i + 1] = hair.offsets[i] + member_point_count(n, u[i]);
+        hair.offsets[i + 1] = hair.offsets[i] + member_point_count(n, u_[i]);
     hair.points.resize(hair.offsets.back());
     hair.widths.resize(hair.offsets.back());
 
@@ -185,51 +186,56 @@ Hair grow_members(const Style& style, const Masters& masters, const Roots& roots
         rel[k] = deviation_radius(style.wisp.deviation_radius,
                                   static_cast<float>(k) / static_cast<float>(n - 1)) /
                  r0;
+    radius_.resize(w_count * n);
+    for (size_t w = 0; w < w_count; ++w)
+        for (int k = 0; k < n; ++k)
+            radius_[w * n + k] = roots.wisp_radius[w] * rel[k];
+    offset_.resize(s_count);
+    rng_.assign(s_count, Rng(0));
+    parallel_for(
+        s_count,
+        [&](size_t i) {
+            rng_[i] = Rng(style.seed, Stream::kMember, id(i));
+            const size_t count = hair.offsets[i + 1] - hair.offsets[i];
+            float* widths = hair.widths.data() + hair.offsets[i];
+            for (size_t k = 0; k < count; ++k) {
+                const float t = static_cast<float>(k) / static_cast<float>(count - 1);
+                widths[k] = style.root_width + (style.tip_width - style.root_width) * t;
+            }
+        },
+        1024);
+}
 
-    // Strand i, member j = id(i) of wisp w, with the wisp's radii r(s).
-    const auto grow = [&](size_t i, size_t w, std::span<const float> radius) {
-        const uint32_t j = id(i);
-        const std::span<const Vec3f> master = masters.strand(w);
-        const std::span<const Frame> frames(masters.frames.data() + w * n, static_cast<size_t>(n));
-        Rng rng(style.seed, Stream::kMember, j);
-        const Vec3f d1 = frames[0].to_local(roots.members[j].position - master[0]);
-        std::span<Vec3f> out = hair.strand(i);
-        grow_member(master, frames, radius, d1, u[i], style.wisp.fuzziness, rng, out);
-        const size_t count = out.size();
-        float* widths = hair.widths.data() + hair.offsets[i];
-        for (size_t k = 0; k < count; ++k) {
-            const float t = static_cast<float>(k) / static_cast<float>(count - 1);
-            widths[k] = style.root_width + (style.tip_width - style.root_width) * t;
-        }
-    };
-    if (only.empty()) {
-        ProgressCounter progress(cancel, w_count);
-        parallel_for(w_count, [&](size_t w) {
+void MemberGrowth::grow(const Masters& masters, int k0, int k1, const CancelToken& cancel) {
+    const size_t n = static_cast<size_t>(n_);
+    ProgressCounter progress(cancel, hair_.strand_count());
+    parallel_for(
+        hair_.strand_count(),
+        [&](size_t i) {
             if (cancel.cancelled()) return;
-            std::vector<float> radius(n);
-            for (int k = 0; k < n; ++k)
-                radius[k] = roots.wisp_radius[w] * rel[k];
-            for (uint32_t j = roots.wisp_offsets[w]; j < roots.wisp_offsets[w + 1]; ++j)
-                grow(j, w, radius);
+            const size_t w = static_cast<size_t>(hair_.wisp[i]);
+            const std::span<const Vec3f> master = masters.strand(w);
+            const std::span<const Frame> frames(masters.frames.data() + w * n, n);
+            if (k0 <= 0) {
+                const uint32_t j = only_.empty() ? static_cast<uint32_t>(i) : only_[i];
+                offset_[i] = frames[0].to_local(roots_.members[j].position - master[0]);
+            }
+            grow_member_points(master, frames, std::span<const float>(radius_.data() + w * n, n),
+                               u_[i], fuzziness_, k0, k1, offset_[i], rng_[i], hair_.strand(i));
             progress.step();
-        });
-    } else {
-        std::vector<float> radius(w_count * n);
-        for (size_t w = 0; w < w_count; ++w)
-            for (int k = 0; k < n; ++k)
-                radius[w * n + k] = roots.wisp_radius[w] * rel[k];
-        ProgressCounter progress(cancel, s_count);
-        parallel_for(
-            s_count,
-            [&](size_t i) {
-                if (cancel.cancelled()) return;
-                const size_t w = static_cast<size_t>(hair.wisp[i]);
-                grow(i, w, std::span<const float>(radius.data() + w * n, static_cast<size_t>(n)));
-                progress.step();
-            },
-            64);
-    }
-    return hair;
+        },
+        64);
+}
+
+int MemberGrowth::settled(size_t i, int k1) const {
+    return member_points_settled(n_, u_[i], static_cast<int>(hair_.strand(i).size()), k1);
+}
+
+Hair grow_members(const Style& style, const Masters& masters, const Roots& roots,
+                  std::span<const uint32_t> only, const CancelToken& cancel) {
+    MemberGrowth growth(style, roots, masters.points, only);
+    growth.grow(masters, 0, masters.points, cancel);
+    return std::move(growth.hair());
 }
 
 Hair guide_strands(const Masters& masters, std::span<const int32_t> wisp_group, float width) {

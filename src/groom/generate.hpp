@@ -52,6 +52,37 @@ void synthesize_master_details(const Style& style, const MasterPrototype& protot
 Hair grow_members(const Style& style, const Masters& masters, const Roots& roots,
                   std::span<const uint32_t> only = {}, const CancelToken& cancel = {});
 
+// grow_members in bands of master points, so that the members can grow beside the solve as
+// its layers make the masters' joints final (the editor's preview): the constructor sets up
+// everything that needs no master (each strand's length, point count, widths, wisp, root and
+// random stream), and grow(masters, k0, k1) grows the points k0 ≤ k < k1 of every strand,
+// reading the masters' control points and frames below k1 only and carrying each strand on
+// where the band before left it. Any split into bands gives grow_members' hair to the bit.
+class MemberGrowth {
+  public:
+    // `roots` must outlive the object; `only` as grow_members' (copied); `points`, the masters'.
+    MemberGrowth(const Style& style, const Roots& roots, int points,
+                 std::span<const uint32_t> only = {});
+    // Points k0 ≤ k < k1 of every strand, after those below k0 (parallel over strands; polls
+    // `cancel` per strand and tells it the progress every 1/32 of them).
+    void grow(const Masters& masters, int k0, int k1, const CancelToken& cancel = {});
+    // How many of strand i's leading points no later band reads, once those below k1 grew
+    // (member_points_settled): the push out of the head may move them.
+    int settled(size_t i, int k1) const;
+    Hair& hair() { return hair_; }
+
+  private:
+    const Roots& roots_;
+    std::vector<uint32_t> only_;
+    int n_;
+    float fuzziness_;
+    Hair hair_;
+    std::vector<float> u_;       // #strands relative length
+    std::vector<float> radius_;  // #W·n deviation radius of each wisp at each master point
+    std::vector<Vec3f> offset_;  // #strands the offset d_k of the last point grown
+    std::vector<Rng> rng_;       // #strands the strand's stream after it
+};
+
 // The wisp of each member root in `ids` (wisp w owns roots.members[wisp_offsets[w] ..
 // wisp_offsets[w+1])): grow_members' wisp ids for `only`, which a strand's colour needs.
 void member_wisps(const Roots& roots, std::span<const uint32_t> ids, std::span<int32_t> out);

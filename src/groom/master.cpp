@@ -18,11 +18,14 @@ Vec3f protrusion_direction(const SurfacePoint& root, const Vec3f& growth, float 
     return (std::cos(angle) * flow + std::sin(angle) * n).normalized();
 }
 
-void update_master(Masters& m, size_t w) {
+void update_master(Masters& m, size_t w, int i0, int i1) {
     const size_t n = static_cast<size_t>(m.points);
     const size_t base = w * n;
-    Frame f = m.root_frame[w];
-    for (size_t i = 0; i < n; ++i) {
+    const size_t lo = static_cast<size_t>(std::max(i0, 0));
+    const size_t hi = std::min(static_cast<size_t>(std::max(i1, 0)), n);
+    if (lo >= hi) return;
+    Frame f = lo == 0 ? m.root_frame[w] : m.frames[base + lo - 1];
+    for (size_t i = lo; i < hi; ++i) {
         const size_t s = std::min(i, n - 2);
         Vec3f t = m.outline[base + s + 1] - m.outline[base + s];
         const float len = t.norm();
@@ -31,6 +34,10 @@ void update_master(Masters& m, size_t w) {
         m.frames[base + i] = f;
         m.control[base + i] = m.outline[base + i] + f.to_world(m.details[base + i]);
     }
+}
+
+void update_master(Masters& m, size_t w) {
+    update_master(m, w, 0, m.points);
 }
 
 }  // namespace wisp

@@ -38,5 +38,9 @@ Vec3f protrusion_direction(const SurfacePoint& root, const Vec3f& flow, float pr
 // Recomputes frames (transported along the outline from root_frame) and control points of
 // master w from its outline and details. Call after the outline changes.
 void update_master(Masters& m, size_t w);
+// The same for joints i0 ≤ i < i1 only, given those before i0 (the frame transports on from
+// joint i0 − 1's): it reads the outline up to joint min(i1, n − 1), so the masters' frames and
+// control points can follow the solve's layers (any split gives update_master's, to the bit).
+void update_master(Masters& m, size_t w, int i0, int i1);
 
 }  // namespace wisp

@@ -36,6 +36,26 @@ void grow_member(std::span<const Vec3f> master, std::span<const Frame> frames,
                  std::span<const float> radius, const Vec3f& root_offset, float length_u,
                  float fuzziness, Rng& rng, std::span<Vec3f> out);
 
+// grow_member's points k0 ≤ k < k1 only (those of out), carrying on from where the call for
+// the points before k0 left `offset` and `rng` (for k0 = 0: the root offset d_1 and the
+// strand's fresh stream). It reads master points and frames below k1 alone, so a member can
+// grow in bands of points as the solve makes its master's joints final; any split into bands
+// gives grow_member's points to the bit. Point k of a member lies on master point k; the
+// interpolated tip (member_point_count) also reads the point before it.
+void grow_member_points(std::span<const Vec3f> master, std::span<const Frame> frames,
+                        std::span<const float> radius, float length_u, float fuzziness, int k0,
+                        int k1, Vec3f& offset, Rng& rng, std::span<Vec3f> out);
+
+// How many of a member's leading points (of `count`, grown on a master of n points to relative
+// length u) no later band of grow_member_points reads, once the points below k1 are grown: all
+// of them but the last whole point while the interpolated tip after it is still to grow.
+inline int member_points_settled(int n, float u, int count, int k1) {
+    const int whole = static_cast<int>(std::clamp(u, 0.f, 1.f) * static_cast<float>(n - 1));
+    const int last_whole = std::min(whole, count - 1);
+    const int grown = std::min(k1, count);
+    return grown == last_whole + 1 && last_whole + 1 < count ? grown - 1 : grown;
+}
+
 // Number of control points of a member of relative length u on a master of n points: the
 // master points up to u·(n−1), plus one interpolated end point when u·(n−1) is fractional.
 inline uint32_t member_point_count(int n, float u) {

@@ -237,6 +237,48 @@ TEST(Generate, MasterPartsGiveSynthesizeMasters) {
     }
 }
 
+// The members grown in bands of master points (the editor's preview beside the solve), the
+// masters' frames and control points also made band by band, are grow_members' hair to the
+// bit, for the whole hair and for a subset, whatever the bands.
+TEST(Generate, MembersGrownInBandsAreTheWholeGrowthToTheBit) {
+    Style style = small_style();
+    style.prototype.kind = PrototypeSpec::Kind::kCurly;
+    style.wisp.length = {Distribution::Kind::kUniform, 0.f, 0.3f, 1.f};
+    const Roots roots = grow_roots(style, builtin());
+    const Masters masters = synthesize_masters(style, builtin(), roots);
+    const int n = masters.points;
+    Masters banded = masters;
+    std::fill(banded.frames.begin(), banded.frames.end(), Frame{});
+    std::fill(banded.control.begin(), banded.control.end(), Vec3f::Zero());
+    const auto bytes = [](const auto& v) {
+        return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(v[0]));
+    };
+    std::vector<uint32_t> some;
+    for (uint32_t j = 0; j < roots.members.size(); j += 7)
+        some.push_back(static_cast<uint32_t>(roots.members.size()) - 1 - j);
+    for (const std::span<const uint32_t> only :
+         {std::span<const uint32_t>(), std::span<const uint32_t>(some)}) {
+        const Hair whole = grow_members(style, masters, roots, only);
+        for (const int band : {1, 3, 5, n}) {
+            MemberGrowth growth(style, roots, n, only);
+            for (int k0 = 0; k0 < n; k0 += band) {
+                const int k1 = std::min(n, k0 + band);
+                for (size_t w = 0; w < banded.count(); ++w)
+                    update_master(banded, w, k0, k1);
+                growth.grow(banded, k0, k1);
+            }
+            EXPECT_TRUE(bytes(banded.frames) == bytes(masters.frames)) << band;
+            EXPECT_TRUE(bytes(banded.control) == bytes(masters.control)) << band;
+            const Hair& h = growth.hair();
+            EXPECT_TRUE(bytes(h.points) == bytes(whole.points)) << band;
+            EXPECT_TRUE(bytes(h.widths) == bytes(whole.widths)) << band;
+            EXPECT_TRUE(h.offsets == whole.offsets) << band;
+            EXPECT_TRUE(h.wisp == whole.wisp) << band;
+            EXPECT_TRUE(bytes(h.root_uv) == bytes(whole.root_uv)) << band;
+        }
+    }
+}
+
 TEST(Generate, DifferentSeedsDiffer) {
     Style style = small_style();
     const Hair a = generate(style, builtin()).hair;
