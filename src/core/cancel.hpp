@@ -53,6 +53,13 @@ class CancelToken {
         return t;
     }
 
+    // The same token without its progress report (work beside a stage that reports its own).
+    CancelToken quiet() const {
+        CancelToken t = *this;
+        t.report_ = nullptr;
+        return t;
+    }
+
   private:
     const std::atomic<uint64_t>* newest_ = nullptr;
     uint64_t ticket_ = 0;

@@ -48,8 +48,9 @@ StageCache::StageCache(Style style, std::filesystem::path base_dir)
 void StageCache::mark(Stage stage) {
     if (stage == Stage::kNone) return;
     if (stage < stale_) stale_ = stage;
-    // Whatever changed may be the colours' spec or seed, or the roots.
+    // Whatever changed may be the colours' spec or seed, or the roots, or feed the members.
     preview_colors_ready_ = false;
+    beside_members_.reset();
 }
 
 void StageCache::make_preview_colors(size_t strands) {
@@ -117,41 +118,15 @@ void StageCache::complete_masters(const MasterPrototype& prototype) {
     synthesize_master_details(style_, prototype, masters_);
 }
 
-SolveStats StageCache::solve_synthesizing(const MasterPrototype& prototype,
-                                          const StylingField& field, Masters& solved,
-                                          const CancelToken& cancel) {
-    // `solved` is a copy of the outlines: the solve moves its outline while the task writes
-    // masters_'s details, frames and control points, so the two never touch the same memory.
-    // Each master's frames and control points are then update_master's of its solved outline
-    // and its details, as synthesize_masters followed by solve_stage leave them, byte for
-    // byte (update_master is a function of the one master alone).
-    tbb::task_group tasks;
-    tasks.run([&] { complete_masters(prototype); });
-    SolveStats stats;
-    try {
-        stats = solve_stage(style_, head_, *head_field_, roots_, groups_, solved, nullptr, &field,
-                            cancel, /*update_frames=*/false);
-    } catch (...) {
-        tasks.wait();
-        throw;
-    }
-    tasks.wait();
-    if (stats.cancelled) return stats;
-    solved.details = masters_.details;
-    parallel_for(
-        solved.count(), [&](size_t w) { update_master(solved, w); }, 64);
-    return stats;
-}
-
 bool StageCache::run_until(Stage last, const CancelToken& cancel, const StageProgress& progress,
-                           const std::function<void()>& beside_solve) {
+                           size_t preview_strands) {
     // A stage that finishes is published even if the token fires just after (its output is
     // right for the style, and the next request need not redo it); one that was cancelled
     // part way publishes nothing and leaves the cache stale from it.
     //
     // When the solve follows the masters here, the masters stage makes their outlines only
     // (all the solve reads until its end) and the details are synthesized beside the solve,
-    // on the core its serial breadth-first layers leave idle (solve_synthesizing).
+    // on the core its serial breadth-first layers leave idle.
     std::optional<MasterPrototype> details;  // the masters' details are still to synthesize
     // Published masters are whole: a return before the solve took them on (cancelled, or a
     // solve bounds error) synthesizes them here.
@@ -186,50 +161,91 @@ bool StageCache::run_until(Stage last, const CancelToken& cancel, const StagePro
                 }
                 break;
             case Stage::kSolve: {
-                // The task is always waited for, whatever ends the solve (a cancel, a bounds
-                // error). Its own exception is dropped: it says it finished by what it leaves.
+                head_field();
+                groups_ = select_groups(style_, head_, roots_);
+                beside_members_.reset();
+                Masters solved = masters_;
+                SolveStats stats;
+                const StylingField* field = nullptr;
+                const bool solve = style_.solve.enabled;
+                if (solve) {
+                    Stopwatch field_watch;
+                    field = &styling_field_for(solve_bounds(style_, head_, roots_, masters_));
+                    field_ms_ = field_watch.ms();
+                }
+                // Beside the solve, on the core its serial layers leave idle, one task in this
+                // order: the masters' details when the masters stage left them, the preview's
+                // colours, then, as the solve's layers make its joints final, the solved
+                // masters' frames and control points and the preview's members (follow_solve).
+                // It starts after the styling field, whose build runs on both cores.
+                const size_t all = roots_.members.size();
+                if (preview_strands >= all) preview_strands = 0;
+                if (preview_strands) order(all);  // made here: the task reads it
+                std::optional<MemberBands> bands;
+                if (solve && preview_strands && MemberBands::banded(style_))
+                    bands.emplace(style_, *head_field_, roots_, groups_.wisp_group, masters_.points,
+                                  std::span<const uint32_t>(order_.data(), preview_strands));
+                std::optional<MasterPrototype> prototype = std::move(details);
+                details.reset();  // the task synthesizes them, however the solve ends
+                std::atomic<int> joints{1};
+                bool followed = false;
                 tbb::task_group beside;
-                struct WaitBeside {
+                beside.run([&] {
+                    if (prototype) {
+                        try {
+                            complete_masters(*prototype);
+                        } catch (...) {
+                            stale_ = Stage::kMasters;  // the masters are not whole
+                            throw;
+                        }
+                    }
+                    if (preview_strands) make_preview_colors(preview_strands);
+                    if (!solve) return;
+                    // The solve reads no details: they may join its masters while it runs.
+                    if (prototype) solved.details = masters_.details;
+                    followed =
+                        follow_solve(solved, joints, bands ? &*bands : nullptr, cancel.quiet());
+                });
+                // Whatever ends the solve early (a cancel, a bounds error), the task is told
+                // and waited for; its own exception is then dropped.
+                struct Abandon {
+                    std::atomic<int>& joints;
                     tbb::task_group& tasks;
-                    ~WaitBeside() {
+                    bool armed = true;
+                    ~Abandon() {
+                        if (!armed) return;
+                        joints.store(-1, std::memory_order_release);
+                        joints.notify_all();
                         try {
                             tasks.wait();
                         } catch (...) {
                         }
                     }
-                } wait_beside{beside};
-                head_field();
-                groups_ = select_groups(style_, head_, roots_);
-                Masters solved = masters_;
-                SolveStats stats;
-                const StylingField* field = nullptr;
-                if (style_.solve.enabled) {
-                    Stopwatch field_watch;
-                    field = &styling_field_for(solve_bounds(style_, head_, roots_, masters_));
-                    field_ms_ = field_watch.ms();
-                }
-                // After the styling field, whose build runs on both cores, so the task takes
-                // the core the solve's serial layers leave idle.
-                if (beside_solve) beside.run(beside_solve);
-                if (style_.solve.enabled) {
-                    if (details) {
-                        // solve_synthesizing completes the masters however it ends (it waits
-                        // for the task even when the solve throws), so the guard need not.
-                        const MasterPrototype prototype = std::move(*details);
-                        details.reset();
-                        stats = solve_synthesizing(prototype, *field, solved, cancel);
-                    } else {
-                        stats = solve_stage(style_, head_, *head_field_, roots_, groups_, solved,
-                                            nullptr, field, cancel);
-                    }
+                } abandon{joints, beside};
+                if (solve) {
+                    stats = solve_stage(style_, head_, *head_field_, roots_, groups_, solved,
+                                        nullptr, field, cancel, /*update_frames=*/false, &joints);
                     if (stats.cancelled) return false;
+                }
+                abandon.armed = false;
+                beside.wait();
+                if (solve && !followed) {
+                    // Cancelled after the solve finished: the solve is still published.
+                    parallel_for(
+                        solved.count(), [&](size_t w) { update_master(solved, w); }, 64);
+                    bands.reset();
                 }
                 result_.wisp_group = groups_.wisp_group;
                 result_.masters = std::move(solved);
                 result_.solve = std::move(stats);
+                if (bands) {
+                    beside_members_ = bands->finish();
+                    beside_members_strands_ = preview_strands;
+                }
                 break;
             }
             case Stage::kMembers: {
+                beside_members_.reset();
                 MembersResult m =
                     members_stage(style_, head_, *head_field_, roots_, result_.masters,
                                   groups_.wisp_group, nullptr, {}, cancel);
@@ -280,8 +296,7 @@ const Masters* StageCache::update_masters(const CancelToken& cancel,
 
 const Hair* StageCache::update_preview(size_t strands, const CancelToken& cancel,
                                        const StageProgress& progress) {
-    if (!run_until(Stage::kSolve, cancel, progress, [&] { make_preview_colors(strands); }))
-        return nullptr;
+    if (!run_until(Stage::kSolve, cancel, progress, strands)) return nullptr;
     if (stale_ > Stage::kMembers || strands >= roots_.members.size()) {
         const HairstyleResult* r = update(cancel, progress);
         return r ? &r->hair : nullptr;
@@ -290,9 +305,17 @@ const Hair* StageCache::update_preview(size_t strands, const CancelToken& cancel
     if (cancel.cancelled()) return nullptr;
     Stopwatch watch;
     const std::span<const uint32_t> ids(order(roots_.members.size()).data(), strands);
-    MembersResult m = members_stage(style_, head_, *head_field_, roots_, result_.masters,
-                                    groups_.wisp_group, nullptr, ids, cancel);
-    if (cancel.cancelled()) return nullptr;
+    MembersResult m;
+    if (beside_members_ && beside_members_strands_ == strands) {
+        // Grown beside the solve that made these masters.
+        m = std::move(*beside_members_);
+        beside_members_.reset();
+        ++previews_grown_beside_;
+    } else {
+        m = members_stage(style_, head_, *head_field_, roots_, result_.masters, groups_.wisp_group,
+                          nullptr, ids, cancel);
+        if (cancel.cancelled()) return nullptr;
+    }
     preview_ = std::move(m.hair);
     preview_members_ms_ = watch.ms();
     // Strand i is strand ids[i] of the full hair, so it takes that strand's colour, unless the
@@ -314,8 +337,7 @@ const std::vector<uint32_t>& StageCache::order(size_t n) {
 
 std::shared_ptr<const std::string> StageCache::hair_bytes(size_t strands, const CancelToken& cancel,
                                                           const StageProgress& progress) {
-    if (!run_until(Stage::kSolve, cancel, progress, [&] { make_preview_colors(strands); }))
-        return nullptr;
+    if (!run_until(Stage::kSolve, cancel, progress, strands)) return nullptr;
     if (stale_ <= Stage::kMembers && strands < roots_.members.size()) {
         // A preview: strand i of preview_ is already strand_order[i] of the full hair.
         const Hair* preview = update_preview(strands, cancel, progress);

@@ -130,15 +130,19 @@ class StageCache {
     // the last hair_bytes call encoding (ms): with last_ms() and the preview's parts, the
     // stage breakdown of BM_EditMapStroke20k.
     double field_ms() const { return field_ms_; }
+    // How many previews took members grown beside the solve (for tests: the others grew them
+    // after it).
+    int previews_grown_beside() const { return previews_grown_beside_; }
     double encode_ms() const { return encode_ms_; }
 
   private:
     void mark(Stage stage);
-    // Runs the stale stages up to `last` inclusive; false when cancelled. `beside_solve`, if
-    // given, runs beside the solve stage when that runs (in a tbb::task_group, after the
-    // roots are final): work that needs the roots but not the solved masters.
+    // Runs the stale stages up to `last` inclusive; false when cancelled. With
+    // `preview_strands` (fewer than all), a solve that runs makes beside it that preview's
+    // colours (make_preview_colors) and, without a cut, its members (beside_members_,
+    // follow_solve), on the core the solve's serial layers leave idle.
     bool run_until(Stage last, const CancelToken& cancel, const StageProgress& progress,
-                   const std::function<void()>& beside_solve = {});
+                   size_t preview_strands = 0);
     // The colours of a preview of `strands` strands (color_stage's, to the bit, while the cut
     // removes no strand), made from the roots alone: a strand's colour is a function of its id
     // and its wisp (color_strands), and the wisp of strand_order[i] is the members stage's
@@ -149,11 +153,6 @@ class StageCache {
     // The masters' details, frames and control points (synthesize_master_details) after the
     // masters stage made their outlines only.
     void complete_masters(const MasterPrototype& prototype);
-    // The solve stage's solve while complete_masters() runs beside it (a tbb::task_group):
-    // `solved`, a copy of the outlines, ends as solve_stage leaves synthesize_masters' masters,
-    // byte for byte; masters_ ends as synthesize_masters gives them, cancelled or not.
-    SolveStats solve_synthesizing(const MasterPrototype& prototype, const StylingField& field,
-                                  Masters& solved, const CancelToken& cancel);
     // The head field at the style's cell, built when missing or when solve.cell moved it.
     const HeadField& head_field();
     // The styling field for the current style and solve bounds, kept while they stay.
@@ -175,6 +174,11 @@ class StageCache {
     std::optional<StylingField> field_;
     std::string field_key_;  // what field_ was built from (the fields feeding it, bounds)
     Hair preview_;           // the last update_preview of a subset
+    // The members of the first beside_members_strands_ strands of strand_order, grown beside
+    // the solve that made result_.masters, for the update_preview that follows; until the
+    // next change (mark).
+    std::optional<MembersResult> beside_members_;
+    size_t beside_members_strands_ = 0;
     std::vector<Vec3f> preview_colors_;  // make_preview_colors', for the roots and style now
     bool preview_colors_ready_ = false;  // when they are
     std::vector<uint32_t> order_;        // strand_order(order_.size())
@@ -197,6 +201,7 @@ class StageCache {
     double preview_members_ms_ = 0.;
     double preview_color_ms_ = 0.;
     double field_ms_ = 0.;
+    int previews_grown_beside_ = 0;
     double encode_ms_ = 0.;
 };
 

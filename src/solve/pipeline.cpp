@@ -97,6 +97,82 @@ size_t cut_hair(Hair& hair, const Vec3f& normal, float offset, size_t* removed,
     return shortened;
 }
 
+namespace {
+
+// Moves point p out along the head's gradient to `clearance` cm from the skin when it is
+// closer; true when it moved, and `inside` when it is still inside afterwards.
+inline bool push_point(Vec3f& p, const HeadField& head, float clearance, bool& inside) {
+    inside = false;
+    // Most points examined are clear of the head: the cell test, then the distance alone
+    // (the same value the lookup with the gradient gives) rule them out.
+    if (head.beyond(p, clearance) || head.sdf(p) >= clearance) return false;
+    Vec3f g;
+    const float d = head.sdf(p, &g);
+    if (d >= clearance) return false;
+    if (!(g.norm() > 1e-6f)) return false;
+    g.normalize();
+    // A few steps: the gradient of a trilinear field is only piecewise exact, and least so
+    // at sharp edges (the rim where an open bust is closed). Each lookup gives the distance
+    // and the exact gradient of the interpolant together.
+    float di = d;
+    bool out = false;
+    for (int it = 0; it < 6; ++it) {
+        if (it > 0) {
+            Vec3f g2;
+            di = head.sdf(p, &g2);
+            if (di >= clearance) {
+                out = true;
+                break;
+            }
+            if (g2.norm() > 1e-6f) g = g2.normalized();
+        }
+        p += (clearance - di + 1e-3f) * g;
+    }
+    inside = !out && head.sdf(p) < 0.f;
+    return true;
+}
+
+// Points k1 > k ≥ 1 of strand s, as push_out_of_head examines them (`flags`: its wisp's
+// near flags, or null for all).
+inline void push_points(std::span<Vec3f> s, const HeadField& head, float clearance,
+                        const uint8_t* flags, int n, size_t k0, size_t k1, size_t& moved,
+                        size_t& inside) {
+    for (size_t k = std::max<size_t>(k0, 1); k < std::min(k1, s.size()); ++k) {
+        if (flags && !flags[std::min<size_t>(k, n - 1)] && !flags[k - 1]) continue;
+        bool in = false;
+        if (push_point(s[k], head, clearance, in)) {
+            ++moved;
+            inside += in;
+        }
+    }
+}
+
+// near[w·n + k] for joints k0 ≤ k < k1 of every master: whether a member point of that
+// index can come within kClearance of the skin. A member point lies within its wisp's radius
+// of the master point of the same index, so only joints closer to the head than that radius
+// (plus slack for the grid) can bring members inside.
+void near_head(const Style& style, const Roots& roots, const HeadField& head_field,
+               const Masters& masters, int k0, int k1, std::vector<uint8_t>& near) {
+    const int n = masters.points;
+    const float r0 = deviation_radius(style.wisp.deviation_radius, 0.f);
+    near.resize(masters.count() * n);
+    parallel_for(
+        masters.count(),
+        [&](size_t w) {
+            for (int k = k0; k < k1; ++k) {
+                const float reach = roots.wisp_radius[w] *
+                                        deviation_radius(style.wisp.deviation_radius,
+                                                         static_cast<float>(k) / (n - 1)) /
+                                        r0 +
+                                    kClearance + head_field.grid().cell();
+                near[w * n + k] = head_field.sdf(masters.control[w * n + k]) < reach;
+            }
+        },
+        16);
+}
+
+}  // namespace
+
 size_t push_out_of_head(Hair& hair, const HeadField& head, float clearance,
                         const std::vector<uint8_t>* near, int n, size_t* inside) {
     std::atomic<size_t> moved{0}, still_inside{0};
@@ -104,40 +180,11 @@ size_t push_out_of_head(Hair& hair, const HeadField& head, float clearance,
         hair.strand_count(),
         [&](size_t i) {
             size_t local = 0, local_inside = 0;
-            auto s = hair.strand(i);
             const uint8_t* flags = near && !hair.wisp.empty()
                                        ? near->data() + static_cast<size_t>(hair.wisp[i]) * n
                                        : nullptr;
-            for (size_t k = 1; k < s.size(); ++k) {
-                if (flags && !flags[std::min<size_t>(k, n - 1)] && !flags[k - 1]) continue;
-                // Most points examined are clear of the head: the cell test, then the distance
-                // alone (the same value the lookup with the gradient gives) rule them out.
-                if (head.beyond(s[k], clearance) || head.sdf(s[k]) >= clearance) continue;
-                Vec3f g;
-                const float d = head.sdf(s[k], &g);
-                if (d >= clearance) continue;
-                if (!(g.norm() > 1e-6f)) continue;
-                g.normalize();
-                // A few steps: the gradient of a trilinear field is only piecewise exact, and
-                // least so at sharp edges (the rim where an open bust is closed). Each lookup
-                // gives the distance and the exact gradient of the interpolant together.
-                float di = d;
-                bool out = false;
-                for (int it = 0; it < 6; ++it) {
-                    if (it > 0) {
-                        Vec3f g2;
-                        di = head.sdf(s[k], &g2);
-                        if (di >= clearance) {
-                            out = true;
-                            break;
-                        }
-                        if (g2.norm() > 1e-6f) g = g2.normalized();
-                    }
-                    s[k] += (clearance - di + 1e-3f) * g;
-                }
-                ++local;
-                local_inside += !out && head.sdf(s[k]) < 0.f;
-            }
+            push_points(hair.strand(i), head, clearance, flags, n, 1, SIZE_MAX, local,
+                        local_inside);
             moved += local;
             still_inside += local_inside;
         },
@@ -202,7 +249,7 @@ StylingField styling_field(const Style& style, const Head& head, const Box3& bou
 SolveStats solve_stage(const Style& style, const Head& head, const HeadField& head_field,
                        const Roots& roots, const GroupSelection& groups, Masters& masters,
                        StageTimes* times, const StylingField* kept, const CancelToken& cancel,
-                       bool update_frames) {
+                       bool update_frames, std::atomic<int>* joints_final) {
     Stopwatch watch;
     const HeadFrame frame = head_frame(*head.scalp);
     StylingField own;
@@ -237,9 +284,84 @@ SolveStats solve_stage(const Style& style, const Head& head, const HeadField& he
             deviation_radius(style.wisp.deviation_radius, static_cast<float>(k) / (n - 1)) / r0;
     in.cancel = &cancel;
     in.update_frames = update_frames;
+    in.joints_final = joints_final;
     SolveStats stats = solve_masters(masters, in, style.solve, density);
     if (times) times->emplace_back("solve", watch.ms());
     return stats;
+}
+
+bool MemberBands::banded(const Style& style) {
+    return !(style.cut.enabled && style.cut.normal.norm() > 0.f);
+}
+
+MemberBands::MemberBands(const Style& style, const HeadField& head_field, const Roots& roots,
+                         std::span<const int32_t> wisp_group, int points,
+                         std::span<const uint32_t> only)
+    : style_(style), head_field_(head_field), roots_(roots), growth_(style, roots, points, only) {
+    Hair& hair = growth_.hair();
+    hair.group.resize(hair.strand_count());
+    for (size_t j = 0; j < hair.strand_count(); ++j)
+        hair.group[j] = wisp_group[static_cast<size_t>(hair.wisp[j])];
+}
+
+void MemberBands::grow(const Masters& masters, int k0, int k1, const CancelToken& cancel) {
+    growth_.grow(masters, k0, k1, cancel);
+}
+
+void MemberBands::push(const Masters& masters, int k0, int k1) {
+    near_head(style_, roots_, head_field_, masters, k0, k1, near_);
+    Hair& hair = growth_.hair();
+    const int n = masters.points;
+    std::atomic<size_t> moved{0}, inside{0};
+    parallel_for(
+        hair.strand_count(),
+        [&](size_t i) {
+            size_t local = 0, local_inside = 0;
+            // The points no band after this one reads (the last whole point waits for the tip
+            // interpolated from it).
+            const size_t from = static_cast<size_t>(growth_.settled(i, k0));
+            const size_t to = static_cast<size_t>(growth_.settled(i, k1));
+            push_points(hair.strand(i), head_field_, kClearance,
+                        near_.data() + static_cast<size_t>(hair.wisp[i]) * n, n, from, to, local,
+                        local_inside);
+            moved += local;
+            inside += local_inside;
+        },
+        256);
+    result_.points_pushed += moved;
+    result_.points_inside_head += inside;
+}
+
+MembersResult MemberBands::finish() {
+    result_.hair = std::move(growth_.hair());
+    return std::move(result_);
+}
+
+bool follow_solve(Masters& masters, const std::atomic<int>& joints_final, MemberBands* bands,
+                  const CancelToken& cancel) {
+    // 4 joints a band: small enough that the band left when the solve ends is a small part
+    // of the members, large enough that its loops' start-up costs nothing.
+    constexpr int kBand = 4;
+    const int n = masters.points;
+    for (int k0 = 0; k0 < n; k0 += kBand) {
+        const int k1 = std::min(n, k0 + kBand);
+        // Frame k reads the outline to joint k + 1 (update_master).
+        const int need = std::min(k1 + 1, n);
+        int joints = joints_final.load(std::memory_order_acquire);
+        while (joints >= 0 && joints < need) {
+            joints_final.wait(joints, std::memory_order_acquire);
+            joints = joints_final.load(std::memory_order_acquire);
+        }
+        if (joints < 0 || cancel.cancelled()) return false;
+        parallel_for(
+            masters.count(), [&](size_t w) { update_master(masters, w, k0, k1); }, 64);
+        if (bands) {
+            bands->grow(masters, k0, k1, cancel);
+            if (cancel.cancelled()) return false;
+            bands->push(masters, k0, k1);
+        }
+    }
+    return true;
 }
 
 MembersResult members_stage(const Style& style, const Head& head, const HeadField& head_field,
@@ -251,59 +373,48 @@ MembersResult members_stage(const Style& style, const Head& head, const HeadFiel
         if (times) times->emplace_back(stage, watch.ms());
         watch = Stopwatch();
     };
+    const int n = masters.points;
+    if (MemberBands::banded(style)) {
+        // One band: all of the growth (about half of the stage), then the push out of the head.
+        MemberBands bands(style, head_field, roots, wisp_group, n, only);
+        bands.grow(masters, 0, n, cancel.part(0.f, 0.5f));
+        if (cancel.cancelled()) return bands.finish();
+        lap("members");
+        bands.push(masters, 0, n);
+        lap("collide");
+        cancel.progress(1, 1);
+        return bands.finish();
+    }
     MembersResult r;
-    // The growth is about half of the stage (the push out of the head most of the rest).
     r.hair = grow_members(style, masters, roots, only, cancel.part(0.f, 0.5f));
     if (cancel.cancelled()) return r;
     r.hair.group.resize(r.hair.strand_count());
     for (size_t j = 0; j < r.hair.strand_count(); ++j)
         r.hair.group[j] = wisp_group[static_cast<size_t>(r.hair.wisp[j])];
     lap("members");
-    if (style.cut.enabled && style.cut.normal.norm() > 0.f) {
-        const HeadFrame frame = head_frame(*head.scalp);
-        const Vec3f n = style.cut.normal.normalized();
-        const float offset = style.cut.head_relative
-                                 ? n.dot(frame.center) + style.cut.offset * frame.radius
-                                 : style.cut.offset;
-        std::vector<uint8_t> fringe;  // kFringe: the strands rooted in the fringe sector
-        if (style.cut.region == CutSpec::Region::kFringe) {
-            fringe.resize(r.hair.strand_count());
-            parallel_for(
-                fringe.size(),
-                [&](size_t i) {
-                    const auto s = r.hair.strand(i);
-                    fringe[i] =
-                        !s.empty() && fringe_sector(scalp_direction(*head.scalp, s[0])) > 0.05f;
-                },
-                4096);
-        }
-        r.strands_cut =
-            cut_hair(r.hair, n, offset, &r.strands_removed, fringe.empty() ? nullptr : &fringe);
-        lap("cut");
-    }
-    {
-        // A member point lies within its wisp's radius of the master point of the same index,
-        // so only joints closer to the head than that radius (plus slack for the grid) can
-        // bring members inside.
-        const int n = masters.points;
-        const float r0 = deviation_radius(style.wisp.deviation_radius, 0.f);
-        std::vector<uint8_t> near(masters.count() * n);
+    const HeadFrame frame = head_frame(*head.scalp);
+    const Vec3f normal = style.cut.normal.normalized();
+    const float offset = style.cut.head_relative
+                             ? normal.dot(frame.center) + style.cut.offset * frame.radius
+                             : style.cut.offset;
+    std::vector<uint8_t> fringe;  // kFringe: the strands rooted in the fringe sector
+    if (style.cut.region == CutSpec::Region::kFringe) {
+        fringe.resize(r.hair.strand_count());
         parallel_for(
-            masters.count(),
-            [&](size_t w) {
-                for (int k = 0; k < n; ++k) {
-                    const float reach = roots.wisp_radius[w] *
-                                            deviation_radius(style.wisp.deviation_radius,
-                                                             static_cast<float>(k) / (n - 1)) /
-                                            r0 +
-                                        kClearance + head_field.grid().cell();
-                    near[w * n + k] = head_field.sdf(masters.control[w * n + k]) < reach;
-                }
+            fringe.size(),
+            [&](size_t i) {
+                const auto s = r.hair.strand(i);
+                fringe[i] = !s.empty() && fringe_sector(scalp_direction(*head.scalp, s[0])) > 0.05f;
             },
-            16);
-        r.points_pushed =
-            push_out_of_head(r.hair, head_field, kClearance, &near, n, &r.points_inside_head);
+            4096);
     }
+    r.strands_cut =
+        cut_hair(r.hair, normal, offset, &r.strands_removed, fringe.empty() ? nullptr : &fringe);
+    lap("cut");
+    std::vector<uint8_t> near;
+    near_head(style, roots, head_field, masters, 0, n, near);
+    r.points_pushed =
+        push_out_of_head(r.hair, head_field, kClearance, &near, n, &r.points_inside_head);
     lap("collide");
     cancel.progress(1, 1);
     return r;

@@ -76,11 +76,13 @@ StylingField styling_field(const Style& style, const Head& head, const Box3& bou
 // when given, is styling_field(style, head, solve_bounds(…)) kept from an earlier solve (the
 // editor keeps it while only κ or τ move). A cancelled solve (SolveStats::cancelled) leaves
 // `masters` partly solved. Without `update_frames`, the masters' frames and control points are
-// left for the caller to compute (SolveInput::update_frames).
+// left for the caller to compute (SolveInput::update_frames); `joints_final` is
+// SolveInput::joints_final.
 SolveStats solve_stage(const Style& style, const Head& head, const HeadField& head_field,
                        const Roots& roots, const GroupSelection& groups, Masters& masters,
                        StageTimes* times = nullptr, const StylingField* field = nullptr,
-                       const CancelToken& cancel = {}, bool update_frames = true);
+                       const CancelToken& cancel = {}, bool update_frames = true,
+                       std::atomic<int>* joints_final = nullptr);
 
 struct MembersResult {
     Hair hair;  // without colors
@@ -95,6 +97,42 @@ MembersResult members_stage(const Style& style, const Head& head, const HeadFiel
                             const Roots& roots, const Masters& masters,
                             std::span<const int32_t> wisp_group, StageTimes* times = nullptr,
                             std::span<const uint32_t> only = {}, const CancelToken& cancel = {});
+
+// members_stage in bands of master points (MemberGrowth), so that the members can follow
+// the solve's layers (the editor's preview, beside the solve): grow(masters, k0, k1) grows
+// the points k0 ≤ k < k1 of every strand, then push(masters, k0, k1) pushes out of the head
+// those no later band reads; both read the masters' control points and frames below k1
+// only. After bands covering [0, n) in order, finish() is members_stage's result to the bit.
+// Without a cut only (banded): the cut needs whole strands before the push.
+class MemberBands {
+  public:
+    static bool banded(const Style& style);
+    // `style`, `head_field` and `roots` must outlive the object; the rest is copied.
+    MemberBands(const Style& style, const HeadField& head_field, const Roots& roots,
+                std::span<const int32_t> wisp_group, int points,
+                std::span<const uint32_t> only = {});
+    void grow(const Masters& masters, int k0, int k1, const CancelToken& cancel = {});
+    void push(const Masters& masters, int k0, int k1);
+    MembersResult finish();
+
+  private:
+    const Style& style_;
+    const HeadField& head_field_;
+    const Roots& roots_;
+    MemberGrowth growth_;
+    std::vector<uint8_t> near_;  // #W·n near_head flags, filled band by band
+    MembersResult result_;
+};
+
+// Beside a solve of `masters` that runs with update_frames = false and tells joints_final
+// (solve_stage): the masters' frames and control points (update_master), and with `bands`
+// the members' growth and push, band by band of joints as the solve's layers make them final,
+// on the core the solve's serial layers leave idle. `joints_final` < 0 says the solve ended
+// without finishing (cancelled, or it threw): then, or when `cancel` fires, it returns false
+// at once, the masters and members partial. Returns true with the masters whole, byte for
+// byte update_master's of the solved outlines, and the bands covering every joint.
+bool follow_solve(Masters& masters, const std::atomic<int>& joints_final, MemberBands* bands,
+                  const CancelToken& cancel = {});
 
 // A color per strand (§5). With `ids` (#strands), strand i takes the colour of strand ids[i]
 // of the whole hair (color_strands).

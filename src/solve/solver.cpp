@@ -189,9 +189,11 @@ class Solver {
                 if (cancelled()) return stats_;
                 place_layer(j);
                 advance_groups();
+                publish(j + 2);
                 progress(static_cast<size_t>(j + 1), static_cast<size_t>(n - 1));
             }
         }
+        publish(n);
         for (const Counts& c : counts_) {
             stats_.joints += c.joints;
             stats_.bends += c.bends;
@@ -236,6 +238,12 @@ class Solver {
     }
 
   private:
+    // SolveInput::joints_final.
+    void publish(int joints) const {
+        if (!in_.joints_final) return;
+        in_.joints_final->store(joints, std::memory_order_release);
+        in_.joints_final->notify_all();
+    }
     float hair_density(const Vec3f& p) const { return sample(rho_, p); }
     float head_density(const Vec3f& p) const { return in_.head->density(p, spec_.head_margin); }
     // Hair and head density at p, the head's (`head`) already known; `squeeze`: the head's

@@ -2,6 +2,7 @@
 // The pseudophysical deformation solver (Choe & Ko §3, Algorithm 1) with the
 // constraint-based styler (§4): finds every master's joint angles under the styling force
 // field, bending stiffness and density-field collisions.
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -88,6 +89,12 @@ struct SolveInput {
     // leaves them to the caller, whose details may still be being synthesized (the solve reads
     // only the outlines, roots, segments and directions).
     bool update_frames = true;
+    // When given, told how many leading joints of every master are final: after each
+    // breadth-first layer (its joints 0 … j + 1), and n when the solve finishes (depth-first,
+    // only then); a store with release order, then notify_all. Work beside the solve (the
+    // masters' frames and members, band by band) waits on it and may then read those joints of
+    // the outlines, which the solve no longer writes. A cancelled solve leaves it below n.
+    std::atomic<int>* joints_final = nullptr;
 };
 
 // Algorithm 1. Masters' outlines are rebuilt joint by joint from their roots; details ride on

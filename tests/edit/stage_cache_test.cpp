@@ -300,6 +300,38 @@ TEST(StageCache, PreviewColoursMadeBesideTheSolveAreTheFullHairs) {
     }
 }
 
+// A preview's members grow beside the solve, band by band as its layers make the masters'
+// joints final: after a map stroke (whose masters' details are synthesized beside the solve
+// too), a κ change and a seed change, the preview is the full hair's strands, to the bit. With
+// a cut (which needs whole strands before the push) they grow after the solve.
+TEST(StageCache, PreviewMembersGrownBesideTheSolveAreTheFullHairs) {
+    Style style = small_style();
+    StageCache cache(style);
+    cache.update();
+    int beside = 0;
+    for (const auto& [path, value] :
+         {std::pair{"maps.density", "\"crown\""}, std::pair{"solve.stiffness", "0.4"},
+          std::pair{"seed", "11"}, std::pair{"cut.enabled", "true"}}) {
+        const bool cut = std::string(path) == "cut.enabled";
+        cache.set(path, value);
+        const Hair* preview = cache.update_preview(700);
+        ASSERT_NE(preview, nullptr) << path;
+        EXPECT_EQ(cache.previews_grown_beside(), beside += !cut) << path;
+        if (cut) continue;  // the cut removes strands, so the preview's are shifted
+        const Hair copy = *preview;
+        const Hair& full = cache.update().hair;
+        expect_same_hair(full, generate_hairstyle(cache.style(), cache.head()).hair);
+        const std::vector<uint32_t> order = strand_order(full.strand_count());
+        ASSERT_EQ(copy.strand_count(), 700u) << path;
+        for (size_t i = 0; i < 700; ++i) {
+            const auto a = copy.strand(i), b = full.strand(order[i]);
+            ASSERT_EQ(a.size(), b.size()) << path << " " << i;
+            ASSERT_TRUE(std::equal(a.begin(), a.end(), b.begin())) << path << " " << i;
+            ASSERT_EQ(copy.group[i], full.group[order[i]]) << path << " " << i;
+        }
+    }
+}
+
 // What GET /api/hair sends is the encoding of the full hair's first strands in strand_order,
 // byte for byte, whatever the answer left out: a colour change colours only the strands sent
 // (over positions encoded before) and leaves the colour stage to the update; a κ change grows

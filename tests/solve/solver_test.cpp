@@ -276,6 +276,80 @@ TEST(Solver, SynthesizingWhileSolvingGivesTheSameBytes) {
     }
 }
 
+// The masters' frames and the members made band by band beside the solve, as its layers
+// make the joints final (follow_solve: the editor's preview), are the serial solve's masters
+// and members_stage's hair to the bit, at 1 and 2 threads, breadth- and depth-first.
+TEST(Solver, MembersFollowingTheSolveGiveTheSameBytes) {
+    for (const bool depth_first : {false, true}) {
+        Style style = small_style();
+        style.solve.field = SolveSpec{}.field;
+        style.solve.depth_first = depth_first;
+        style.prototype.kind = PrototypeSpec::Kind::kWavy;
+        const Head& head = builtin();
+        const Roots roots = grow_roots(style, head);
+        const GroupSelection groups = select_groups(style, head, roots);
+        const Masters start = synthesize_masters(style, head, roots);
+        Masters serial = start;
+        solve_stage(style, head, builtin_field(), roots, groups, serial);
+        std::vector<uint32_t> some;
+        for (uint32_t j = 0; j < roots.members.size(); j += 3)
+            some.push_back(j);
+        const MembersResult expected = members_stage(style, head, builtin_field(), roots, serial,
+                                                     groups.wisp_group, nullptr, some);
+        ASSERT_GT(expected.points_pushed, 0u);  // the push runs on some band
+        const auto bytes = [](const auto& v) {
+            return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(v[0]));
+        };
+        for (const int threads : {1, 2}) {
+            SCOPED_TRACE(testing::Message() << threads << " threads, depth-first " << depth_first);
+            const ThreadLimit limit(threads);
+            Masters solved = start;
+            std::atomic<int> joints{1};
+            MemberBands bands(style, builtin_field(), roots, groups.wisp_group, start.points, some);
+            bool followed = false;
+            tbb::task_group tasks;
+            tasks.run([&] { followed = follow_solve(solved, joints, &bands); });
+            solve_stage(style, head, builtin_field(), roots, groups, solved, nullptr, nullptr, {},
+                        /*update_frames=*/false, &joints);
+            tasks.wait();
+            ASSERT_TRUE(followed);
+            EXPECT_TRUE(bytes(solved.outline) == bytes(serial.outline));
+            EXPECT_TRUE(bytes(solved.frames) == bytes(serial.frames));
+            EXPECT_TRUE(bytes(solved.control) == bytes(serial.control));
+            const MembersResult got = bands.finish();
+            EXPECT_TRUE(bytes(got.hair.points) == bytes(expected.hair.points));
+            EXPECT_TRUE(got.hair.offsets == expected.hair.offsets);
+            EXPECT_TRUE(got.hair.group == expected.hair.group);
+            EXPECT_EQ(got.points_pushed, expected.points_pushed);
+            EXPECT_EQ(got.points_inside_head, expected.points_inside_head);
+        }
+    }
+}
+
+// A solve that ends without finishing (here cancelled at once) leaves the joints it told below
+// n; the caller then says so (−1) and the work following it stops rather than wait forever.
+TEST(Solver, FollowingACancelledSolveStops) {
+    Style style = small_style();
+    const Head& head = builtin();
+    const Roots roots = grow_roots(style, head);
+    Masters m = synthesize_masters(style, head, roots);
+    std::atomic<uint64_t> newest{1};
+    const CancelToken cancel(newest, 0);
+    std::atomic<int> joints{1};
+    bool followed = true;
+    tbb::task_group tasks;
+    tasks.run([&] { followed = follow_solve(m, joints, nullptr); });
+    const SolveStats stats =
+        solve_stage(style, head, builtin_field(), roots, select_groups(style, head, roots), m,
+                    nullptr, nullptr, cancel, /*update_frames=*/false, &joints);
+    EXPECT_TRUE(stats.cancelled);
+    EXPECT_LT(joints.load(), m.points);
+    joints.store(-1);
+    joints.notify_all();
+    tasks.wait();
+    EXPECT_FALSE(followed);
+}
+
 TEST(Solver, DepthFirstIsAnOptionAndDiffers) {
     Style bf = small_style(), df = small_style();
     df.solve.depth_first = true;
