@@ -6,13 +6,16 @@
 // and by sliders whose ranges, defaults and documentation are the schema's (GET
 // /api/schema "sections"; the reader checks the same ranges and its message names the key).
 //
-// They are kept as the TOML reader reads them, in head units (the sections' default, so a
-// saved braid fits any head): `{section: "braid", name, start: [x, y, z], axis, side,
-// length, strands, width, period, radius, weight}`, `{section: "updo", name, point, facing,
-// bun_radius, turns, radius, weight}`; keys left out take the reader's defaults. What is
-// drawn — each braid strand's figure-eight and the bun's spiral — is the server's expansion
-// of the sections (groom/hairdressing.cpp, the "paths" of /api/constraints), in cm, not a
-// copy of its formulas.
+// They are kept as the TOML reader reads them: `{section: "braid", name, start: [x, y, z],
+// axis, side, length, strands, width, period, radius, weight}`, `{section: "updo", name,
+// point, facing, bun_radius, turns, radius, weight}`; keys left out take the reader's
+// defaults. Those placed here are in head units (the sections' default, so a saved braid
+// fits any head); one opened from a file may be in cm (`head_relative = false`), and each
+// keeps the units it has: the server says which (the "frames" of /api/constraints, cm =
+// origin + scale·value), and its handles are placed and dragged in them. What is drawn —
+// each braid strand's figure-eight and the bun's spiral — is the server's expansion of the
+// sections (groom/hairdressing.cpp, the "paths" of /api/constraints), in cm, not a copy of
+// its formulas.
 import * as THREE from "three";
 import { groupColor } from "./views.js";
 
@@ -42,13 +45,22 @@ export class Hairdressing {
     this.placing = null;  // a braid being dragged out: { start (cm), plane, line }
   }
 
-  // Head units ⇄ cm, as the solver maps them (solve/pipeline.cpp head_frame: the scalp
-  // sphere's centre and the distance to its crown).
-  toHead(p) {
-    return p.clone().sub(this.c.center).divideScalar(this.c.radius);
+  // The units section i is in, as the server read it: {origin, scale, units}, cm = origin
+  // + scale·value (head units: the scalp sphere's centre and the distance to its crown, as
+  // solve/pipeline.cpp head_frame maps them; cm: origin 0, scale 1).
+  frame(i) {
+    return this.c.frames[i] ?? this.c.headFrame;
   }
-  toSpace(a) {
-    return new THREE.Vector3(...a).multiplyScalar(this.c.radius).add(this.c.center);
+  headFrame() {
+    return this.c.headFrame;
+  }
+
+  // cm ⇄ a frame's units.
+  toSection(p, frame) {
+    return p.clone().sub(new THREE.Vector3(...frame.origin)).divideScalar(frame.scale);
+  }
+  toSpace(a, frame) {
+    return new THREE.Vector3(...a).multiplyScalar(frame.scale).add(new THREE.Vector3(...frame.origin));
   }
 
   numbers(kind) {
@@ -63,6 +75,7 @@ export class Hairdressing {
   draw(i) {
     const s = this.c.sections[i];
     const paths = this.c.paths[i] ?? [];
+    const frame = this.frame(i);
     const first = this.c.groupIndex(i);
     const overlay = (m) => Object.assign(m, { depthTest: false, transparent: true });
     if (s.section === "braid" && paths.length) {
@@ -134,42 +147,44 @@ export class Hairdressing {
     if (s.section === "braid") {
       // The start, and the axis's end: the strands' phases cancel, so the mean of their
       // ends is start + length·axis as the server expanded it.
-      const start = s.start ? this.toSpace(s.start) : null;
+      const start = s.start ? this.toSpace(s.start, frame) : null;
       const end = new THREE.Vector3();
       for (const p of paths) end.add(new THREE.Vector3(...p.points[p.points.length - 1]));
       if (start) handle(start, "start", 0.6, 0xffffff);
       if (paths.length && start) stem(start, end.divideScalar(paths.length), "end");
     } else if (s.section === "updo" && s.point) {
-      const centre = this.toSpace(s.point);
+      const centre = this.toSpace(s.point, frame);
       handle(centre, "point", 0.6, 0xffffff);
       if (Array.isArray(s.facing)) {
         const facing = new THREE.Vector3(...s.facing).normalize();
-        const reach = this.valueOf(s, "bun_radius") * this.c.radius + 3;
+        const reach = this.valueOf(s, "bun_radius") * frame.scale + 3;
         stem(centre, centre.clone().addScaledVector(facing, reach), "facing");
       }
     }
   }
 
-  // A handle dragged to p (cm): the sections with the braid or bun reshaped.
+  // A handle dragged to p (cm): the sections with the braid or bun reshaped, in the units
+  // the section is in.
   moved(sections, handle, p) {
     const { section: i, role } = handle.userData;
     const s = sections[i];
-    const at = this.toHead(p);
+    const frame = this.frame(i);
+    const at = this.toSection(p, frame);
     if (role === "start" || role === "point") {
       s[role] = at.toArray().map(round3);
     } else if (role === "end") {
       const d = at.sub(new THREE.Vector3(...s.start));
-      if (d.length() < minDrag / this.c.radius) return null;
+      if (d.length() < minDrag / frame.scale) return null;
       Object.assign(s, this.orientation(d, s.side));
     } else if (role === "facing") {
-      const d = p.clone().sub(this.toSpace(s.point));
+      const d = p.clone().sub(this.toSpace(s.point, frame));
       if (d.length() < 0.5) return null;
       s.facing = d.normalize().toArray().map(round3);
     }
     return sections;
   }
 
-  // A braid's axis, length and side for an axis vector d (head units): side is `previous`
+  // A braid's axis, length and side for an axis vector d (in the section's units): side is `previous`
   // (or across the view) made perpendicular to the axis, pointing to +x where it can.
   orientation(d, previous) {
     const axis = d.clone().normalize();
@@ -228,8 +243,10 @@ export class Hairdressing {
     const { start, end, line } = this.placing;
     this.placing = null;
     this.c.handles.remove(line);
-    const section = { section: "braid", name: this.nameFor("braid"), start: this.toHead(start).toArray().map(round3) };
-    if (end.distanceTo(start) >= minDrag) Object.assign(section, this.orientation(this.toHead(end).sub(this.toHead(start))));
+    const head = this.headFrame();
+    const section = { section: "braid", name: this.nameFor("braid"), start: this.toSection(start, head).toArray().map(round3) };
+    if (end.distanceTo(start) >= minDrag)
+      Object.assign(section, this.orientation(this.toSection(end, head).sub(this.toSection(start, head))));
     this.c.apply([...this.c.sections, section]);
   }
 
@@ -237,7 +254,7 @@ export class Hairdressing {
   placeUpdo(e) {
     const p = this.anchor(e);
     if (!p) return this.c.onError("click on or near the head to place a bun");
-    const point = this.toHead(p);
+    const point = this.toSection(p, this.headFrame());
     this.c.apply([...this.c.sections, {
       section: "updo", name: this.nameFor("updo"), point: point.toArray().map(round3),
       facing: point.clone().normalize().toArray().map(round3),
@@ -245,25 +262,35 @@ export class Hairdressing {
   }
 
   // The sliders of section i's numbers, from the schema: its range where a useful value
-  // lies, its unit (head units, also shown in cm) and its documentation as the title.
+  // lies, its unit and its documentation as the title. Sizes are kept in the section's units
+  // (head units, or cm in a section with head_relative = false) and shown in cm; the
+  // schema's ranges, in head units, are taken to the section's units through cm.
   sliders(row, i) {
     const s = this.c.sections[i];
+    const frame = this.frame(i);
     for (const f of this.numbers(s.section)) {
       const input = document.createElement("input");
       input.type = "range";
       const integer = f.type === "integer";
-      const step = integer ? 1 : Math.pow(10, Math.floor(Math.log10(f.soft_max - f.soft_min)) - 2);
-      Object.assign(input, { min: f.soft_min, max: f.soft_max, step });
+      const size = f.unit === "head units";
+      const toUnits = size ? this.headFrame().scale / frame.scale : 1;
+      const step = integer ? 1 : Math.pow(10, Math.floor(Math.log10((f.soft_max - f.soft_min) * toUnits)) - 2);
+      // The ends on the step's grid, so the value written (a round number) is one of the
+      // slider's values.
+      const snap = (v, round) => Number((round(v / step) * step).toFixed(Math.max(0, -Math.log10(step))));
+      const [min, max] = [snap(f.soft_min * toUnits, Math.floor), snap(f.soft_max * toUnits, Math.ceil)];
+      Object.assign(input, { min, max, step });
       input.value = this.valueOf(s, f.key);
       input.dataset.key = f.key;
-      input.title = `${f.doc} (${s.section}.${f.key}${f.unit ? `, ${f.unit}` : ""}; default ${f.default})`;
+      const unit = size ? frame.units : f.unit;
+      input.title = `${f.doc} (${s.section}.${f.key}${unit ? `, ${unit}` : ""}; default ${f.default})`;
       const label = document.createElement("label");
-      // Sizes shown in cm, kept in head units (the tooltip gives both).
+      // Sizes shown in cm, kept in the section's units (the tooltip gives both).
       const show = () => {
         const v = Number(input.value);
         const text = integer ? `${v}` : v.toFixed(step < 0.01 ? 3 : 2);
-        label.textContent = f.unit === "head units" ? `${f.key} ${(v * this.c.radius).toFixed(1)} cm` : `${f.key} ${text}`;
-        label.title = f.unit ? `${text} ${f.unit}` : text;
+        label.textContent = size ? `${f.key} ${(v * frame.scale).toFixed(1)} cm` : `${f.key} ${text}`;
+        label.title = unit ? `${text} ${unit}` : text;
       };
       show();
       input.oninput = show;
