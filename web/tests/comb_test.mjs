@@ -7,8 +7,7 @@
 // stays just off the head); undo puts it back. Save writes [[comb]], which `wisp generate`
 // turns into the editor's hair byte for byte. Screenshots go to OUT_DIR.
 //   node web/tests/comb_test.mjs WISP_EXE OUT_DIR
-import { dragThrough, failWith, onScreen, testArguments, viewFromBehind, withEditor } from "./harness.mjs";
-import { execFileSync } from "node:child_process";
+import { dragThrough, exportAndGenerate, failWith, onScreen, testArguments, viewFromBehind, withEditor } from "./harness.mjs";
 import { readFileSync } from "node:fs";
 import path from "node:path";
 
@@ -150,18 +149,12 @@ await withEditor(wisp, { prefix: "comb", files: { "style.toml": style } }, async
   await page.waitForFunction(() => document.getElementById("saved").textContent.startsWith("saved"));
   const toml = readFileSync(path.join(folder, "style.toml"), "utf8");
   if (!toml.includes("[[comb]]") || !toml.includes("trajectory = ")) fail(`the saved style holds no comb:\n${toml}`);
-  const exported = await page.evaluate(async (token) => (await fetch("/api/export", {
-    method: "POST", headers: { "X-Wisp-Token": token, "Content-Type": "application/json" },
-    body: JSON.stringify({ name: "editor.hair" }),
-  })).status, token);
-  if (exported !== 200) fail(`export answered ${exported}`);
+  const { editor: a, cli: b } = await exportAndGenerate(page, token, wisp, folder);
   // The export's progress came to the page as server-sent events (GET /api/events).
   await page.waitForFunction(() => {
     const bar = document.getElementById("progress");
     return bar.dataset.task === "export" && bar.dataset.finished === "1";
   }, null, { timeout: 10000 }).catch(() => fail("the page got no progress events of the export"));
-  execFileSync(wisp, ["generate", "style.toml", "-o", "cli.hair", "--quiet"], { cwd: folder, stdio: "inherit" });
-  const a = readFileSync(path.join(folder, "editor.hair")), b = readFileSync(path.join(folder, "cli.hair"));
   if (!a.equals(b)) fail(`wisp generate of the saved comb differs from the editor's hair (${a.length} vs ${b.length} bytes)`);
   console.log(`save: [[comb]]; wisp generate gives the editor's hair (${a.length} bytes, identical)`);
 });

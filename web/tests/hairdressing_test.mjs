@@ -13,8 +13,7 @@
 // Both: Save writes the section as the CLI reads it, and `wisp generate` of the saved style
 // is the editor's hair byte for byte. Screenshots go to OUT_DIR.
 //   WISP_HAIRDRESSING_CASE=braid node web/tests/hairdressing_test.mjs WISP_EXE OUT_DIR
-import { dragThrough, failWith, measureHair, onScreen, pageConstraints, testArguments, toScreen, viewFromBehind, withEditor } from "./harness.mjs";
-import { execFileSync } from "node:child_process";
+import { dragThrough, exportAndGenerate, failWith, measureHair, onScreen, pageConstraints, testArguments, toScreen, viewFromBehind, withEditor } from "./harness.mjs";
 import { readFileSync } from "node:fs";
 import path from "node:path";
 
@@ -243,13 +242,7 @@ await withEditor(wisp, { prefix: kind, files: { "style.toml": style } }, async (
   const keys = kind === "braid" ? ["start = [", "axis = [", "side = [", "length = "] : ["point = [", "facing = ["];
   if (!toml.includes(`[[${kind}]]`) || keys.some((k) => !toml.includes(k)) || toml.includes("head_relative"))
     fail(`the saved style does not hold the ${kind} in head units:\n${toml}`);
-  const exported = await page.evaluate(async (token) => (await fetch("/api/export", {
-    method: "POST", headers: { "X-Wisp-Token": token, "Content-Type": "application/json" },
-    body: JSON.stringify({ name: "editor.hair" }),
-  })).status, token);
-  if (exported !== 200) fail(`export answered ${exported}`);
-  execFileSync(wisp, ["generate", "style.toml", "-o", "cli.hair", "--quiet"], { cwd: folder, stdio: "inherit" });
-  const a = readFileSync(path.join(folder, "editor.hair")), b = readFileSync(path.join(folder, "cli.hair"));
+  const { editor: a, cli: b } = await exportAndGenerate(page, token, wisp, folder);
   if (!a.equals(b)) fail(`wisp generate of the saved ${kind} differs from the editor's hair (${a.length} vs ${b.length} bytes)`);
   console.log(`save: [[${kind}]]; wisp generate gives the editor's hair (${a.length} bytes, identical)`);
 });

@@ -4,7 +4,7 @@
 // launched headless on software GL (SwiftShader), and a page opened on the editor; or all of
 // that at once, cleaned up however the test ends (withEditor).
 import { chromium } from "playwright-core";
-import { spawn } from "node:child_process";
+import { execFileSync, spawn } from "node:child_process";
 import { mkdirSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from "node:fs";
 import os from "node:os";
 import path from "node:path";
@@ -218,6 +218,19 @@ export function measureHair(page, token, f, arg) {
     const { center, radius } = window.wispEditor.constraints;
     return (0, eval)(source)({ strands, offsets, x, groups, center: center.toArray(), radius }, arg);
   }, [f.toString(), arg, token]);
+}
+
+// The editor's hair exported (POST /api/export, editor.hair) and `wisp generate` of the
+// style.toml Save wrote, both in `folder`, for a test to compare byte for byte: { editor,
+// cli } (Buffers). Throws if the export is refused.
+export async function exportAndGenerate(page, token, wisp, folder) {
+  const status = await page.evaluate(async (token) => (await fetch("/api/export", {
+    method: "POST", headers: { "X-Wisp-Token": token, "Content-Type": "application/json" },
+    body: JSON.stringify({ name: "editor.hair" }),
+  })).status, token);
+  if (status !== 200) throw new Error(`export answered ${status}`);
+  execFileSync(wisp, ["generate", "style.toml", "-o", "cli.hair", "--quiet"], { cwd: folder, stdio: "inherit" });
+  return { editor: readFileSync(path.join(folder, "editor.hair")), cli: readFileSync(path.join(folder, "cli.hair")) };
 }
 
 // A mouse drag through `points` (client coordinates), `steps` moves between each two.

@@ -6,8 +6,7 @@
 // writes [[tie]] with its mask, which `wisp generate` turns into the editor's hair byte for
 // byte; undo takes the tie away again. Screenshots go to OUT_DIR.
 //   node web/tests/tie_test.mjs WISP_EXE OUT_DIR
-import { dragThrough, failWith, measureHair, onScreen, testArguments, viewFromBehind, withEditor } from "./harness.mjs";
-import { execFileSync } from "node:child_process";
+import { dragThrough, exportAndGenerate, failWith, measureHair, onScreen, testArguments, viewFromBehind, withEditor } from "./harness.mjs";
 import { readFileSync, existsSync } from "node:fs";
 import path from "node:path";
 
@@ -97,13 +96,7 @@ await withEditor(wisp, { prefix: "tie", files: { "style.toml": style } }, async 
   const mask = `style.${sections[0].name.replace(/ /g, "-")}.mask.png`;
   if (!toml.includes("[[tie]]") || !toml.includes(`mask = "${mask}"`) || !existsSync(path.join(folder, mask)))
     fail(`the saved style does not hold the tie and its mask ${mask}:\n${toml}`);
-  const exported = await page.evaluate(async (token) => (await fetch("/api/export", {
-    method: "POST", headers: { "X-Wisp-Token": token, "Content-Type": "application/json" },
-    body: JSON.stringify({ name: "editor.hair" }),
-  })).status, token);
-  if (exported !== 200) fail(`export answered ${exported}`);
-  execFileSync(wisp, ["generate", "style.toml", "-o", "cli.hair", "--quiet"], { cwd: folder, stdio: "inherit" });
-  const a = readFileSync(path.join(folder, "editor.hair")), b = readFileSync(path.join(folder, "cli.hair"));
+  const { editor: a, cli: b } = await exportAndGenerate(page, token, wisp, folder);
   if (!a.equals(b)) fail(`wisp generate of the saved tie differs from the editor's hair (${a.length} vs ${b.length} bytes)`);
   console.log(`save: [[tie]] with ${mask}; wisp generate gives the editor's hair (${a.length} bytes, identical)`);
 
