@@ -88,6 +88,25 @@ nlohmann::json section_paths(const nlohmann::json& sections, const std::vector<G
     return out;
 }
 
+nlohmann::json head_units_frame(const HeadFrame& head) {
+    return {{"origin", {head.center.x(), head.center.y(), head.center.z()}},
+            {"scale", head.radius},
+            {"units", "head units"}};
+}
+
+nlohmann::json section_frames(const nlohmann::json& sections, const HeadFrame& head) {
+    const nlohmann::json cm = {{"origin", {0.f, 0.f, 0.f}}, {"scale", 1.f}, {"units", "cm"}};
+    nlohmann::json out = nlohmann::json::array();
+    for (const nlohmann::json& s : sections) {
+        // The reader's default, true; the sections held were checked by it (a boolean).
+        const auto relative = s.find("head_relative");
+        const bool head_relative =
+            relative == s.end() || !relative->is_boolean() || relative->get<bool>();
+        out.push_back(head_relative ? head_units_frame(head) : cm);
+    }
+    return out;
+}
+
 std::string ConstraintSections::mask_file(const std::string& document, const std::string& key) {
     return std::filesystem::path(document).stem().string() + "." + key + ".mask.png";
 }

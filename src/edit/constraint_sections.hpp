@@ -43,6 +43,17 @@ struct SectionsError : Error {
 nlohmann::json section_paths(const nlohmann::json& sections, const std::vector<GroupSpec>& groups,
                              const HeadFrame& head);
 
+// How each section's positions and sizes map to cm, as the reader takes them: one
+// {"origin": [x, y, z], "scale": s, "units": "head units" or "cm"} per section, cm = origin +
+// scale·value for a position and scale·value for a size. A section in head units (`head_relative`,
+// the default) maps through `head`; one with `head_relative = false` is in cm already (origin 0,
+// scale 1). The editor places and drags a section's handles with it, so it never guesses the units.
+nlohmann::json section_frames(const nlohmann::json& sections, const HeadFrame& head);
+
+// The frame of head units (as section_frames gives a head-relative section's): what the
+// editor writes a new section in.
+nlohmann::json head_units_frame(const HeadFrame& head);
+
 class ConstraintSections {
   public:
     // The most sections the editor holds (the reader allows 256 groups in all).

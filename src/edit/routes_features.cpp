@@ -75,10 +75,13 @@ void add_feature_routes(httplib::Server& server, EditState& s) {
     // Placing constraints: the sections, and the selections painted on the scalp.
     server.Get("/api/constraints", [&s](const httplib::Request&, httplib::Response& res) {
         std::lock_guard lock(s.cache_mutex);
-        send_json(res, {{"sections", s.constraints.json()},
-                        {"paths", section_paths(s.constraints.json(), s.cache.style().groups,
-                                                head_frame(*s.cache.head().scalp))},
-                        {"document", s.document}});
+        const HeadFrame head = head_frame(*s.cache.head().scalp);
+        send_json(res,
+                  {{"sections", s.constraints.json()},
+                   {"paths", section_paths(s.constraints.json(), s.cache.style().groups, head)},
+                   {"frames", section_frames(s.constraints.json(), head)},
+                   {"head", head_units_frame(head)},
+                   {"document", s.document}});
     });
     server.Post("/api/constraints", [&s](const httplib::Request& req, httplib::Response& res) {
         nlohmann::json j;
@@ -99,10 +102,13 @@ void add_feature_routes(httplib::Server& server, EditState& s) {
         }
         s.cache.set_style(std::move(next));
         s.cache.mark_stale(Stage::kSolve);  // painted masks are not in the groups' text
-        send_json(res, {{"stale", stage_name(s.cache.stale())},
-                        {"sections", s.constraints.json()},
-                        {"paths", section_paths(s.constraints.json(), s.cache.style().groups,
-                                                head_frame(*s.cache.head().scalp))}});
+        const HeadFrame head = head_frame(*s.cache.head().scalp);
+        send_json(res,
+                  {{"stale", stage_name(s.cache.stale())},
+                   {"sections", s.constraints.json()},
+                   {"paths", section_paths(s.constraints.json(), s.cache.style().groups, head)},
+                   {"frames", section_frames(s.constraints.json(), head)},
+                   {"head", head_units_frame(head)}});
     });
     server.Get("/api/selection", [&s](const httplib::Request& req, httplib::Response& res) {
         const std::string key = req.get_param_value("key");

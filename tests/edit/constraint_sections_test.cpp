@@ -231,6 +231,55 @@ TEST(ConstraintSections, BraidAndUpdoPathsAreTheCliExpansionInCentimetres) {
         EXPECT_TRUE(p.empty());
 }
 
+// The frames sent beside the sections say the units the reader took each one in: a braid or
+// updo in head units (the default, or head_relative = true) maps through the head frame, one
+// with head_relative = false is in cm as written. Mapped by its frame, each braid's start
+// and each bun's centre is where the server's expansion (the paths drawn) begins, and the
+// spiral's reach is bun_radius times the frame's scale.
+TEST(ConstraintSections, FramesGiveEachSectionsUnitsSoItsHandlesSitOnItsPaths) {
+    const Style style = small_style();
+    ConstraintSections sections;
+    const auto placed = nlohmann::json::parse(R"([
+        {"section": "braid", "start": [0, -0.4, -1.1], "length": 2, "width": 0.3},
+        {"section": "braid", "start": [0, -1.5, -10.5], "axis": [0, -1, -0.2], "length": 20,
+         "width": 3, "period": 5, "radius": 0.6, "head_relative": false},
+        {"section": "updo", "point": [0, 8, -9], "facing": [0, 0.3, -1], "bun_radius": 2.8,
+         "radius": 1.2, "head_relative": false},
+        {"section": "updo", "point": [0, 0.5, -1.1], "head_relative": true}])");
+    const std::vector<GroupSpec> groups = sections.set(placed, style, {}, "style.toml");
+    HeadFrame head;
+    head.center = Vec3f(0.f, 3.f, -0.7f);
+    head.radius = 9.5f;
+    const nlohmann::json frames = section_frames(sections.json(), head);
+    const nlohmann::json paths = section_paths(sections.json(), groups, head);
+    ASSERT_EQ(frames.size(), 4u);
+    const std::vector<float> scales = {9.5f, 1.f, 1.f, 9.5f};
+    for (size_t i = 0; i < 4; ++i) {
+        const nlohmann::json& f = frames[i];
+        const Vec3f origin(f["origin"][0].get<float>(), f["origin"][1].get<float>(),
+                           f["origin"][2].get<float>());
+        const float scale = f["scale"].get<float>();
+        EXPECT_EQ(scale, scales[i]) << i;
+        EXPECT_EQ(f["units"], scale == 1.f ? "cm" : "head units") << i;
+        EXPECT_EQ(origin, scale == 1.f ? Vec3f::Zero().eval() : head.center) << i;
+        const nlohmann::json& s = sections.json()[i];
+        const nlohmann::json& at = s.contains("start") ? s["start"] : s["point"];
+        const Vec3f cm =
+            origin + scale * Vec3f(at[0].get<float>(), at[1].get<float>(), at[2].get<float>());
+        const nlohmann::json& first = paths[i][0]["points"];
+        const auto point = [&](size_t k) {
+            return Vec3f(first[k][0].get<float>(), first[k][1].get<float>(),
+                         first[k][2].get<float>());
+        };
+        EXPECT_NEAR((point(0) - cm).norm(), 0.f, 1e-3f) << i;
+        if (s["section"] == "updo")
+            EXPECT_NEAR((point(first.size() - 1) - cm).norm(), scale * s.value("bun_radius", 0.3f),
+                        1e-3f)
+                << i;
+    }
+    EXPECT_EQ(head_units_frame(head), frames[0]);
+}
+
 // A braid's painted selection is split into its strands: each strand's group takes a third
 // of the painted wisps, all of them on the painted half, and the three make up the whole.
 TEST(ConstraintSections, BraidSplitsItsPaintedSelectionIntoStrands) {

@@ -130,6 +130,10 @@ export class Constraints {
     this.onError = onError;
     this.sections = [];
     this.paths = [];  // per section, the server's expansion of its paths (cm)
+    // Per section, the units the server read it in ({origin, scale, units}: cm = origin +
+    // scale·value), and head units' (what a new braid or updo is written in).
+    this.frames = [];
+    this.headFrame = null;
     this.hairdressing = new Hairdressing(this, sectionFields);
     this.progress = [];  // GET /api/report's groups
     this.active = false;
@@ -162,9 +166,8 @@ export class Constraints {
   }
 
   async load() {
-    const { sections, paths } = await getJson("/api/constraints");
-    this.sections = sections;
-    this.paths = paths ?? [];
+    const reply = await getJson("/api/constraints");
+    this.take(reply);
     this.draw();
   }
 
@@ -177,12 +180,19 @@ export class Constraints {
       this.onError(`${result.body.field ?? ""}: ${result.body.error}`);
       return false;
     }
-    this.sections = result.body.sections;
-    this.paths = result.body.paths ?? [];
+    this.take(result.body);
     if (record) this.onEdit({ kind: "constraints", before, after: this.sections });
     this.draw();
     this.onChanged(true);
     return true;
+  }
+
+  // The server's sections, their paths and their units (GET or POST /api/constraints).
+  take({ sections, paths, frames, head }) {
+    this.sections = sections;
+    this.paths = paths ?? [];
+    this.frames = frames ?? [];
+    if (head) this.headFrame = head;
   }
 
   async setActive(on) {
@@ -532,8 +542,7 @@ export class Constraints {
     drag.previewed = true;
     drag.sending = postJson("/api/constraints", { sections: next }).then((result) => {
       if (!result.ok) return;  // the release says why
-      this.sections = result.body.sections;
-      this.paths = result.body.paths ?? [];
+      this.take(result.body);
       if (this.drag === drag) {
         this.drawHandles();
         this.rebind(drag);

@@ -7,23 +7,15 @@
 // stays just off the head); undo puts it back. Save writes [[comb]], which `wisp generate`
 // turns into the editor's hair byte for byte. Screenshots go to OUT_DIR.
 //   node web/tests/comb_test.mjs WISP_EXE OUT_DIR
-import { dragThrough, failWith, launchChromium, onScreen, openEditor, settler, startEditor, tempFolder, testArguments, viewFromBehind } from "./harness.mjs";
-import { execFileSync } from "node:child_process";
-import { readFileSync, rmSync } from "node:fs";
+import { dragThrough, exportAndGenerate, failWith, onScreen, testArguments, viewFromBehind, withEditor } from "./harness.mjs";
+import { readFileSync } from "node:fs";
 import path from "node:path";
 
 const { wisp, outDir } = testArguments();
 const fail = failWith("comb test");
 
-const folder = tempFolder("comb", { "style.toml": "[roots]\nstrands = 3000\nwisps = 150\npoints_per_strand = 16\n" });
-const { server, url, token } = await startEditor(wisp, ["style.toml"], folder);
-
-let browser;
-try {
-  browser = await launchChromium();
-  const page = await openEditor(browser, url, { width: 1000, height: 640 });
-  await page.waitForSelector("body[data-ready='1']", { timeout: 120000 });
-  const settle = settler(page, token);
+const style = "[roots]\nstrands = 3000\nwisps = 150\npoints_per_strand = 16\n";
+await withEditor(wisp, { prefix: "comb", files: { "style.toml": style } }, async ({ page, token, folder, settle }) => {
 
   // The strand segments of the full hair whose middle lies within `reach` cm of the
   // polyline `path` (a stroke's control points): how many, and their mean alignment
@@ -157,22 +149,12 @@ try {
   await page.waitForFunction(() => document.getElementById("saved").textContent.startsWith("saved"));
   const toml = readFileSync(path.join(folder, "style.toml"), "utf8");
   if (!toml.includes("[[comb]]") || !toml.includes("trajectory = ")) fail(`the saved style holds no comb:\n${toml}`);
-  const exported = await page.evaluate(async (token) => (await fetch("/api/export", {
-    method: "POST", headers: { "X-Wisp-Token": token, "Content-Type": "application/json" },
-    body: JSON.stringify({ name: "editor.hair" }),
-  })).status, token);
-  if (exported !== 200) fail(`export answered ${exported}`);
+  const { editor: a, cli: b } = await exportAndGenerate(page, token, wisp, folder);
   // The export's progress came to the page as server-sent events (GET /api/events).
   await page.waitForFunction(() => {
     const bar = document.getElementById("progress");
     return bar.dataset.task === "export" && bar.dataset.finished === "1";
   }, null, { timeout: 10000 }).catch(() => fail("the page got no progress events of the export"));
-  execFileSync(wisp, ["generate", "style.toml", "-o", "cli.hair", "--quiet"], { cwd: folder, stdio: "inherit" });
-  const a = readFileSync(path.join(folder, "editor.hair")), b = readFileSync(path.join(folder, "cli.hair"));
   if (!a.equals(b)) fail(`wisp generate of the saved comb differs from the editor's hair (${a.length} vs ${b.length} bytes)`);
   console.log(`save: [[comb]]; wisp generate gives the editor's hair (${a.length} bytes, identical)`);
-} finally {
-  if (browser) await browser.close();
-  server.kill("SIGINT");
-  if (!process.exitCode) rmSync(folder, { recursive: true, force: true });
-}
+});

@@ -13,9 +13,8 @@
 // Both: Save writes the section as the CLI reads it, and `wisp generate` of the saved style
 // is the editor's hair byte for byte. Screenshots go to OUT_DIR.
 //   WISP_HAIRDRESSING_CASE=braid node web/tests/hairdressing_test.mjs WISP_EXE OUT_DIR
-import { dragThrough, failWith, launchChromium, onScreen, openEditor, settler, startEditor, tempFolder, testArguments, viewFromBehind } from "./harness.mjs";
-import { execFileSync } from "node:child_process";
-import { readFileSync, rmSync } from "node:fs";
+import { dragThrough, exportAndGenerate, failWith, measureHair, onScreen, pageConstraints, testArguments, toScreen, viewFromBehind, withEditor } from "./harness.mjs";
+import { readFileSync } from "node:fs";
 import path from "node:path";
 
 const { wisp, outDir } = testArguments();
@@ -44,39 +43,9 @@ length = 70.0
 stiffness = 0.5
 threshold = 0.6
 `;
-const folder = tempFolder(kind, { "style.toml": style });
-const { server, url, token } = await startEditor(wisp, ["style.toml"], folder);
-
-let browser;
-try {
-  browser = await launchChromium();
-  const page = await openEditor(browser, url, { width: 1000, height: 640 });
-  await page.waitForSelector("body[data-ready='1']", { timeout: 120000 });
-  const settle = settler(page, token);
-  const editor = () => page.evaluate(() => {
-    const { constraints } = window.wispEditor;
-    return { sections: constraints.sections, paths: constraints.paths };
-  });
-  // Where a point (cm) is on the page.
-  const toScreen = (p) => page.evaluate((p) => {
-    const { viewport } = window.wispEditor;
-    const rect = viewport.renderer.domElement.getBoundingClientRect();
-    viewport.camera.updateMatrixWorld();
-    const v = viewport.camera.position.clone().set(...p).project(viewport.camera);
-    return [rect.left + ((v.x + 1) / 2) * rect.width, rect.top + ((1 - v.y) / 2) * rect.height];
-  }, p);
-  // The full hair's points, with each strand's group (0: none), from the page.
-  const measure = (f, arg) => page.evaluate(async ([source, arg, token]) => {
-    const headers = { "X-Wisp-Token": token };
-    const hair = await (await fetch("/api/hair", { headers })).arrayBuffer();
-    const attributes = await (await fetch("/api/attributes", { headers })).arrayBuffer();
-    const [, strands] = new Uint32Array(hair, 8, 4);
-    const offsets = new Uint32Array(hair, 24, strands + 1);
-    const x = new Float32Array(hair, 24 + 4 * (strands + 1), 3 * offsets[strands]);
-    const groups = new Int32Array(attributes, 16 + 4 * strands, strands);
-    const { center, radius } = window.wispEditor.constraints;
-    return (0, eval)(source)({ strands, offsets, x, groups, center: center.toArray(), radius }, arg);
-  }, [f.toString(), arg, token]);
+await withEditor(wisp, { prefix: kind, files: { "style.toml": style } }, async ({ page, token, folder, settle }) => {
+  const editor = () => pageConstraints(page);
+  const measure = (f, arg) => measureHair(page, token, f, arg);
 
   await page.click("#tie");
   await page.click(`#tie-tools [data-tool='${kind}']`);
@@ -176,7 +145,7 @@ try {
     await settle();
 
     // Drag the axis's end sideways: the braid turns; undo puts it back.
-    const endAt = await toScreen(g.end);
+    const endAt = await toScreen(page, g.end);
     await dragThrough(page, [endAt, [endAt[0] + 80, endAt[1] - 10]], 8);
     await page.waitForFunction((before) => JSON.stringify(window.wispEditor.constraints.sections[0].axis) !== before,
       JSON.stringify(braid.axis));
@@ -251,7 +220,7 @@ try {
     // Drag the facing handle: the bun turns; undo puts it back.
     const reachOut = 0.3 * radius + 3;
     const tip = point.map((v, k) => v + reachOut * updo.facing[k] / Math.hypot(...updo.facing));
-    const tipAt = await toScreen(tip);
+    const tipAt = await toScreen(page, tip);
     await dragThrough(page, [tipAt, [tipAt[0] + 70, tipAt[1] + 20]], 8);
     await page.waitForFunction((before) => JSON.stringify(window.wispEditor.constraints.sections[0].facing) !== before,
       JSON.stringify(updo.facing));
@@ -273,17 +242,7 @@ try {
   const keys = kind === "braid" ? ["start = [", "axis = [", "side = [", "length = "] : ["point = [", "facing = ["];
   if (!toml.includes(`[[${kind}]]`) || keys.some((k) => !toml.includes(k)) || toml.includes("head_relative"))
     fail(`the saved style does not hold the ${kind} in head units:\n${toml}`);
-  const exported = await page.evaluate(async (token) => (await fetch("/api/export", {
-    method: "POST", headers: { "X-Wisp-Token": token, "Content-Type": "application/json" },
-    body: JSON.stringify({ name: "editor.hair" }),
-  })).status, token);
-  if (exported !== 200) fail(`export answered ${exported}`);
-  execFileSync(wisp, ["generate", "style.toml", "-o", "cli.hair", "--quiet"], { cwd: folder, stdio: "inherit" });
-  const a = readFileSync(path.join(folder, "editor.hair")), b = readFileSync(path.join(folder, "cli.hair"));
+  const { editor: a, cli: b } = await exportAndGenerate(page, token, wisp, folder);
   if (!a.equals(b)) fail(`wisp generate of the saved ${kind} differs from the editor's hair (${a.length} vs ${b.length} bytes)`);
   console.log(`save: [[${kind}]]; wisp generate gives the editor's hair (${a.length} bytes, identical)`);
-} finally {
-  if (browser) await browser.close();
-  server.kill("SIGINT");
-  if (!process.exitCode) rmSync(folder, { recursive: true, force: true });
-}
+});

@@ -1,12 +1,14 @@
 // What the editor's browser tests (and shots.mjs) share: their arguments (WISP_EXE OUT_DIR),
 // a failure that names the test, a temporary folder of their own (the editor autosaves into
 // the style's folder), `wisp edit` started there with its URL and token, Debian's Chromium
-// launched headless on software GL (SwiftShader), and a page opened on the editor.
+// launched headless on software GL (SwiftShader), and a page opened on the editor; or all of
+// that at once, cleaned up however the test ends (withEditor).
 import { chromium } from "playwright-core";
-import { spawn } from "node:child_process";
-import { mkdirSync, mkdtempSync, writeFileSync } from "node:fs";
+import { execFileSync, spawn } from "node:child_process";
+import { mkdirSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from "node:fs";
 import os from "node:os";
 import path from "node:path";
+import { fileURLToPath } from "node:url";
 
 // { wisp, outDir } from `node TEST.mjs WISP_EXE OUT_DIR`; OUT_DIR (the screenshots) is made.
 export function testArguments() {
@@ -23,6 +25,17 @@ export function failWith(name) {
     process.exitCode = 1;
     throw new Error(message);
   };
+}
+
+// presets/NAME.toml with few strands for software GL (150 wisps, 3,000 strands of 32
+// points), the rest as written; throws if it has no [roots] counts to shrink.
+export function smallPreset(name) {
+  const file = path.join(path.dirname(fileURLToPath(import.meta.url)), "../../presets", `${name}.toml`);
+  const preset = readFileSync(file, "utf8");
+  const small = preset.replace(/^wisps = \d+/m, "wisps = 150").replace(/^strands = \d+/m, "strands = 3000")
+    .replace(/^points_per_strand = \d+/m, "points_per_strand = 32");
+  if (small === preset) throw new Error(`${file}: no [roots] to shrink`);
+  return small;
 }
 
 // A new folder under the system's temporary one, with `files` ({ name: text }) written in it.
@@ -69,6 +82,46 @@ export async function openEditor(browser, url, viewport = { width: 900, height: 
   page.on("pageerror", (e) => console.error("page error:", e.message));
   await page.goto(url);
   return page;
+}
+
+// Runs `test({ page, token, folder, settle, server, browser })` on the editor: `wisp edit ARGS` started in a
+// new temporary folder (`prefix`, with `files` written in it), Chromium launched, a page of
+// `viewport` size opened on it and waited for until it has drawn its first hair; `settle`
+// is settler(page, token). However the test ends — done, a failed check, any other error —
+// the browser is closed and the server stopped (SIGINT, then SIGKILL if it has not exited
+// within 10 s); the folder is removed unless the run failed (it is kept to look into). An
+// error marks the run failed and is thrown on. Resolves to what `test` resolves to.
+export async function withEditor(wisp, { prefix, files = {}, args = ["style.toml"],
+  viewport = { width: 1000, height: 640 }, readyMs = 120000 }, test) {
+  const folder = tempFolder(prefix, files);
+  let editor = null, browser = null;
+  try {
+    editor = await startEditor(wisp, args, folder);
+    browser = await launchChromium();
+    const page = await openEditor(browser, editor.url, viewport);
+    await page.waitForSelector("body[data-ready='1']", { timeout: readyMs });
+    return await test({ page, token: editor.token, folder, settle: settler(page, editor.token), server: editor.server, browser });
+  } catch (e) {
+    process.exitCode = 1;
+    throw e;
+  } finally {
+    if (browser) await browser.close().catch((e) => console.error("closing the browser:", e.message));
+    if (editor) await stopServer(editor.server);
+    if (!process.exitCode) rmSync(folder, { recursive: true, force: true });
+  }
+}
+
+// Stops `wisp edit` as Ctrl-C does, and for good if it has not exited within `graceMs`.
+function stopServer(server, graceMs = 10000) {
+  if (server.exitCode !== null || server.signalCode !== null) return Promise.resolve();
+  return new Promise((resolve) => {
+    const timer = setTimeout(() => server.kill("SIGKILL"), graceMs);
+    server.once("exit", () => {
+      clearTimeout(timer);
+      resolve();
+    });
+    server.kill("SIGINT");
+  });
 }
 
 // set(path, value): POST /api/set from the page, as the panels do; resolves to the status.
@@ -122,6 +175,62 @@ export function onScreen(page, points) {
       return [rect.left + ((p.x + 1) / 2) * rect.width, rect.top + ((1 - p.y) / 2) * rect.height];
     });
   }, points);
+}
+
+// Where a point given in cm ([x, y, z]) is on the page, as the pointer sees it ([clientX,
+// clientY]).
+export function toScreen(page, p) {
+  return page.evaluate((p) => {
+    const { viewport } = window.wispEditor;
+    const rect = viewport.renderer.domElement.getBoundingClientRect();
+    viewport.camera.updateMatrixWorld();
+    const v = viewport.camera.position.clone().set(...p).project(viewport.camera);
+    return [rect.left + ((v.x + 1) / 2) * rect.width, rect.top + ((1 - v.y) / 2) * rect.height];
+  }, p);
+}
+
+// The constraints as the page holds them: the sections, the paths drawn (cm) and where the
+// braid and updo handles are ({ role: [x, y, z] cm }: start, end, point, facing).
+export function pageConstraints(page) {
+  return page.evaluate(() => {
+    const { constraints } = window.wispEditor;
+    return {
+      sections: constraints.sections, paths: constraints.paths,
+      handles: Object.fromEntries(constraints.handles.children.filter((h) => h.userData.role)
+        .map((h) => [h.userData.role, h.position.toArray()])),
+    };
+  });
+}
+
+// f({ strands, offsets, x, groups, center, radius }, arg) run in the page on the full hair
+// (GET /api/hair and /api/attributes): x the points (cm), offsets each strand's first point,
+// groups each strand's group (0: none), center and radius the head's (head units to cm).
+// `f` is sent as its source: it may use only its arguments.
+export function measureHair(page, token, f, arg) {
+  return page.evaluate(async ([source, arg, token]) => {
+    const headers = { "X-Wisp-Token": token };
+    const hair = await (await fetch("/api/hair", { headers })).arrayBuffer();
+    const attributes = await (await fetch("/api/attributes", { headers })).arrayBuffer();
+    const [, strands] = new Uint32Array(hair, 8, 4);
+    const offsets = new Uint32Array(hair, 24, strands + 1);
+    const x = new Float32Array(hair, 24 + 4 * (strands + 1), 3 * offsets[strands]);
+    const groups = new Int32Array(attributes, 16 + 4 * strands, strands);
+    const { center, radius } = window.wispEditor.constraints;
+    return (0, eval)(source)({ strands, offsets, x, groups, center: center.toArray(), radius }, arg);
+  }, [f.toString(), arg, token]);
+}
+
+// The editor's hair exported (POST /api/export, editor.hair) and `wisp generate` of the
+// style.toml Save wrote, both in `folder`, for a test to compare byte for byte: { editor,
+// cli } (Buffers). Throws if the export is refused.
+export async function exportAndGenerate(page, token, wisp, folder) {
+  const status = await page.evaluate(async (token) => (await fetch("/api/export", {
+    method: "POST", headers: { "X-Wisp-Token": token, "Content-Type": "application/json" },
+    body: JSON.stringify({ name: "editor.hair" }),
+  })).status, token);
+  if (status !== 200) throw new Error(`export answered ${status}`);
+  execFileSync(wisp, ["generate", "style.toml", "-o", "cli.hair", "--quiet"], { cwd: folder, stdio: "inherit" });
+  return { editor: readFileSync(path.join(folder, "editor.hair")), cli: readFileSync(path.join(folder, "cli.hair")) };
 }
 
 // A mouse drag through `points` (client coordinates), `steps` moves between each two.

@@ -13,10 +13,9 @@
 //     file and Save again give the same bytes.
 // Screenshots go to OUT_DIR.
 //   WISP_OPEN_CASE=braid node web/tests/open_style_test.mjs WISP_EXE OUT_DIR
-import { failWith, launchChromium, onScreen, openEditor, settler, startEditor, tempFolder, testArguments, viewFromBehind } from "./harness.mjs";
-import { readFileSync, rmSync } from "node:fs";
+import { failWith, pageConstraints, smallPreset, testArguments, toScreen, viewFromBehind, withEditor } from "./harness.mjs";
+import { readFileSync } from "node:fs";
 import path from "node:path";
-import { fileURLToPath } from "node:url";
 
 const { wisp, outDir } = testArguments();
 const kind = process.env.WISP_OPEN_CASE ?? "braid";
@@ -24,11 +23,7 @@ if (kind !== "braid" && kind !== "updo") throw new Error(`WISP_OPEN_CASE=${kind}
 const fail = failWith(`open ${kind} test`);
 
 // The preset with few strands (software GL), its sections as written.
-const presetPath = path.join(path.dirname(fileURLToPath(import.meta.url)), "../../presets", `${kind}.toml`);
-const preset = readFileSync(presetPath, "utf8");
-const style = preset.replace(/^wisps = \d+/m, "wisps = 150").replace(/^strands = \d+/m, "strands = 3000")
-  .replace(/^points_per_strand = \d+/m, "points_per_strand = 32");
-if (style === preset) throw new Error(`${presetPath}: no [roots] to shrink`);
+const style = smallPreset(kind);
 // The section as the file has it (its keys and values, comments left out).
 const written = {};
 for (const line of style.slice(style.indexOf(`[[${kind}]]`)).split("\n").slice(1)) {
@@ -36,20 +31,9 @@ for (const line of style.slice(style.indexOf(`[[${kind}]]`)).split("\n").slice(1
   if (!m) break;
   written[m[1]] = JSON.parse(m[2]);
 }
-const folder = tempFolder(`open-${kind}`, { "style.toml": style });
-const { server, url, token } = await startEditor(wisp, ["style.toml"], folder);
-
-let browser;
-try {
-  browser = await launchChromium();
-  const page = await openEditor(browser, url, { width: 1000, height: 640 });
-  await page.waitForSelector("body[data-ready='1']", { timeout: 120000 });
-  const settle = settler(page, token);
+await withEditor(wisp, { prefix: `open-${kind}`, files: { "style.toml": style } }, async ({ page, token, folder, settle }) => {
   await settle();
-  const editor = () => page.evaluate(() => {
-    const { constraints } = window.wispEditor;
-    return { sections: constraints.sections, paths: constraints.paths };
-  });
+  const editor = () => pageConstraints(page);
 
   // Listed as the file has it.
   let { sections, paths } = await editor();
@@ -95,14 +79,7 @@ try {
 
   // Drag a handle and hold it: the preview follows before the release.
   const grabbed = kind === "braid" ? "end" : "point";
-  const from = await page.evaluate((role) => {
-    const { viewport, constraints } = window.wispEditor;
-    const h = constraints.handles.children.find((c) => c.userData.role === role);
-    const rect = viewport.renderer.domElement.getBoundingClientRect();
-    viewport.camera.updateMatrixWorld();
-    const v = h.position.clone().project(viewport.camera);
-    return [rect.left + ((v.x + 1) / 2) * rect.width, rect.top + ((1 - v.y) / 2) * rect.height];
-  }, grabbed);
+  const from = await toScreen(page, (await editor()).handles[grabbed]);
   // A fingerprint of the hair drawn (its first points), and the page's hair requests.
   const hairPrint = () => page.evaluate(() => {
     const { viewport } = window.wispEditor;
@@ -186,8 +163,4 @@ try {
   const again = readFileSync(path.join(folder, "style.toml"), "utf8");
   if (again !== saved) fail(`Open and Save again changed the file:\n${saved}\n---\n${again}`);
   console.log(`save: [[${kind}]] as written (${section.trim().split("\n").length - 1} keys); Open + Save: the same ${again.length} bytes`);
-} finally {
-  if (browser) await browser.close();
-  server.kill("SIGINT");
-  if (!process.exitCode) rmSync(folder, { recursive: true, force: true });
-}
+});

@@ -4,22 +4,15 @@
 // it away again; Save writes the TOML and the map PNG, and `wisp generate` of the saved TOML
 // gives byte for byte the hair the editor exports. Screenshots go to OUT_DIR.
 //   node web/tests/paint_test.mjs WISP_EXE OUT_DIR
-import { failWith, launchChromium, openEditor, settler, startEditor, tempFolder, testArguments } from "./harness.mjs";
-import { execFileSync } from "node:child_process";
-import { readFileSync, existsSync, rmSync } from "node:fs";
+import { exportAndGenerate, failWith, testArguments, withEditor } from "./harness.mjs";
+import { readFileSync, existsSync } from "node:fs";
 import path from "node:path";
 
 const { wisp, outDir } = testArguments();
 const fail = failWith("paint test");
 
-const folder = tempFolder("paint", { "style.toml": "[roots]\nstrands = 3000\nwisps = 150\npoints_per_strand = 16\n" });
-const { server, url, token } = await startEditor(wisp, ["style.toml"], folder);
-
-let browser;
-try {
-  browser = await launchChromium();
-  const page = await openEditor(browser, url);
-  await page.waitForSelector("body[data-ready='1']", { timeout: 120000 });
+const style = "[roots]\nstrands = 3000\nwisps = 150\npoints_per_strand = 16\n";
+await withEditor(wisp, { prefix: "paint", files: { "style.toml": style }, viewport: { width: 900, height: 600 } }, async ({ page, token, folder, settle }) => {
 
   // Roots of the full hair (GET /api/hair) within `radius` cm of each point.
   const rootsNear = (points, radius) => page.evaluate(async ([points, radius, token]) => {
@@ -38,7 +31,6 @@ try {
     });
   }, [points, radius, token]);
   // Waits until the server has nothing stale and the page has drawn the full hair.
-  const settle = settler(page, token);
 
   // Paint mode: the map on the scalp, the brush: erase, constant falloff, radius 3 cm.
   await page.click("#paint");
@@ -108,21 +100,11 @@ try {
     if (!existsSync(path.join(folder, f))) fail(`Save did not write ${f}`);
   const toml = readFileSync(path.join(folder, "style.toml"), "utf8");
   if (!toml.includes('image = "style.density.png"')) fail(`the saved TOML does not name its map:\n${toml}`);
-  const exported = await page.evaluate(async (token) => {
-    const r = await fetch("/api/export", { method: "POST", headers: { "X-Wisp-Token": token, "Content-Type": "application/json" }, body: JSON.stringify({ name: "editor.hair" }) });
-    return r.status;
-  }, token);
-  if (exported !== 200) fail(`export answered ${exported}`);
-  execFileSync(wisp, ["generate", "style.toml", "-o", "cli.hair", "--quiet"], { cwd: folder, stdio: "inherit" });
-  const a = readFileSync(path.join(folder, "editor.hair")), b = readFileSync(path.join(folder, "cli.hair"));
+  const { editor: a, cli: b } = await exportAndGenerate(page, token, wisp, folder);
   if (!a.equals(b)) fail(`wisp generate of the saved style differs from the editor's hair (${a.length} vs ${b.length} bytes)`);
   console.log(`save: style.toml + style.density.png; wisp generate gives the editor's hair (${a.length} bytes, identical)`);
 
   // The autosave sidecar follows the edits (1.5 s after the last one).
   for (let i = 0; i < 50 && !existsSync(path.join(folder, "style.autosave.toml")); ++i) await page.waitForTimeout(200);
   if (!existsSync(path.join(folder, "style.autosave.toml"))) fail("no autosave after the edits");
-} finally {
-  if (browser) await browser.close();
-  server.kill("SIGINT");
-  if (!process.exitCode) rmSync(folder, { recursive: true, force: true });
-}
+});

@@ -4,7 +4,7 @@
 // by hand after a change to the editor's look, then look at the pictures.
 //   node web/tests/shots.mjs WISP_EXE OUT_DIR
 // WISP_SHOTS=braid,updo makes only those (editor, paint, tie, comb, braid, updo,
-// braid-preset, updo-preset).
+// braid-preset, updo-preset; updo-views adds the updo seen from three more sides).
 import { dragThrough, launchChromium, onScreen, openEditor, settler, startEditor, tempFolder, testArguments, viewFromBehind } from "./harness.mjs";
 import { rmSync } from "node:fs";
 import path from "node:path";
@@ -121,7 +121,7 @@ try {
     await page.screenshot({ path: path.join(outDir, "braid.png") });
   }
   // An updo clicked on the upper back of the head.
-  if (wanted("updo")) {
+  if (wanted("updo") || wanted("updo-views")) {
     const { page, settle } = await open("long-straight", 30000);
     await page.click("#tie");
     await page.click("#tie-tools [data-tool='updo']");
@@ -131,6 +131,14 @@ try {
     await page.waitForFunction(() => window.wispEditor.constraints.sections.length === 1, null, { timeout: 300000 });
     await settle();
     await page.screenshot({ path: path.join(outDir, "updo.png") });
+    // Its facing arrow from where it points at the camera (behind and close), away from it
+    // (the front) and across (the side): readable from each.
+    for (const [name, offset] of [["updo-toward", [4, 30, -60]], ["updo-front", [15, 30, 95]], ["updo-side", [100, 25, -15]]]) {
+      if (!wanted("updo-views")) continue;
+      await viewFromBehind(page, offset);
+      await page.waitForTimeout(500);
+      await page.screenshot({ path: path.join(outDir, `${name}.png`) });
+    }
   }
   // The braid and updo presets as opened: their sections with handles and sliders.
   for (const [kind, behind] of [["braid", [25, 5, -110]], ["updo", [20, 35, -95]]]) {

@@ -6,34 +6,19 @@
 // writes [[tie]] with its mask, which `wisp generate` turns into the editor's hair byte for
 // byte; undo takes the tie away again. Screenshots go to OUT_DIR.
 //   node web/tests/tie_test.mjs WISP_EXE OUT_DIR
-import { dragThrough, failWith, launchChromium, onScreen, openEditor, settler, startEditor, tempFolder, testArguments, viewFromBehind } from "./harness.mjs";
-import { execFileSync } from "node:child_process";
-import { readFileSync, existsSync, rmSync } from "node:fs";
+import { dragThrough, exportAndGenerate, failWith, measureHair, onScreen, testArguments, viewFromBehind, withEditor } from "./harness.mjs";
+import { readFileSync, existsSync } from "node:fs";
 import path from "node:path";
 
 const { wisp, outDir } = testArguments();
 const fail = failWith("tie test");
 
-const folder = tempFolder("tie", { "style.toml": "[roots]\nstrands = 3000\nwisps = 150\npoints_per_strand = 16\n" });
-const { server, url, token } = await startEditor(wisp, ["style.toml"], folder);
-
-let browser;
-try {
-  browser = await launchChromium();
-  const page = await openEditor(browser, url, { width: 1000, height: 640 });
-  await page.waitForSelector("body[data-ready='1']", { timeout: 120000 });
-  const settle = settler(page, token);
+const style = "[roots]\nstrands = 3000\nwisps = 150\npoints_per_strand = 16\n";
+await withEditor(wisp, { prefix: "tie", files: { "style.toml": style } }, async ({ page, token, folder, settle }) => {
 
   // Of the strands (of group `group`, or all when null) of the full hair, how many and what
   // fraction pass within `reach` cm of point p (a control point or a segment between two).
-  const near = (p, reach, group) => page.evaluate(async ([p, reach, group, token]) => {
-    const headers = { "X-Wisp-Token": token };
-    const hair = await (await fetch("/api/hair", { headers })).arrayBuffer();
-    const attributes = await (await fetch("/api/attributes", { headers })).arrayBuffer();
-    const [, strands] = new Uint32Array(hair, 8, 4);
-    const offsets = new Uint32Array(hair, 24, strands + 1);
-    const x = new Float32Array(hair, 24 + 4 * (strands + 1), 3 * offsets[strands]);
-    const groups = new Int32Array(attributes, 16 + 4 * strands, strands);
+  const near = (p, reach, group) => measureHair(page, token, ({ strands, offsets, x, groups }, [p, reach, group]) => {
     let count = 0, passing = 0;
     for (let s = 0; s < strands; ++s) {
       if (group !== null && groups[s] !== group) continue;
@@ -48,7 +33,7 @@ try {
       if (best <= reach) ++passing;
     }
     return { count, passing, fraction: count ? passing / count : 0, strands };
-  }, [p, reach, group, token]);
+  }, [p, reach, group]);
 
   // The view from behind and a little above; the tie tool.
   await page.click("#tie");
@@ -111,13 +96,7 @@ try {
   const mask = `style.${sections[0].name.replace(/ /g, "-")}.mask.png`;
   if (!toml.includes("[[tie]]") || !toml.includes(`mask = "${mask}"`) || !existsSync(path.join(folder, mask)))
     fail(`the saved style does not hold the tie and its mask ${mask}:\n${toml}`);
-  const exported = await page.evaluate(async (token) => (await fetch("/api/export", {
-    method: "POST", headers: { "X-Wisp-Token": token, "Content-Type": "application/json" },
-    body: JSON.stringify({ name: "editor.hair" }),
-  })).status, token);
-  if (exported !== 200) fail(`export answered ${exported}`);
-  execFileSync(wisp, ["generate", "style.toml", "-o", "cli.hair", "--quiet"], { cwd: folder, stdio: "inherit" });
-  const a = readFileSync(path.join(folder, "editor.hair")), b = readFileSync(path.join(folder, "cli.hair"));
+  const { editor: a, cli: b } = await exportAndGenerate(page, token, wisp, folder);
   if (!a.equals(b)) fail(`wisp generate of the saved tie differs from the editor's hair (${a.length} vs ${b.length} bytes)`);
   console.log(`save: [[tie]] with ${mask}; wisp generate gives the editor's hair (${a.length} bytes, identical)`);
 
@@ -131,8 +110,4 @@ try {
   const undone = await near(aim.tie, reach, null);
   console.log(`undo ×3: ${left} sections; ${undone.passing} strands pass near the point`);
   if (left !== 0 || undone.passing !== baseline.passing) fail("undo did not take the tie away");
-} finally {
-  if (browser) await browser.close();
-  server.kill("SIGINT");
-  if (!process.exitCode) rmSync(folder, { recursive: true, force: true });
-}
+});
