@@ -19,7 +19,9 @@
 // them), to show that costs nothing measurable against progress:0.
 // Counters roots_ms … encode_ms: each stage's wall time per iteration, as the stage cache
 // timed it (field_ms is the solve's styling field, inside solve_ms; members_ms and color_ms
-// are a preview's subset where only that was grown), so a report can say where the time went.
+// are a preview's subset where only that was grown, after the solve: a preview's members
+// that grew beside the solve, band by band as its layers made the joints final, are inside
+// solve_ms, and members_ms is what was left after it), so a report can say where the time went.
 // Run: build/release/bin/wisp_bench --benchmark_filter=Edit
 #include <benchmark/benchmark.h>
 

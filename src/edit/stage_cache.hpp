@@ -122,7 +122,8 @@ class StageCache {
     // How many times the styling field was built (kept while only κ, τ and the like move).
     int styling_field_runs() const { return styling_field_runs_; }
     // How long the last update_preview of a subset took after the solve (ms), and its two
-    // parts: the members (growth, cut, push out of the head) and their colours.
+    // parts: the members (growth, cut, push out of the head; about 0 when they grew beside
+    // the solve, whose stage time then holds them) and their colours.
     double preview_ms() const { return preview_ms_; }
     double preview_members_ms() const { return preview_members_ms_; }
     double preview_color_ms() const { return preview_color_ms_; }
