@@ -339,20 +339,23 @@ MembersResult MemberBands::finish() {
 
 bool follow_solve(Masters& masters, const std::atomic<int>& joints_final, MemberBands* bands,
                   const CancelToken& cancel) {
-    // 4 joints a band: small enough that the band left when the solve ends is a small part
-    // of the members, large enough that its loops' start-up costs nothing.
-    constexpr int kBand = 4;
+    // Each band takes every joint the solve has made final since the last (at least 2, so
+    // that a band's loops are worth their start-up): a follower that lags catches up in one
+    // pass, and what is left when the solve ends runs on both cores. Any split gives the same
+    // bytes.
+    constexpr int kLeast = 2;
     const int n = masters.points;
-    for (int k0 = 0; k0 < n; k0 += kBand) {
-        const int k1 = std::min(n, k0 + kBand);
-        // Frame k reads the outline to joint k + 1 (update_master).
-        const int need = std::min(k1 + 1, n);
+    // Frame k reads the outline to joint k + 1 (update_master): with `joints` final, the
+    // frames below joints − 1 (every one once the solve finished).
+    const auto ready = [n](int joints) { return joints >= n ? n : joints - 1; };
+    for (int k0 = 0; k0 < n;) {
         int joints = joints_final.load(std::memory_order_acquire);
-        while (joints >= 0 && joints < need) {
+        while (joints >= 0 && ready(joints) < std::min(n, k0 + kLeast)) {
             joints_final.wait(joints, std::memory_order_acquire);
             joints = joints_final.load(std::memory_order_acquire);
         }
         if (joints < 0 || cancel.cancelled()) return false;
+        const int k1 = ready(joints);
         parallel_for(
             masters.count(), [&](size_t w) { update_master(masters, w, k0, k1); }, 64);
         if (bands) {
@@ -360,6 +363,7 @@ bool follow_solve(Masters& masters, const std::atomic<int>& joints_final, Member
             if (cancel.cancelled()) return false;
             bands->push(masters, k0, k1);
         }
+        k0 = k1;
     }
     return true;
 }
