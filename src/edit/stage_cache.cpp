@@ -176,15 +176,20 @@ bool StageCache::run_until(Stage last, const CancelToken& cancel, const StagePro
                 // Beside the solve, on the core its serial layers leave idle, one task in this
                 // order: the masters' details when the masters stage left them, the preview's
                 // colours, then, as the solve's layers make its joints final, the solved
-                // masters' frames and control points and the preview's members (follow_solve).
-                // It starts after the styling field, whose build runs on both cores.
+                // masters' frames and control points and the members (follow_solve): the
+                // preview's, or the whole hair's when the members stage follows (this run goes
+                // on to it, or all strands are asked for). It starts after the styling field,
+                // whose build runs on both cores.
                 const size_t all = roots_.members.size();
-                if (preview_strands >= all) preview_strands = 0;
+                const bool whole = last >= Stage::kMembers || preview_strands >= all;
+                if (whole) preview_strands = 0;
                 if (preview_strands) order(all);  // made here: the task reads it
                 std::optional<MemberBands> bands;
-                if (solve && preview_strands && MemberBands::banded(style_))
+                if (solve && (whole || preview_strands) && MemberBands::banded(style_))
                     bands.emplace(style_, *head_field_, roots_, groups_.wisp_group, masters_.points,
-                                  std::span<const uint32_t>(order_.data(), preview_strands));
+                                  whole
+                                      ? std::span<const uint32_t>()
+                                      : std::span<const uint32_t>(order_.data(), preview_strands));
                 std::optional<MasterPrototype> prototype = std::move(details);
                 details.reset();  // the task synthesizes them, however the solve ends
                 std::atomic<int> joints{1};
@@ -240,16 +245,21 @@ bool StageCache::run_until(Stage last, const CancelToken& cancel, const StagePro
                 result_.solve = std::move(stats);
                 if (bands) {
                     beside_members_ = bands->finish();
-                    beside_members_strands_ = preview_strands;
+                    beside_members_strands_ = whole ? kWholeHair : preview_strands;
                 }
                 break;
             }
             case Stage::kMembers: {
+                MembersResult m;
+                if (beside_members_ && beside_members_strands_ == kWholeHair) {
+                    m = std::move(*beside_members_);  // grown beside the solve of these masters
+                    ++members_grown_beside_;
+                } else {
+                    m = members_stage(style_, head_, *head_field_, roots_, result_.masters,
+                                      groups_.wisp_group, nullptr, {}, cancel);
+                    if (cancel.cancelled()) return false;
+                }
                 beside_members_.reset();
-                MembersResult m =
-                    members_stage(style_, head_, *head_field_, roots_, result_.masters,
-                                  groups_.wisp_group, nullptr, {}, cancel);
-                if (cancel.cancelled()) return false;
                 result_.hair = std::move(m.hair);
                 result_.points_pushed = m.points_pushed;
                 result_.points_inside_head = m.points_inside_head;
@@ -310,7 +320,7 @@ const Hair* StageCache::update_preview(size_t strands, const CancelToken& cancel
         // Grown beside the solve that made these masters.
         m = std::move(*beside_members_);
         beside_members_.reset();
-        ++previews_grown_beside_;
+        ++members_grown_beside_;
     } else {
         m = members_stage(style_, head_, *head_field_, roots_, result_.masters, groups_.wisp_group,
                           nullptr, ids, cancel);

@@ -131,9 +131,9 @@ class StageCache {
     // the last hair_bytes call encoding (ms): with last_ms() and the preview's parts, the
     // stage breakdown of BM_EditMapStroke20k.
     double field_ms() const { return field_ms_; }
-    // How many previews took members grown beside the solve (for tests: the others grew them
-    // after it).
-    int previews_grown_beside() const { return previews_grown_beside_; }
+    // How many previews and members stages took members grown beside the solve (for tests:
+    // the others grew them after it).
+    int members_grown_beside() const { return members_grown_beside_; }
     double encode_ms() const { return encode_ms_; }
 
   private:
@@ -141,7 +141,8 @@ class StageCache {
     // Runs the stale stages up to `last` inclusive; false when cancelled. With
     // `preview_strands` (fewer than all), a solve that runs makes beside it that preview's
     // colours (make_preview_colors) and, without a cut, its members (beside_members_,
-    // follow_solve), on the core the solve's serial layers leave idle.
+    // follow_solve), on the core the solve's serial layers leave idle; with all of them, or
+    // when `last` is the members stage or after, the whole hair's members.
     bool run_until(Stage last, const CancelToken& cancel, const StageProgress& progress,
                    size_t preview_strands = 0);
     // The colours of a preview of `strands` strands (color_stage's, to the bit, while the cut
@@ -175,9 +176,10 @@ class StageCache {
     std::optional<StylingField> field_;
     std::string field_key_;  // what field_ was built from (the fields feeding it, bounds)
     Hair preview_;           // the last update_preview of a subset
-    // The members of the first beside_members_strands_ strands of strand_order, grown beside
-    // the solve that made result_.masters, for the update_preview that follows; until the
-    // next change (mark).
+    // The members of the first beside_members_strands_ strands of strand_order (kWholeHair:
+    // the whole hair, in its own order), grown beside the solve that made result_.masters, for
+    // the update_preview or members stage that follows; until the next change (mark).
+    static constexpr size_t kWholeHair = SIZE_MAX;
     std::optional<MembersResult> beside_members_;
     size_t beside_members_strands_ = 0;
     std::vector<Vec3f> preview_colors_;  // make_preview_colors', for the roots and style now
@@ -202,7 +204,7 @@ class StageCache {
     double preview_members_ms_ = 0.;
     double preview_color_ms_ = 0.;
     double field_ms_ = 0.;
-    int previews_grown_beside_ = 0;
+    int members_grown_beside_ = 0;
     double encode_ms_ = 0.;
 };
 

@@ -308,7 +308,7 @@ TEST(StageCache, PreviewMembersGrownBesideTheSolveAreTheFullHairs) {
     Style style = small_style();
     StageCache cache(style);
     cache.update();
-    int beside = 0;
+    int beside = cache.members_grown_beside();
     for (const auto& [path, value] :
          {std::pair{"maps.density", "\"crown\""}, std::pair{"solve.stiffness", "0.4"},
           std::pair{"seed", "11"}, std::pair{"cut.enabled", "true"}}) {
@@ -316,10 +316,11 @@ TEST(StageCache, PreviewMembersGrownBesideTheSolveAreTheFullHairs) {
         cache.set(path, value);
         const Hair* preview = cache.update_preview(700);
         ASSERT_NE(preview, nullptr) << path;
-        EXPECT_EQ(cache.previews_grown_beside(), beside += !cut) << path;
+        EXPECT_EQ(cache.members_grown_beside(), beside += !cut) << path;
         if (cut) continue;  // the cut removes strands, so the preview's are shifted
         const Hair copy = *preview;
-        const Hair& full = cache.update().hair;
+        const Hair& full = cache.update().hair;  // its members grown after the solve
+        EXPECT_EQ(cache.members_grown_beside(), beside) << path;
         expect_same_hair(full, generate_hairstyle(cache.style(), cache.head()).hair);
         const std::vector<uint32_t> order = strand_order(full.strand_count());
         ASSERT_EQ(copy.strand_count(), 700u) << path;
@@ -330,6 +331,29 @@ TEST(StageCache, PreviewMembersGrownBesideTheSolveAreTheFullHairs) {
             ASSERT_EQ(copy.group[i], full.group[order[i]]) << path << " " << i;
         }
     }
+}
+
+// An update that goes on to the members grows the whole hair's beside the solve (the release
+// after a κ drag, a map stroke's full answer): the same hair as generate gives, to the bit;
+// with a cut they grow after the solve.
+TEST(StageCache, WholeHairGrownBesideTheSolveIsGeneratesHair) {
+    StageCache cache(small_style());
+    cache.update();
+    int beside = cache.members_grown_beside();
+    for (const auto& [path, value] :
+         {std::pair{"solve.stiffness", "0.4"}, std::pair{"maps.density", "\"crown\""},
+          std::pair{"cut.enabled", "true"}}) {
+        const bool cut = std::string(path) == "cut.enabled";
+        cache.set(path, value);
+        const Hair& hair = cache.update().hair;
+        EXPECT_EQ(cache.members_grown_beside(), beside += !cut) << path;
+        expect_same_hair(hair, generate_hairstyle(cache.style(), cache.head()).hair);
+    }
+    cache.set("cut.enabled", "false");
+    cache.set("solve.stiffness", "0.5");
+    ASSERT_NE(cache.hair_bytes(SIZE_MAX), nullptr);  // all strands asked for: the whole hair
+    EXPECT_EQ(cache.members_grown_beside(), beside + 1);
+    expect_same_hair(cache.update().hair, generate_hairstyle(cache.style(), cache.head()).hair);
 }
 
 // What GET /api/hair sends is the encoding of the full hair's first strands in strand_order,
