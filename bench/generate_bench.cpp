@@ -5,6 +5,7 @@
 #include "bench_common.hpp"
 #include "core/parallel.hpp"
 #include "groom/generate.hpp"
+#include "groom/style_toml.hpp"
 
 namespace wisp {
 namespace {
@@ -48,6 +49,31 @@ void BM_Stage(benchmark::State& state) {
     state.SetLabel(state.range(0) == 0 ? "roots" : state.range(0) == 1 ? "masters" : "members");
 }
 BENCHMARK(BM_Stage)->DenseRange(0, 2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The roots stage of a map stroke (issue 16): the default preset with the crown density map
+// the editor benchmark paints (arg 0) or the constant map it paints back (arg 1), the scalp's
+// surface built once as the editor's stage cache does. Arg: threads.
+void BM_Roots(benchmark::State& state) {
+    const ThreadLimit limit(static_cast<int>(state.range(1)));
+    Style style = load_preset("default");
+    if (state.range(0) == 0) {
+        style.density.kind = ScalarMap::Kind::kProcedural;
+        style.density.procedural = "crown";
+        style.density.low = 0.6f;
+        style.density.high = 1.f;
+    }
+    const Head head = load_head(style.head);
+    const MeshDistance surface = scalp_surface(*head.scalp);
+    for (auto _ : state)
+        benchmark::DoNotOptimize(grow_roots(style, head, &surface).members.data());
+    state.SetLabel(state.range(0) == 0 ? "crown" : "constant");
+}
+BENCHMARK(BM_Roots)
+    ->ArgsProduct({{0, 1}, {1, 2}})
+    ->ArgNames({"map", "threads"})
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
 
 void BM_BuiltinHead(benchmark::State& state) {
     for (auto _ : state)
