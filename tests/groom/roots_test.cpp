@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
 #include <vector>
 
 #include "groom/head.hpp"
@@ -48,6 +49,37 @@ TEST(Roots, MembersGoToTheExactNearestMaster) {
                         best = m;
                 ASSERT_EQ(w, best) << "member " << j << ", " << iterations << " iterations";
             }
+    }
+}
+
+// Proposals drawn beforehand (once per head in the editor) give the roots place_roots draws
+// itself, bit for bit, under maps that accept most first tries, reject many (zero at the
+// crown) or none; proposals drawn for another seed or count are not used.
+TEST(Roots, ProposalsDrawnBeforehandGiveTheSameRoots) {
+    const Scalp& scalp = *builtin().scalp;
+    RootParams params;
+    params.wisps = 150;
+    params.strands = 5000;
+    params.seed = 9;
+    const RootProposals proposals = root_proposals(scalp, params);
+    RootParams other = params;
+    other.seed = 10;
+    const RootProposals others = root_proposals(scalp, other);
+    ScalarMap hairline = crown(0.f);
+    hairline.procedural = "hairline";
+    const auto bytes = [](const auto& v) {
+        return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(v[0]));
+    };
+    for (const ScalarMap& map : {crown(0.6f), crown(0.f), hairline, ScalarMap{}}) {
+        const MapSampler density(map, scalp);
+        const Roots a = place_roots(scalp, density, params);
+        for (const RootProposals* p : {&proposals, &others}) {
+            const Roots b = place_roots(scalp, density, params, nullptr, p);
+            EXPECT_TRUE(bytes(a.masters) == bytes(b.masters)) << map.procedural;
+            EXPECT_TRUE(bytes(a.members) == bytes(b.members)) << map.procedural;
+            EXPECT_EQ(a.wisp_offsets, b.wisp_offsets);
+            EXPECT_EQ(a.wisp_radius, b.wisp_radius);
+        }
     }
 }
 
