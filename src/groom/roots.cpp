@@ -96,6 +96,11 @@ size_t candidate_count(const RootParams& params) {
 
 }  // namespace
 
+bool RootProposals::fit(const RootParams& params) const {
+    return seed == params.seed && candidates == candidate_count(params) &&
+           members == static_cast<size_t>(std::max(0, params.strands));
+}
+
 RootProposals root_proposals(const Scalp& scalp, const RootParams& params) {
     RootProposals out;
     out.seed = params.seed;
@@ -127,9 +132,7 @@ Roots place_roots(const Scalp& scalp, const MapSampler& density, const RootParam
     const size_t w_count = static_cast<size_t>(params.wisps);
     const size_t c_count = candidate_count(params);
     const size_t s_count = static_cast<size_t>(std::max(0, params.strands));
-    if (proposals && (proposals->seed != params.seed || proposals->candidates != c_count ||
-                      proposals->members != s_count))
-        proposals = nullptr;
+    if (proposals && !proposals->fit(params)) proposals = nullptr;
     const float max_density =
         probe_max_density(scalp, density, params.seed, proposals ? &proposals->probe : nullptr);
     if (!(max_density > 0.f))

@@ -53,6 +53,9 @@ struct RootProposals {
     std::vector<SurfacePoint> probe;  // #4096 the density probe's points
     std::vector<SurfacePoint> first;  // #candidates then #members: each one's first try
     std::vector<float> accept;        // the uniform number that accepts or rejects it
+
+    // Whether they were drawn for these params (place_roots ignores them otherwise).
+    bool fit(const RootParams& params) const;
 };
 RootProposals root_proposals(const Scalp& scalp, const RootParams& params);
 

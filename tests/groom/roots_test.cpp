@@ -65,6 +65,8 @@ TEST(Roots, ProposalsDrawnBeforehandGiveTheSameRoots) {
     RootParams other = params;
     other.seed = 10;
     const RootProposals others = root_proposals(scalp, other);
+    EXPECT_TRUE(proposals.fit(params));
+    EXPECT_FALSE(others.fit(params));
     ScalarMap hairline = crown(0.f);
     hairline.procedural = "hairline";
     const auto bytes = [](const auto& v) {
