@@ -2,9 +2,13 @@
 // built-in head in under 0.25 s with 2 threads. Run: build/release/bin/wisp_bench
 #include <benchmark/benchmark.h>
 
+#include <optional>
 #include "bench_common.hpp"
 #include "core/parallel.hpp"
+
 #include "groom/generate.hpp"
+#include "groom/roots.hpp"
+#include "groom/style_toml.hpp"
 
 namespace wisp {
 namespace {
@@ -48,6 +52,42 @@ void BM_Stage(benchmark::State& state) {
     state.SetLabel(state.range(0) == 0 ? "roots" : state.range(0) == 1 ? "masters" : "members");
 }
 BENCHMARK(BM_Stage)->DenseRange(0, 2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The roots stage of a map stroke (issue 16): the default preset with the crown density map
+// the editor benchmark paints (arg 0) or the constant map it paints back (arg 1), the scalp's
+// surface built once as the editor's stage cache does; with the map-independent proposals
+// drawn once too (proposals:1) or not. Arg: threads.
+void BM_Roots(benchmark::State& state) {
+    const ThreadLimit limit(static_cast<int>(state.range(1)));
+    Style style = load_preset("default");
+    if (state.range(0) == 0) {
+        style.density.kind = ScalarMap::Kind::kProcedural;
+        style.density.procedural = "crown";
+        style.density.low = 0.6f;
+        style.density.high = 1.f;
+    }
+    const Head head = load_head(style.head);
+    const MeshDistance surface = scalp_surface(*head.scalp);
+    // grow_roots' parameters.
+    RootParams params;
+    params.wisps = style.wisps;
+    params.strands = style.strands;
+    params.seed = style.seed;
+    std::optional<RootProposals> proposals;
+    if (state.range(2) == 1) proposals.emplace(root_proposals(*head.scalp, params));
+    const MapSampler density(style.density, *head.scalp);
+    for (auto _ : state)
+        benchmark::DoNotOptimize(
+            place_roots(*head.scalp, density, params, &surface, proposals ? &*proposals : nullptr)
+                .members.data());
+    state.SetLabel(state.range(0) == 0 ? "crown" : "constant");
+}
+BENCHMARK(BM_Roots)
+    ->ArgsProduct({{0, 1}, {1, 2}, {0, 1}})
+    ->ArgNames({"map", "threads", "proposals"})
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
 
 void BM_BuiltinHead(benchmark::State& state) {
     for (auto _ : state)

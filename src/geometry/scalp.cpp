@@ -260,6 +260,13 @@ Scalp::Scalp(const Mesh& mesh, const ScalpSpec& spec, const std::string& source)
         cdf_[i] = static_cast<float>(acc[i] / total);
     cdf_.back() = 1.f;
     area_ = static_cast<float>(total);
+    // guide_[b]: the face that u = b / #buckets draws, one bucket per face.
+    guide_.resize(cdf_.size() + 1);
+    for (size_t b = 0; b < guide_.size(); ++b)
+        guide_[b] = static_cast<uint32_t>(
+            std::upper_bound(cdf_.begin(), cdf_.end(),
+                             static_cast<float>(b) / static_cast<float>(cdf_.size())) -
+            cdf_.begin());
 
     // Centre: sphere fit of the scalp's vertices; a flat or tiny patch falls back to a point
     // below its bounding box centre.
@@ -306,10 +313,25 @@ Scalp::Scalp(const Mesh& mesh, const ScalpSpec& spec, const std::string& source)
     }
 }
 
+size_t Scalp::face_slot(float u) const {
+    // The first slot whose cumulative area exceeds u. u's bucket narrows the binary search to
+    // the slots between its guides (one or two, mostly): that is the answer when the slot
+    // below the range is ≤ u and the one past it > u, checked here, so that the rounding of
+    // u · #buckets cannot change the face; else the whole table is searched.
+    const size_t n = cdf_.size();
+    const size_t b = std::min(static_cast<size_t>(u * static_cast<float>(n)), n - 1);
+    const size_t lo = guide_[b], hi = guide_[b + 1];
+    auto first = cdf_.begin(), last = cdf_.end();
+    if ((lo == 0 || cdf_[lo - 1] <= u) && (hi >= n || cdf_[hi] > u)) {
+        first = cdf_.begin() + static_cast<std::ptrdiff_t>(lo);
+        last = cdf_.begin() + static_cast<std::ptrdiff_t>(std::min(hi, n));
+    }
+    return std::min<size_t>(std::upper_bound(first, last, u) - cdf_.begin(), n - 1);
+}
+
 SurfacePoint Scalp::sample(Rng& rng) const {
     const float u = rng.uniform();
-    const size_t i = std::min<size_t>(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin(),
-                                      cdf_.size() - 1);
+    const size_t i = face_slot(u);
     // Uniform on the triangle: b0 = 1 - √r1, b1 = √r1 (1 - r2), b2 = √r1 r2.
     const float s = std::sqrt(rng.uniform()), r2 = rng.uniform();
     return point_on(faces_[i], Vec2f(s * (1.f - r2), s * r2));

@@ -69,6 +69,11 @@ class Scalp {
     // An area-uniform random point on the scalp: a face by the area CDF, then uniform
     // barycentrics (3 draws from rng; deterministic for a given stream).
     SurfacePoint sample(Rng& rng) const;
+    // The slot in faces() that sample() picks for a uniform u in [0, 1): the first whose
+    // cumulative area (a fraction of area()) exceeds u.
+    size_t face_slot(float u) const;
+    // #faces: the cumulative area of faces()[0 .. i] as a fraction of area() (the last is 1).
+    const std::vector<float>& cumulative_area() const { return cdf_; }
     // The surface point on scalp face f at barycentric (b1, b2).
     SurfacePoint point_on(uint32_t face, const Vec2f& bary) const;
     // Scalp UV of a point on (or near) the scalp.
@@ -81,6 +86,7 @@ class Scalp {
     const Mesh* mesh_;
     std::vector<uint32_t> faces_;
     std::vector<float> cdf_;             // #faces cumulative area, for sampling
+    std::vector<uint32_t> guide_;        // #faces+1: face_slot(b / #faces), where its search starts
     std::vector<Vec3f> vertex_normals_;  // #V smooth normals of the whole mesh
     float area_ = 0.f;
     Vec3f crown_ = Vec3f::Zero(), center_ = Vec3f::Zero();

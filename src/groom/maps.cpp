@@ -91,10 +91,13 @@ float MapSampler::operator()(const SurfacePoint& p) const {
             return map_.value;
         case ScalarMap::Kind::kImage:
             return map_.low + (map_.high - map_.low) * image_->sample(p.uv.x(), p.uv.y());
-        case ScalarMap::Kind::kProcedural:
-            return map_.low +
-                   (map_.high - map_.low) *
-                       procedural(procedural_, p.uv, scalp_direction(*scalp_, p.position));
+        case ScalarMap::Kind::kProcedural: {
+            // Only the fringe map needs the direction (a normalisation per lookup; the roots
+            // look up the density at every rejection-sampling try).
+            const Vec3f dir =
+                procedural_ == 12 ? scalp_direction(*scalp_, p.position) : Vec3f::UnitY();
+            return map_.low + (map_.high - map_.low) * procedural(procedural_, p.uv, dir);
+        }
     }
     return map_.value;
 }

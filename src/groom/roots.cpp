@@ -11,13 +11,36 @@
 namespace wisp {
 namespace {
 
-// Upper bound of the density map over the scalp, from a deterministic probe.
-float probe_max_density(const Scalp& scalp, const MapSampler& density, uint64_t seed) {
-    Rng rng(seed, Stream::kRoots, ~uint64_t{0});
+constexpr int kProbes = 4096;
+
+// Upper bound of the density map over the scalp, from a deterministic probe (at the points
+// given, when given: the same ones).
+float probe_max_density(const Scalp& scalp, const MapSampler& density, uint64_t seed,
+                        const std::vector<SurfacePoint>* points) {
     float hi = 0.f;
-    for (int i = 0; i < 4096; ++i)
+    if (points) {
+        for (const SurfacePoint& p : *points)
+            hi = std::max(hi, density(p));
+        return hi;
+    }
+    Rng rng(seed, Stream::kRoots, ~uint64_t{0});
+    for (int i = 0; i < kProbes; ++i)
         hi = std::max(hi, density(scalp.sample(rng)));
     return hi;
+}
+
+// sample_by_density's tries after a rejected first one (`first`, whose 3 draws for the point
+// and 1 to accept it were made beforehand): the same point.
+SurfacePoint sample_after(const Scalp& scalp, const MapSampler& density, float max_density, Rng rng,
+                          const SurfacePoint& first) {
+    for (int k = 0; k < 4; ++k)
+        rng.next();
+    SurfacePoint p = first;
+    for (int tries = 1; tries < 256; ++tries) {
+        p = scalp.sample(rng);
+        if (rng.uniform() * max_density < density(p)) return p;
+    }
+    return p;
 }
 
 std::vector<Vec3f> positions(const std::vector<SurfacePoint>& pts) {
@@ -64,24 +87,76 @@ SurfacePoint sample_by_density(const Scalp& scalp, const MapSampler& density, fl
     return p;
 }
 
+namespace {
+
+size_t candidate_count(const RootParams& params) {
+    return static_cast<size_t>(std::max(1, params.wisps)) *
+           static_cast<size_t>(std::max(1, params.candidates_per_wisp));
+}
+
+}  // namespace
+
+bool RootProposals::fit(const RootParams& params) const {
+    return seed == params.seed && candidates == candidate_count(params) &&
+           members == static_cast<size_t>(std::max(0, params.strands));
+}
+
+RootProposals root_proposals(const Scalp& scalp, const RootParams& params) {
+    RootProposals out;
+    out.seed = params.seed;
+    out.candidates = candidate_count(params);
+    out.members = static_cast<size_t>(std::max(0, params.strands));
+    Rng probe(params.seed, Stream::kRoots, ~uint64_t{0});
+    out.probe.resize(kProbes);
+    for (SurfacePoint& p : out.probe)
+        p = scalp.sample(probe);
+    const size_t n = out.candidates + out.members;
+    out.first.resize(n);
+    out.accept.resize(n);
+    parallel_for(
+        n,
+        [&](size_t k) {
+            Rng rng = k < out.candidates
+                          ? Rng(params.seed, Stream::kRoots, k)
+                          : Rng(params.seed, Stream::kMemberRoot, k - out.candidates);
+            out.first[k] = scalp.sample(rng);
+            out.accept[k] = rng.uniform();
+        },
+        512);
+    return out;
+}
+
 Roots place_roots(const Scalp& scalp, const MapSampler& density, const RootParams& params,
-                  const MeshDistance* surface) {
+                  const MeshDistance* surface, const RootProposals* proposals) {
     if (params.wisps < 1) fail("roots: the number of wisps must be ≥ 1");
-    const float max_density = probe_max_density(scalp, density, params.seed);
+    const size_t w_count = static_cast<size_t>(params.wisps);
+    const size_t c_count = candidate_count(params);
+    const size_t s_count = static_cast<size_t>(std::max(0, params.strands));
+    if (proposals && !proposals->fit(params)) proposals = nullptr;
+    const float max_density =
+        probe_max_density(scalp, density, params.seed, proposals ? &proposals->probe : nullptr);
     if (!(max_density > 0.f))
         fail("roots: the density map is zero over the whole scalp: no hair can grow");
-    const size_t w_count = static_cast<size_t>(params.wisps);
-    const size_t c_count = w_count * static_cast<size_t>(std::max(1, params.candidates_per_wisp));
+    // Draw k (candidates first, then members) from its own stream (seeded only when used:
+    // most draws take their first proposal).
+    const auto draw = [&](size_t k) {
+        const auto stream = [&] {
+            return k < c_count ? Rng(params.seed, Stream::kRoots, k)
+                               : Rng(params.seed, Stream::kMemberRoot, k - c_count);
+        };
+        if (!proposals) {
+            Rng rng = stream();
+            return sample_by_density(scalp, density, max_density, rng);
+        }
+        const SurfacePoint& first = proposals->first[k];
+        if (proposals->accept[k] * max_density < density(first)) return first;
+        return sample_after(scalp, density, max_density, stream(), first);
+    };
 
     // Candidate cloud, one stream per candidate.
     std::vector<SurfacePoint> cand(c_count);
     parallel_for(
-        c_count,
-        [&](size_t i) {
-            Rng rng(params.seed, Stream::kRoots, i);
-            cand[i] = sample_by_density(scalp, density, max_density, rng);
-        },
-        256);
+        c_count, [&](size_t i) { cand[i] = draw(i); }, 256);
     const std::vector<Vec3f> cand_pos = positions(cand);
     const float spacing = std::sqrt(scalp.area() / static_cast<float>(w_count));
 
@@ -125,17 +200,22 @@ Roots place_roots(const Scalp& scalp, const MapSampler& density, const RootParam
         64);
 
     // Member roots and their Voronoi regions.
-    const size_t s_count = static_cast<size_t>(std::max(0, params.strands));
     std::vector<SurfacePoint> members(s_count);
     std::vector<int> wisp_of(s_count);
     const std::vector<Vec3f> root_pos = positions(roots.masters);
     const PointGrid grid(root_pos, spacing);
+    // A first guess of each member's master: the last label of a candidate on its face (the
+    // lowest such candidate; -1 where none fell). It is usually the nearest master or its
+    // neighbour, so the search starts from a small radius instead of growing rings of cells
+    // (the answer is the same with or without the hint).
+    std::vector<int> face_hint(scalp.mesh().faces.size(), -1);
+    for (size_t i = 0; i < c_count; ++i)
+        if (face_hint[cand[i].face] < 0) face_hint[cand[i].face] = label[i];
     parallel_for(
         s_count,
         [&](size_t j) {
-            Rng rng(params.seed, Stream::kMemberRoot, j);
-            members[j] = sample_by_density(scalp, density, max_density, rng);
-            wisp_of[j] = grid.nearest(members[j].position);
+            members[j] = draw(c_count + j);
+            wisp_of[j] = grid.nearest(members[j].position, face_hint[members[j].face]);
         },
         512);
     // Counting sort by wisp, stable in j.

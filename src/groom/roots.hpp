@@ -40,13 +40,33 @@ SurfacePoint sample_by_density(const Scalp& scalp, const MapSampler& density, fl
 // builds it once.
 MeshDistance scalp_surface(const Scalp& scalp);
 
+// The first rejection-sampling proposal of every draw place_roots makes (the density probe's
+// points, and each candidate's and member root's first try with its acceptance number). They
+// depend on the scalp, the seed and the counts but not on the density map, which only accepts
+// or rejects them: a caller that places roots again and again on one head with new maps (the
+// editor, at each map stroke) draws them once. 48 bytes per candidate and member root (6 MB
+// for 100,000 strands).
+struct RootProposals {
+    // What they were drawn for: place_roots uses them only for the same.
+    uint64_t seed = 0;
+    size_t candidates = 0, members = 0;
+    std::vector<SurfacePoint> probe;  // #4096 the density probe's points
+    std::vector<SurfacePoint> first;  // #candidates then #members: each one's first try
+    std::vector<float> accept;        // the uniform number that accepts or rejects it
+
+    // Whether they were drawn for these params (place_roots ignores them otherwise).
+    bool fit(const RootParams& params) const;
+};
+RootProposals root_proposals(const Scalp& scalp, const RootParams& params);
+
 // Places the roots. Master roots: a density-weighted candidate cloud of
 // candidates_per_wisp·N_w scalp points, relaxed by Lloyd's algorithm restricted to the
 // cloud (k-means), each master snapped to its region's candidate nearest the centroid so it
 // stays on the surface. Member roots: N_s density-weighted samples, each assigned to the
 // Voronoi region (nearest master root). Deterministic for a seed, any thread count.
-// `surface` is scalp_surface(scalp), built here when null (the roots are the same either way).
+// `surface` is scalp_surface(scalp), built here when null; `proposals`, root_proposals(scalp,
+// params), drawn here when null or drawn for other params (the roots are the same either way).
 Roots place_roots(const Scalp& scalp, const MapSampler& density, const RootParams& params,
-                  const MeshDistance* surface = nullptr);
+                  const MeshDistance* surface = nullptr, const RootProposals* proposals = nullptr);
 
 }  // namespace wisp

@@ -57,6 +57,34 @@ TEST(PointGrid, RowRunsKeepTiesToTheLowestIndex) {
     }
 }
 
+// Queries below the points' box (negative offsets from its corner, where truncation and
+// floor differ), above it and far beyond it search the edge cells they clamp to, with and
+// without a hint.
+TEST(PointGrid, QueriesOutsideTheBoxClampToItsEdgeCells) {
+    std::vector<Vec3f> pts;
+    for (int z = 0; z < 4; ++z)
+        for (int y = 0; y < 4; ++y)
+            for (int x = 0; x < 4; ++x)
+                pts.emplace_back(1.f * x, 1.f * y, 1.f * z);
+    const PointGrid grid(pts, 1.f);
+    Rng rng(8);
+    for (int q = 0; q < 3000; ++q) {
+        Vec3f x;
+        for (int a = 0; a < 3; ++a) {
+            const int kind = static_cast<int>(rng.uniform(0, 4));
+            x[a] = kind == 0   ? rng.uniform(-1.f, 0.f)
+                   : kind == 1 ? rng.uniform(3.f, 5.f)
+                   : kind == 2 ? rng.uniform(-1e6f, 1e6f)
+                               : rng.uniform(0.f, 3.f);
+        }
+        int best = 0;
+        for (size_t i = 1; i < pts.size(); ++i)
+            if ((pts[i] - x).squaredNorm() < (pts[best] - x).squaredNorm()) best = i;
+        ASSERT_EQ(grid.nearest(x), best) << x.transpose();
+        ASSERT_EQ(grid.nearest(x, q % 64), best) << x.transpose();
+    }
+}
+
 TEST(PointGrid, EmptySetAnswersMinusOne) {
     const PointGrid grid(std::vector<Vec3f>{}, 1.f);
     EXPECT_EQ(grid.nearest(Vec3f::Zero()), -1);

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <set>
 
@@ -132,6 +133,31 @@ TEST(Scalp, SamplingIsDeterministic) {
         const SurfacePoint pa = scalp.sample(a), pb = scalp.sample(b);
         ASSERT_EQ(pa.face, pb.face);
         ASSERT_EQ(pa.position, pb.position);
+    }
+}
+
+// The guide table only narrows the search: at every bucket edge, every cumulative area and
+// the floats either side of both, and at random u, the face slot is the first whose cumulative
+// area exceeds u, as a binary search of the whole table finds it.
+TEST(Scalp, GuidedFaceSlotIsTheFullBinarySearch) {
+    for (const ScalpSpec& spec : {ScalpSpec{}, hairline()}) {
+        const Scalp scalp(head(), spec, "builtin");
+        const std::vector<float>& cdf = scalp.cumulative_area();
+        const size_t n = cdf.size();
+        const auto full = [&](float u) {
+            return std::min<size_t>(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin(),
+                                    n - 1);
+        };
+        std::vector<float> us;
+        for (size_t b = 0; b <= n; ++b)
+            us.push_back(static_cast<float>(b) / static_cast<float>(n));
+        us.insert(us.end(), cdf.begin(), cdf.end());
+        Rng rng(3);
+        for (int i = 0; i < 100000; ++i)
+            us.push_back(rng.uniform());
+        for (const float x : us)
+            for (const float u : {std::nextafter(x, -1.f), x, std::nextafter(x, 2.f)})
+                if (u >= 0.f && u < 1.f) ASSERT_EQ(scalp.face_slot(u), full(u)) << u;
     }
 }
 
