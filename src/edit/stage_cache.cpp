@@ -147,10 +147,16 @@ bool StageCache::run_until(Stage last, const CancelToken& cancel, const StagePro
                 head_field_.reset();
                 field_.reset();
                 scalp_surface_.reset();
+                root_proposals_.reset();
                 break;
             case Stage::kRoots:
                 if (!scalp_surface_) scalp_surface_.emplace(scalp_surface(*head_.scalp));
-                roots_ = grow_roots(style_, head_, &*scalp_surface_);
+                {
+                    const RootParams params = root_params(style_);
+                    if (!root_proposals_ || !root_proposals_->fit(params))
+                        root_proposals_.emplace(root_proposals(*head_.scalp, params));
+                }
+                roots_ = grow_roots(style_, head_, &*scalp_surface_, &*root_proposals_);
                 break;
             case Stage::kMasters:
                 if (last >= Stage::kSolve && style_.solve.enabled) {

@@ -168,6 +168,9 @@ class StageCache {
     std::optional<HeadField> head_field_;
     // scalp_surface(*head_.scalp) (groom/roots.hpp): the same for every roots run on the head.
     std::optional<MeshDistance> scalp_surface_;
+    // The roots' map-independent draws for this head, seed and counts (6 MB for 100,000
+    // strands): a map stroke only accepts or rejects them.
+    std::optional<RootProposals> root_proposals_;
     float head_field_cell_ = 0.f;
     Roots roots_;
     Masters masters_;         // as synthesized

@@ -22,13 +22,18 @@ float deviation_radius(const std::vector<float>& table, float s) {
     return (1.f - f) * table[i] + f * table[i + 1];
 }
 
-Roots grow_roots(const Style& style, const Head& head, const MeshDistance* scalp_surface) {
-    const MapSampler density(style.density, *head.scalp);
+RootParams root_params(const Style& style) {
     RootParams params;
     params.wisps = style.wisps;
     params.strands = style.strands;
     params.seed = style.seed;
-    return place_roots(*head.scalp, density, params, scalp_surface);
+    return params;
+}
+
+Roots grow_roots(const Style& style, const Head& head, const MeshDistance* scalp_surface,
+                 const RootProposals* proposals) {
+    const MapSampler density(style.density, *head.scalp);
+    return place_roots(*head.scalp, density, root_params(style), scalp_surface, proposals);
 }
 
 void member_wisps(const Roots& roots, std::span<const uint32_t> ids, std::span<int32_t> out) {

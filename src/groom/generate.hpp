@@ -16,9 +16,13 @@
 
 namespace wisp {
 
+// The root placement parameters of a style.
+RootParams root_params(const Style& style);
 // Stage 1 (§2.3). `scalp_surface`: scalp_surface(*head.scalp) (groom/roots.hpp), built
-// here when null.
-Roots grow_roots(const Style& style, const Head& head, const MeshDistance* scalp_surface = nullptr);
+// here when null; `proposals`: root_proposals(*head.scalp, root_params(style)), drawn here
+// when null or drawn for another seed or count (the roots are the same either way).
+Roots grow_roots(const Style& style, const Head& head, const MeshDistance* scalp_surface = nullptr,
+                 const RootProposals* proposals = nullptr);
 
 // Stage 2 (§2.2): master outlines along the protrusion direction with details synthesized
 // from the prototype. Throws wisp::Error if the prototype is too short for the window.
