@@ -1,9 +1,13 @@
 #include "groom/synthesis.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
-#include <cstring>
 #include <limits>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace wisp {
 namespace {
@@ -33,17 +37,68 @@ float min_of(const float* values, size_t count) {
 }
 
 // energy[k] += sign·|c − δ*_{k − offset}|² for k in [from, to).
-void accumulate(SynthesisScratch& scratch, const Vec3f& c, size_t from, size_t to, size_t offset,
-                float sign) {
+void accumulate(const SynthesisScratch& scratch, float* energy, const Vec3f& c, size_t from,
+                size_t to, size_t offset, float sign) {
     const float* px = scratch.x.data() + from - offset;
     const float* py = scratch.y.data() + from - offset;
     const float* pz = scratch.z.data() + from - offset;
-    float* e = scratch.energy.data() + from;
+    float* e = energy + from;
     const float cx = c.x(), cy = c.y(), cz = c.z();
     for (size_t k = 0; k < to - from; ++k) {
         const float dx = cx - px[k], dy = cy - py[k], dz = cz - pz[k];
         e[k] += sign * (dx * dx + dy * dy + dz * dz);
     }
+}
+
+// next[k] = prev[k − s] + |c − δ*_{k − s}|² − |old − δ*_{k − s − h·s}|² for k in [from, to):
+// the window of (i, k) is that of (i − 1, k − s) with c[i − 1] added and its oldest element
+// dropped. One pass into the other buffer, in the float order of a shift (memmove) and the
+// two accumulate() passes it replaces (x + 1·a, then + (−1)·b, are x + a − b exactly).
+void slide(const SynthesisScratch& scratch, const float* prev, float* next, const Vec3f& c,
+           const Vec3f& old, size_t from, size_t to, size_t s, size_t span_s) {
+    const float* px = scratch.x.data() + from - s;
+    const float* py = scratch.y.data() + from - s;
+    const float* pz = scratch.z.data() + from - s;
+    const float* qx = scratch.x.data() + from - span_s;
+    const float* qy = scratch.y.data() + from - span_s;
+    const float* qz = scratch.z.data() + from - span_s;
+    const float* e = prev + from - s;
+    float* out = next + from;
+    const float cx = c.x(), cy = c.y(), cz = c.z();
+    const float ox = old.x(), oy = old.y(), oz = old.z();
+    for (size_t k = 0; k < to - from; ++k) {
+        const float dx = cx - px[k], dy = cy - py[k], dz = cz - pz[k];
+        const float fx = ox - qx[k], fy = oy - qy[k], fz = oz - qz[k];
+        float v = e[k];
+        v += dx * dx + dy * dy + dz * dz;
+        v -= fx * fx + fy * fy + fz * fz;
+        out[k] = v;
+    }
+}
+
+// Appends to `near` every k in [from, to) with energy[k] < reach2, in increasing order;
+// returns the new count. Four candidates a compare where SSE2 is there: most are out of
+// reach, and a mask skips them without a store each.
+size_t gather_near(const float* energy, size_t from, size_t to, float reach2, int32_t* near,
+                   size_t count) {
+    size_t k = from;
+#if defined(__SSE2__)
+    const __m128 r = _mm_set1_ps(reach2);
+    for (; k + 4 <= to; k += 4) {
+        // cmplt is false for NaN, as `<` is.
+        unsigned bits =
+            static_cast<unsigned>(_mm_movemask_ps(_mm_cmplt_ps(_mm_loadu_ps(energy + k), r)));
+        while (bits) {
+            near[count++] = static_cast<int32_t>(k + static_cast<size_t>(std::countr_zero(bits)));
+            bits &= bits - 1;
+        }
+    }
+#endif
+    for (; k < to; ++k) {
+        near[count] = static_cast<int32_t>(k);
+        count += energy[k] < reach2;
+    }
+    return count;
 }
 
 }  // namespace
@@ -96,10 +151,13 @@ void synthesize_details(std::span<const Vec3f> proto, const SynthesisParams& par
         scratch.z[k] = proto[k].z();
     }
     scratch.energy.resize(m);
+    scratch.energy_next.resize(m);
     scratch.near.resize(m);
     scratch.weight.resize(m);
     scratch.chain.resize(n);
-    float* const energy = scratch.energy.data();
+    // ε² of the current step and of the one before, swapped each step (see slide()).
+    float* energy = scratch.energy.data();
+    float* previous = scratch.energy_next.data();
     Vec3f* const chain = scratch.chain.data();
 
     const size_t start = rng.below(static_cast<uint32_t>(m - span));
@@ -114,14 +172,13 @@ void synthesize_details(std::span<const Vec3f> proto, const SynthesisParams& par
         // with its oldest element dropped and c[i − 1] added, so after the first step only
         // the s candidates without a predecessor are summed in full.
         const size_t full_to = i == h ? m : std::min(m, span + s);
-        if (full_to < m) {
-            std::memmove(energy + full_to, energy + full_to - s, (m - full_to) * sizeof(float));
-            accumulate(scratch, chain[i - 1], full_to, m, s, 1.f);
-            accumulate(scratch, chain[i - 1 - h], full_to, m, span + s, -1.f);
-        }
+        std::swap(energy, previous);
+        if (full_to < m)
+            slide(scratch, previous, energy, chain[i - 1], chain[i - 1 - h], full_to, m, s,
+                  span + s);
         std::fill(energy + span, energy + full_to, 0.f);
         for (size_t t = 1; t <= h; ++t)
-            accumulate(scratch, chain[i - t], span, full_to, t * s, 1.f);
+            accumulate(scratch, energy, chain[i - t], span, full_to, t * s, 1.f);
         size_t pick = span;
         if (params.temperature > 0.f) {
             // Eq. (4) over the candidates within reach of the best, shifted by the minimum
@@ -130,11 +187,7 @@ void synthesize_details(std::span<const Vec3f> proto, const SynthesisParams& par
                 std::sqrt(std::max(min_of(energy + span, m - span), 0.f)) * inv_scale;
             const float reach = (best + kCutoff * params.temperature) * params.scale;
             const float reach2 = reach * reach;
-            size_t count = 0;
-            for (size_t k = span; k < m; ++k) {
-                scratch.near[count] = static_cast<int32_t>(k);
-                count += energy[k] < reach2;
-            }
+            const size_t count = gather_near(energy, span, m, reach2, scratch.near.data(), 0);
             const float inv_t = 1.f / params.temperature;
             double z = 0.0;
             for (size_t c = 0; c < count; ++c) {
