@@ -76,27 +76,44 @@ void slide(const SynthesisScratch& scratch, const float* prev, float* next, cons
     }
 }
 
-// Appends to `near` every k in [from, to) with energy[k] < reach2, in increasing order;
-// returns the new count. Four candidates a compare where SSE2 is there: most are out of
-// reach, and a mask skips them without a store each.
-size_t gather_near(const float* energy, size_t from, size_t to, float reach2, int32_t* near,
-                   size_t count) {
-    size_t k = from;
+// Eq. (4)'s weights: for every k in [from, to) with energy[k] < reach2, in increasing order,
+// near[c] = k and weight[c] = exp(−(ε_k/scale − best)/T); returns their count and adds them
+// to z in that order. Four candidates a compare where SSE2 is there: most are out of reach,
+// and a mask skips them without a store each; the exponent is the scalar expression's, lane
+// by lane (sqrtps, mulps, subps round as their scalar forms; max(0, e) keeps e when it is
+// not below 0, as std::max(e, 0) does).
+size_t gibbs_weights(const float* energy, size_t from, size_t to, float reach2, float inv_scale,
+                     float best, float inv_t, int32_t* near, float* weight, double& z) {
+    size_t k = from, count = 0;
 #if defined(__SSE2__)
-    const __m128 r = _mm_set1_ps(reach2);
+    const __m128 r = _mm_set1_ps(reach2), zero = _mm_setzero_ps();
+    const __m128 scale4 = _mm_set1_ps(inv_scale), best4 = _mm_set1_ps(best);
+    const __m128 inv_t4 = _mm_set1_ps(inv_t), sign = _mm_set1_ps(-0.f);
+    alignas(16) float exponent[4];
     for (; k + 4 <= to; k += 4) {
+        const __m128 e2 = _mm_loadu_ps(energy + k);
         // cmplt is false for NaN, as `<` is.
-        unsigned bits =
-            static_cast<unsigned>(_mm_movemask_ps(_mm_cmplt_ps(_mm_loadu_ps(energy + k), r)));
+        unsigned bits = static_cast<unsigned>(_mm_movemask_ps(_mm_cmplt_ps(e2, r)));
+        if (!bits) continue;
+        const __m128 e = _mm_mul_ps(_mm_sqrt_ps(_mm_max_ps(zero, e2)), scale4);
+        _mm_store_ps(exponent, _mm_mul_ps(_mm_xor_ps(_mm_sub_ps(e, best4), sign), inv_t4));
         while (bits) {
-            near[count++] = static_cast<int32_t>(k + static_cast<size_t>(std::countr_zero(bits)));
+            const unsigned l = static_cast<unsigned>(std::countr_zero(bits));
+            const float w = std::exp(exponent[l]);
+            near[count] = static_cast<int32_t>(k + l);
+            weight[count++] = w;
+            z += w;
             bits &= bits - 1;
         }
     }
 #endif
     for (; k < to; ++k) {
+        if (!(energy[k] < reach2)) continue;
+        const float e = std::sqrt(std::max(energy[k], 0.f)) * inv_scale;
+        const float w = std::exp(-(e - best) * inv_t);
         near[count] = static_cast<int32_t>(k);
-        count += energy[k] < reach2;
+        weight[count++] = w;
+        z += w;
     }
     return count;
 }
@@ -187,14 +204,10 @@ void synthesize_details(std::span<const Vec3f> proto, const SynthesisParams& par
                 std::sqrt(std::max(min_of(energy + span, m - span), 0.f)) * inv_scale;
             const float reach = (best + kCutoff * params.temperature) * params.scale;
             const float reach2 = reach * reach;
-            const size_t count = gather_near(energy, span, m, reach2, scratch.near.data(), 0);
-            const float inv_t = 1.f / params.temperature;
             double z = 0.0;
-            for (size_t c = 0; c < count; ++c) {
-                const float e = std::sqrt(std::max(energy[scratch.near[c]], 0.f)) * inv_scale;
-                scratch.weight[c] = std::exp(-(e - best) * inv_t);
-                z += scratch.weight[c];
-            }
+            const size_t count =
+                gibbs_weights(energy, span, m, reach2, inv_scale, best, 1.f / params.temperature,
+                              scratch.near.data(), scratch.weight.data(), z);
             double x = rng.uniform_double() * z;
             if (count) pick = static_cast<size_t>(scratch.near[count - 1]);
             for (size_t c = 0; c < count; ++c) {
