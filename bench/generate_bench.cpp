@@ -89,6 +89,24 @@ BENCHMARK(BM_Roots)
     ->MeasureProcessCPUTime()
     ->UseRealTime();
 
+// The masters' details alone (issue 16's critical path beside the solve): the default
+// preset's outlines and prototype made once, then synthesize_master_details as the editor
+// calls it (frames left to the solve), on 1 thread.
+void BM_MasterDetails(benchmark::State& state) {
+    const ThreadLimit limit(1);
+    const Style style = load_preset("default");
+    const Head head = load_head(style.head);
+    const Roots roots = grow_roots(style, head);
+    Masters masters = master_outlines(style, head, roots);
+    const MasterPrototype prototype = master_prototype(style, masters);
+    for (auto _ : state) {
+        synthesize_master_details(style, prototype, masters, false);
+        benchmark::DoNotOptimize(masters.details.data());
+    }
+    state.counters["masters"] = static_cast<double>(masters.count());
+}
+BENCHMARK(BM_MasterDetails)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
+
 void BM_BuiltinHead(benchmark::State& state) {
     for (auto _ : state)
         benchmark::DoNotOptimize(load_head(HeadSpec{}).mesh->vertices.data());

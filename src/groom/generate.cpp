@@ -125,9 +125,10 @@ void synthesize_master_details(const Style& style, const MasterPrototype& protot
             sp.substeps =
                 prototype.straight ? 1 : synthesis_substeps(m.segment[w], style.prototype.period);
             sp.temperature = style.prototype.temperature;
-            const std::vector<Vec3f> proto = decompose(prototype.curve, m.segment[w] / sp.substeps);
-            // Fully rewritten by each call: reusing it per thread changes no result.
+            // Fully rewritten by each call: reusing them per thread changes no result.
             static thread_local SynthesisScratch scratch;
+            static thread_local std::vector<Vec3f> proto, work;
+            decompose(prototype.curve, m.segment[w] / sp.substeps, proto, work);
             std::span<Vec3f> details(m.details.data() + w * n, static_cast<size_t>(n));
             sp.scale = synthesis_scale(proto, h);
             Rng srng(style.seed, Stream::kMaster, w);

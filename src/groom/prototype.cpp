@@ -109,12 +109,22 @@ PrototypeCurve prepare_prototype(std::span<const Vec3f> polyline, float spacing,
 }
 
 std::vector<Vec3f> decompose(const PrototypeCurve& proto, float segment) {
+    std::vector<Vec3f> details, work;
+    decompose(proto, segment, details, work);
+    return details;
+}
+
+void decompose(const PrototypeCurve& proto, float segment, std::vector<Vec3f>& details,
+               std::vector<Vec3f>& work) {
+    details.clear();
     const size_t k_count = proto.centre.size();
-    if (k_count < 2 || !(segment > 0.f)) return {};
+    if (k_count < 2 || !(segment > 0.f)) return;
     const float total = proto.centre_arc.back();
     const size_t n = static_cast<size_t>(total / segment) + 1;
-    if (n < 3) return {};
-    std::vector<Vec3f> c(n), p(n);
+    if (n < 3) return;
+    work.resize(2 * n);
+    Vec3f* const c = work.data();
+    Vec3f* const p = work.data() + n;
     size_t j = 0;
     for (size_t i = 0; i < n; ++i) {
         const float a = static_cast<float>(i) * segment;
@@ -125,7 +135,7 @@ std::vector<Vec3f> decompose(const PrototypeCurve& proto, float segment) {
         c[i] = (1.f - f) * proto.centre[j] + f * proto.centre[j + 1];
         p[i] = (1.f - f) * proto.curve[j] + f * proto.curve[j + 1];
     }
-    std::vector<Vec3f> details(n);
+    details.resize(n);
     Frame frame;
     for (size_t i = 0; i < n; ++i) {
         const size_t s = std::min(i, n - 2);
@@ -139,7 +149,6 @@ std::vector<Vec3f> decompose(const PrototypeCurve& proto, float segment) {
             frame = transport(frame, t);
         details[i] = frame.to_local(p[i] - c[i]);
     }
-    return details;
 }
 
 }  // namespace wisp

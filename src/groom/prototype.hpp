@@ -48,5 +48,10 @@ PrototypeCurve prepare_prototype(std::span<const Vec3f> polyline, float spacing,
 // returns the details δ_i = p_i − c_i expressed in each outline segment's local frame
 // (Frame::to_local), #⌊length/segment⌋+1. Empty if the curve is shorter than 2 segments.
 std::vector<Vec3f> decompose(const PrototypeCurve& proto, float segment);
+// The same into `details` (resized; emptied where the above returns empty), with `work`
+// (#2·count, resized) for the outline and curve samples: reused buffers, so that
+// decomposing once per master does not allocate.
+void decompose(const PrototypeCurve& proto, float segment, std::vector<Vec3f>& details,
+               std::vector<Vec3f>& work);
 
 }  // namespace wisp

@@ -37,11 +37,13 @@ float window_distance(std::span<const Vec3f> out, size_t i, std::span<const Vec3
 
 // Reused between calls so that synthesis does not allocate per master.
 struct SynthesisScratch {
-    std::vector<float> x, y, z;  // the prototype's details, one plane per coordinate
-    std::vector<float> energy;   // ε² of every candidate (unscaled)
-    std::vector<int32_t> near;   // the candidates within reach of the best
-    std::vector<float> weight;   // their Gibbs weights
-    std::vector<Vec3f> chain;    // the chosen prototype details, before feathering
+    std::vector<float> x, y, z;      // the prototype's details, one plane per coordinate
+    std::vector<float> energy;       // ε² of every candidate (unscaled)
+    std::vector<float> energy_next;  // the same, one step on (the two alternate)
+    std::vector<float> term;    // (h + 1) planes of #m: |c[i − 1] − δ*_{k − s}|² of step i
+    std::vector<int32_t> near;  // the candidates within reach of the best
+    std::vector<float> weight;  // their Gibbs weights
+    std::vector<Vec3f> chain;   // the chosen prototype details, before feathering
 };
 
 // Synthesizes out.size() details from the prototype details `proto`, sampled at 1/s of the

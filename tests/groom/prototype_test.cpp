@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <vector>
 
 namespace wisp {
 
@@ -69,6 +71,28 @@ TEST(Prototype, OutlineSegmentsHaveTheRequestedCount) {
     spec.length = 10.f;
     const PrototypeCurve c = prepare_prototype(prototype_polyline(spec), 0.05f, 0.f);
     EXPECT_EQ(decompose(c, 1.f).size(), 11u);
+}
+
+TEST(Prototype, DecomposeIntoReusedBuffersIsTheReturnedVectorToTheBit) {
+    // The masters decompose into per-thread buffers, growing and shrinking between calls.
+    std::vector<Vec3f> details, work;
+    for (const PrototypeSpec::Kind kind :
+         {PrototypeSpec::Kind::kWavy, PrototypeSpec::Kind::kCurly, PrototypeSpec::Kind::kKinky}) {
+        PrototypeSpec spec;
+        spec.kind = kind;
+        spec.amplitude = 0.4f;
+        spec.period = 3.f;
+        spec.length = 30.f;
+        const PrototypeCurve c = make_prototype_curve(spec);
+        for (const float segment : {0.29f, 1.7f, 0.05f, 0.81f, 20.f, 0.f, 0.33f}) {
+            const std::vector<Vec3f> expected = decompose(c, segment);
+            decompose(c, segment, details, work);
+            ASSERT_EQ(details.size(), expected.size()) << segment;
+            EXPECT_EQ(0,
+                      std::memcmp(details.data(), expected.data(), expected.size() * sizeof(Vec3f)))
+                << segment;
+        }
+    }
 }
 
 }  // namespace wisp

@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <vector>
 
 #include "groom/prototype.hpp"
@@ -184,6 +187,139 @@ TEST(Synthesis, DeterministicForASeed) {
     synthesize_details(proto, p, r2, b, {}, scratch);
     for (size_t i = 0; i < a.size(); ++i)
         EXPECT_EQ(a[i], b[i]);
+}
+
+namespace {
+
+// synthesize_details as it was before its energies slid between two buffers and its
+// candidates in reach were gathered four at a time (f27f0b8): a shift (memmove) and two
+// accumulating passes per step, and one compare per candidate. The new loops must reproduce
+// it to the bit: the masters' details, and so every output, are unchanged.
+void previous_synthesize_details(std::span<const Vec3f> proto, const SynthesisParams& params,
+                                 Rng& rng, std::span<Vec3f> out, std::span<int32_t> chosen) {
+    const size_t m = proto.size(), h = static_cast<size_t>(params.window);
+    const size_t s = static_cast<size_t>(std::max(params.substeps, 1)), span = h * s;
+    const size_t n = out.size();
+    std::vector<float> x(m), y(m), z(m), energy(m), weight(m);
+    std::vector<int32_t> near(m);
+    std::vector<Vec3f> chain(n);
+    for (size_t k = 0; k < m; ++k) {
+        x[k] = proto[k].x();
+        y[k] = proto[k].y();
+        z[k] = proto[k].z();
+    }
+    const auto accumulate = [&](const Vec3f& c, size_t from, size_t to, size_t offset, float sign) {
+        for (size_t k = from; k < to; ++k) {
+            const float dx = c.x() - x[k - offset], dy = c.y() - y[k - offset],
+                        dz = c.z() - z[k - offset];
+            energy[k] += sign * (dx * dx + dy * dy + dz * dz);
+        }
+    };
+    const auto least = [&] {
+        float v = std::numeric_limits<float>::infinity();
+        for (size_t k = span; k < m; ++k)
+            v = std::min(v, energy[k]);
+        return v;
+    };
+    const size_t start = rng.below(static_cast<uint32_t>(m - span));
+    for (size_t i = 0; i < std::min(h, n); ++i) {
+        out[i] = chain[i] = proto[start + i * s];
+        chosen[i] = static_cast<int32_t>(start + i * s);
+    }
+    const float inv_scale = 1.f / params.scale;
+    Vec3f seam = Vec3f::Zero();
+    for (size_t i = h; i < n; ++i) {
+        const size_t full_to = i == h ? m : std::min(m, span + s);
+        if (full_to < m) {
+            std::memmove(energy.data() + full_to, energy.data() + full_to - s,
+                         (m - full_to) * sizeof(float));
+            accumulate(chain[i - 1], full_to, m, s, 1.f);
+            accumulate(chain[i - 1 - h], full_to, m, span + s, -1.f);
+        }
+        std::fill(energy.begin() + span, energy.begin() + full_to, 0.f);
+        for (size_t t = 1; t <= h; ++t)
+            accumulate(chain[i - t], span, full_to, t * s, 1.f);
+        size_t pick = span;
+        if (params.temperature > 0.f) {
+            const float best = std::sqrt(std::max(least(), 0.f)) * inv_scale;
+            const float reach = (best + 12.f * params.temperature) * params.scale;
+            const float reach2 = reach * reach;
+            size_t count = 0;
+            for (size_t k = span; k < m; ++k) {
+                near[count] = static_cast<int32_t>(k);
+                count += energy[k] < reach2;
+            }
+            const float inv_t = 1.f / params.temperature;
+            double zsum = 0.0;
+            for (size_t c = 0; c < count; ++c) {
+                const float e = std::sqrt(std::max(energy[near[c]], 0.f)) * inv_scale;
+                weight[c] = std::exp(-(e - best) * inv_t);
+                zsum += weight[c];
+            }
+            double u = rng.uniform_double() * zsum;
+            if (count) pick = static_cast<size_t>(near[count - 1]);
+            for (size_t c = 0; c < count; ++c) {
+                u -= weight[c];
+                if (u < 0.0) {
+                    pick = static_cast<size_t>(near[c]);
+                    break;
+                }
+            }
+        } else {
+            const float v = least();
+            while (pick + 1 < m && energy[pick] != v)
+                ++pick;
+        }
+        chain[i] = proto[pick];
+        seam = 0.5f * (seam + chain[i - 1] - proto[pick - s]);
+        out[i] = chain[i] + seam;
+        chosen[i] = static_cast<int32_t>(pick);
+    }
+}
+
+// Details with no structure at all (each coordinate uniform in ±1 cm), so that many
+// candidates are in reach and ties and near-ties are common.
+std::vector<Vec3f> noise_details(size_t count, uint64_t seed) {
+    Rng rng(seed);
+    std::vector<Vec3f> out(count);
+    for (Vec3f& d : out)
+        d = Vec3f(rng.uniform(-1.f, 1.f), rng.uniform(-1.f, 1.f), rng.uniform(-1.f, 1.f));
+    return out;
+}
+
+}  // namespace
+
+TEST(Synthesis, SlidingEnergiesChooseAsTheShiftedSumsDidToTheBit) {
+    const std::vector<Vec3f> wavy = wavy_details();
+    SynthesisScratch scratch;  // shared across sizes, as the masters' threads share theirs
+    int cases = 0;
+    for (const size_t m : {wavy.size(), size_t{23}, size_t{64}, size_t{101}, size_t{257}}) {
+        const std::vector<Vec3f> proto =
+            m == wavy.size() ? wavy : noise_details(m, static_cast<uint64_t>(m));
+        for (int h = 1; h <= 5; ++h)
+            for (int sub = 1; sub <= 4; ++sub) {
+                if (m <= static_cast<size_t>(h * sub)) continue;
+                for (const float t : {0.f, 0.01f, 0.03f, 0.12f, 1.f}) {
+                    SynthesisParams p;
+                    p.window = h;
+                    p.substeps = sub;
+                    p.temperature = t;
+                    p.scale = synthesis_scale(proto, h);
+                    for (const size_t n : {size_t{3}, size_t{32}, size_t{77}}) {
+                        std::vector<Vec3f> a(n), b(n);
+                        std::vector<int32_t> ca(n), cb(n);
+                        Rng ra(11, Stream::kMaster, cases), rb(11, Stream::kMaster, cases);
+                        synthesize_details(proto, p, ra, a, ca, scratch);
+                        previous_synthesize_details(proto, p, rb, b, cb);
+                        ASSERT_EQ(ca, cb) << "m " << m << " h " << h << " s " << sub << " T " << t;
+                        ASSERT_EQ(0, std::memcmp(a.data(), b.data(), n * sizeof(Vec3f)))
+                            << "m " << m << " h " << h << " s " << sub << " T " << t;
+                        ++cases;
+                    }
+                }
+            }
+    }
+    EXPECT_GT(cases, 1000);
 }
 
 }  // namespace wisp
