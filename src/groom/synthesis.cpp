@@ -58,33 +58,32 @@ float min_of(const float* values, size_t count) {
     return least;
 }
 
-// energy[k] += sign·|c − δ*_{k − offset}|² for k in [from, to).
-void accumulate(const SynthesisScratch& scratch, float* energy, const Vec3f& c, size_t from,
-                size_t to, size_t offset, float sign) {
+// f(k, |c − δ*_{k − offset}|²) for k in [from, to), in order.
+template <typename F>
+inline void each_squared_distance(const SynthesisScratch& scratch, const Vec3f& c, size_t from,
+                                  size_t to, size_t offset, F&& f) {
     const float* px = scratch.x.data() + from - offset;
     const float* py = scratch.y.data() + from - offset;
     const float* pz = scratch.z.data() + from - offset;
-    float* e = energy + from;
     const float cx = c.x(), cy = c.y(), cz = c.z();
     for (size_t k = 0; k < to - from; ++k) {
         const float dx = cx - px[k], dy = cy - py[k], dz = cz - pz[k];
-        e[k] += sign * (dx * dx + dy * dy + dz * dz);
+        f(from + k, dx * dx + dy * dy + dz * dz);
     }
+}
+
+// energy[k] += sign·|c − δ*_{k − offset}|² for k in [from, to).
+void accumulate(const SynthesisScratch& scratch, float* energy, const Vec3f& c, size_t from,
+                size_t to, size_t offset, float sign) {
+    each_squared_distance(scratch, c, from, to, offset,
+                          [&](size_t k, float d2) { energy[k] += sign * d2; });
 }
 
 // term[k] = |c − δ*_{k − s}|² for k in [from, to): what c[i − 1] adds to candidate k's
 // window at step i, recorded because the same window drops it h steps later (slide()).
 void record(const SynthesisScratch& scratch, const Vec3f& c, size_t from, size_t to, size_t s,
             float* term) {
-    const float* px = scratch.x.data() + from - s;
-    const float* py = scratch.y.data() + from - s;
-    const float* pz = scratch.z.data() + from - s;
-    float* out = term + from;
-    const float cx = c.x(), cy = c.y(), cz = c.z();
-    for (size_t k = 0; k < to - from; ++k) {
-        const float dx = cx - px[k], dy = cy - py[k], dz = cz - pz[k];
-        out[k] = dx * dx + dy * dy + dz * dz;
-    }
+    each_squared_distance(scratch, c, from, to, s, [&](size_t k, float d2) { term[k] = d2; });
 }
 
 // next[k] = prev[k − s] + |c − δ*_{k − s}|² − |old − δ*_{k − s − h·s}|² for k in [from, to):
