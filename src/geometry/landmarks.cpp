@@ -610,17 +610,21 @@ void read_midline(const Profile& profile, const HeadReach& reach, const Piece& p
     l.crown = axes.at(0.f, top, hi >= lo ? 0.5f * (lo + hi) : 0.f);
 
     // The chin: on the face's outline below the nose, down to where the profile falls back to
-    // the throat (behind 72% of the way from the back of the head to the nose tip), the
-    // extreme 10° forward of straight down.
+    // the throat (behind 72% of the way from the back of the head to the nose tip, or by 0.1
+    // scale from one level to the next under a chin that rises toward the throat, as on a head
+    // tilted back), the extreme 10° forward of straight down.
     float back = kInf;
     for (int k = first; k <= last; ++k)
         if (std::isfinite(profile.back[k])) back = std::min(back, profile.back[k]);
     const float u_min = back + 0.72f * (nose_u - back);
-    int throat = nose;
-    while (throat + 1 < levels.count && !(profile.front[throat] < u_min))
-        ++throat;
-    const float y_min = levels.y(std::min(throat + 1, levels.count - 1));
     const float y_max = l.nose_tip.y() - 0.05f * scale;
+    int throat = nose + 1;
+    for (; throat < levels.count; ++throat) {
+        const float u = profile.front[throat];
+        if (u < u_min) break;
+        if (levels.y(throat) < y_max && u < profile.front[throat - 1] - 0.1f * scale) break;
+    }
+    const float y_min = levels.y(std::min(throat + 1, levels.count - 1));
     const float cs = std::cos(10.f * kPi / 180.f), sn = std::sin(10.f * kPi / 180.f);
     float best = -kInf;
     for (const Vec2f& p : profile.points) {
@@ -745,11 +749,12 @@ void find_eyes_and_brow(const Mesh& mesh, const Piece& piece, const HeadAxes& ax
     l.brow = axes.at(0.f, brow_y, brow_u);
 }
 
-// Stage 5: the ears, the lateral extremes from the bottom of the nose to just above the eye
-// line, as the centroid of the vertices within 0.02 height of each.
+// Stage 5: the ears, the lateral extremes from the bottom of the nose to 0.1 height above the
+// eye line (the ears stay where they are on a head tilted about them, the face does not), as
+// the centroid of the vertices within 0.02 height of each.
 void find_ears(const Mesh& mesh, const Piece& piece, const HeadAxes& axes, Landmarks& l) {
     const float y_lo = l.nose_tip.y() - 0.06f * l.height;
-    const float y_hi = 0.5f * (l.eye_left.y() + l.eye_right.y()) + 0.06f * l.height;
+    const float y_hi = 0.5f * (l.eye_left.y() + l.eye_right.y()) + 0.1f * l.height;
     for (int side = 0; side < 2; ++side) {
         const float sign = side == 0 ? 1.f : -1.f;
         float extreme = -kInf;

@@ -41,7 +41,8 @@ struct Landmarks {
 //     sharper bump (the nose); the nose tip is its most forward point; the crown its top (at
 //     the middle of the chord just below, as the top of the head is flat); the chin the
 //     extreme 10° forward of straight down on the face's outline below the nose, before it
-//     falls back to the throat (so that a flat underside of the chin gives its front edge).
+//     falls back to the throat (so that a flat underside of the chin gives its front edge; the
+//     mouth must be closed).
 //     The neck is the narrowest closed section 0.02-0.8 height below the chin (its area
 //     centroid), or just below the chin on a mesh that ends sooner;
 //  4. the face as a depth map seen from the front, its columns closed over ±0.06 height (so
@@ -50,8 +51,8 @@ struct Landmarks {
 //     that an eye opening into the head counts like a socket), 0.07 height behind the filled
 //     surface; the brow is the most forward row above the eyes, averaged between them, on the
 //     midline;
-//  5. the ears: the head's lateral extremes from the bottom of the nose to just above the eye
-//     line, as the centroid of the vertices within 0.02 height of each extreme.
+//  5. the ears: the head's lateral extremes from the bottom of the nose to 0.1 height above
+//     the eye line, as the centroid of the vertices within 0.02 height of each extreme.
 // The mesh is head_only when it ends less than 1.5 heights below the chin and no closed
 // section between the neck and its end is more than 1.5 times the neck's radius; neck_bottom
 // is then its lowest y. Deterministic; about 10-15 ms for 35k triangles on one core.

@@ -158,6 +158,28 @@ TEST(Landmarks, FollowTheMeshTurnedScaledAndMoved) {
     }
 }
 
+// A head looking up or down (a scan is rarely level): the face's points stay where they were
+// on the face, within 1 cm, though "most forward" and "lowest" move a little along it.
+TEST(Landmarks, FollowTheHeadTiltedUpOrDown) {
+    const Landmarks base = find_landmarks(builtin());
+    for (float degrees : {-12.f, -6.f, 6.f, 12.f}) {
+        SCOPED_TRACE(testing::Message() << "tilted " << degrees << "° about X");
+        const Eigen::AngleAxisf tilt(degrees * kPi / 180.f, Vec3f::UnitX());
+        Mesh mesh = builtin();
+        for (Vec3f& v : mesh.vertices)
+            v = tilt * v;
+        const Landmarks l = find_landmarks(mesh);
+        check_consistent(l);
+        EXPECT_LT(degrees_between(l.forward, Vec3f::UnitZ()), 1.f);
+        EXPECT_POINT_NEAR(l.nose_tip, Vec3f(tilt * base.nose_tip), 1.f);
+        EXPECT_POINT_NEAR(l.chin, Vec3f(tilt * base.chin), 1.f);
+        EXPECT_POINT_NEAR(l.eye_left, Vec3f(tilt * base.eye_left), 1.f);
+        EXPECT_POINT_NEAR(l.eye_right, Vec3f(tilt * base.eye_right), 1.f);
+        EXPECT_POINT_NEAR(l.ear_left, Vec3f(tilt * base.ear_left), 1.f);
+        EXPECT_POINT_NEAR(l.ear_right, Vec3f(tilt * base.ear_right), 1.f);
+    }
+}
+
 TEST(Landmarks, AreDeterministic) {
     const Landmarks a = find_landmarks(builtin()), b = find_landmarks(builtin());
     for (auto field :
