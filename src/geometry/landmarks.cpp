@@ -426,9 +426,11 @@ DepthMap face_depth(const Mesh& mesh, const Piece& piece, const HeadAxes& axes, 
                     float y_lo, float y_hi, float h) {
     DepthMap map;
     map.h = h;
-    map.ns = static_cast<int>(std::ceil(2.f * s_half / h)) + 1;
+    // Columns mirrored about s = 0, so that both eyes are looked for on the same samples.
+    const int half = static_cast<int>(std::ceil(s_half / h));
+    map.ns = 2 * half + 1;
     map.ny = static_cast<int>(std::ceil((y_hi - y_lo) / h)) + 1;
-    map.s0 = -s_half;
+    map.s0 = -static_cast<float>(half) * h;
     map.y0 = y_lo;
     map.depth.assign(static_cast<size_t>(map.ns) * map.ny, -kInf);
     for (uint32_t f : piece.faces) {

@@ -11,21 +11,26 @@ namespace wisp {
 // the midline lie on the head's plane of mirror symmetry.
 struct Landmarks {
     Vec3f forward = Vec3f::UnitZ();  // unit, horizontal: the way the face looks
-    Vec3f crown;                     // the top of the head, on the midline
-    Vec3f brow;                      // glabella: the brow's most forward point on the midline
-    Vec3f nose_tip;                  // the nose's most forward point on the midline
+    Vec3f crown = Vec3f::Zero();     // the top of the head, on the midline
+    Vec3f brow = Vec3f::Zero();      // glabella: the brow's most forward point on the midline
+    Vec3f nose_tip = Vec3f::Zero();  // the nose's most forward point on the midline
     // Eye centres (approximate: the middle of each socket's hollow or opening, a fixed fraction
     // of the head's height behind the face's surface there). The character's left is +X when
     // facing +Z: left = up × forward.
-    Vec3f eye_left, eye_right;
-    Vec3f chin;                 // menton: the lowest point of the chin, on the midline
-    Vec3f ear_left, ear_right;  // the ears' outermost points (smoothed: see find_landmarks)
-    Vec3f center;               // the head's centre: midway between ear_left and ear_right
-    float height = 0;           // chin to crown (crown.y - chin.y)
-    Vec3f neck;                 // centre of the neck's narrowest horizontal section below the chin
-    float neck_radius = 0;      // that section's radius (of the circle of the same area)
-    float neck_bottom = NAN;    // head_only: y where the mesh ends below the neck, else NaN
-    bool head_only = false;     // true when the mesh has no shoulders (a scan ending at the neck)
+    Vec3f eye_left = Vec3f::Zero(), eye_right = Vec3f::Zero();
+    Vec3f chin = Vec3f::Zero();  // menton: the lowest point of the chin, on the midline
+    // The ears' outermost points (smoothed: see find_landmarks).
+    Vec3f ear_left = Vec3f::Zero(), ear_right = Vec3f::Zero();
+    Vec3f center = Vec3f::Zero();  // the head's centre: midway between ear_left and ear_right
+    float height = 0;              // chin to crown (crown.y - chin.y)
+    // The centre of the neck's narrowest horizontal section below the chin, and that section's
+    // radius (of the circle of the same area).
+    Vec3f neck = Vec3f::Zero();
+    float neck_radius = 0;
+    // True when the mesh has no shoulders (a scan ending at the neck); neck_bottom is then the
+    // y where the mesh ends below the neck, else NaN.
+    bool head_only = false;
+    float neck_bottom = NAN;
 };
 
 // Finds the landmarks of the head on the connected piece of `mesh` of largest area (so the

@@ -262,9 +262,10 @@ TEST(Landmarks, HeadOnlyMeshEndsBelowTheNeck) {
         EXPECT_POINT_NEAR(l.neck, full.neck, 0.5f);
     }
     if (!fs::exists(kBase)) GTEST_SKIP() << kBase << " not present";
+    const Mesh body = read_obj_mesh(kBase, 10.f);
     for (float y : {60.f, 58.5f, 57.5f}) {
         SCOPED_TRACE(testing::Message() << "MakeHuman body cut at y = " << y);
-        const Landmarks l = find_landmarks(cut_below(read_obj_mesh(kBase, 10.f), y));
+        const Landmarks l = find_landmarks(cut_below(body, y));
         check_consistent(l);
         EXPECT_TRUE(l.head_only);
         EXPECT_GE(l.neck_bottom, y);
