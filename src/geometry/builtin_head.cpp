@@ -193,105 +193,126 @@ float eye_and_lids(const Vec3f& m) {
     return smin(r - kEyeRadius, std::min(upper, lower), 0.08f);
 }
 
-// ---- The whole head and bust, in head space: origin between the ears at ear-canal height, Y
-// up, +Z forward, cm. Each part is blended in only where it can change the result: a part
-// whose bounding sphere is further than the blend width from the current value is skipped,
-// which keeps the field cheap away from its own parts (the union is exact there, smin(a, b, k)
-// = a for b >= a + k).
-float head_field(const Vec3f& p) {
-    const Vec3f m(std::abs(p.x()), p.y(), p.z());  // mirror: the head is symmetric in x
+// ---- The whole figure, in head space: origin between the ears at ear-canal height, Y up, +Z
+// forward, cm. Each part is blended in only where it can change the result: a part whose
+// bounding sphere is further than the blend width from the current value is skipped, which
+// keeps the field cheap away from its own parts (the union is exact there, smin(a, b, k) = a for
+// b >= a + k).
+struct Blend {
     float d = 1e3f;
     // Blends part() (bounded by the sphere (c, radius)) into d with width k, or removes it.
-    auto add = [&](const Vec3f& q, const Vec3f& c, float radius, float k, auto&& part) {
+    template <typename Part>
+    void add(const Vec3f& q, const Vec3f& c, float radius, float k, Part&& part) {
         const float reach = radius + d + k + 0.5f;
         if (d > 1e2f || (q - c).squaredNorm() < reach * reach) d = smin(d, part(), k);
-    };
-    auto carve = [&](const Vec3f& q, const Vec3f& c, float radius, float k, auto&& part) {
+    }
+    template <typename Part>
+    void carve(const Vec3f& q, const Vec3f& c, float radius, float k, Part&& part) {
         const float reach = radius + k - d + 0.5f;
         if (reach > 0.f && (q - c).squaredNorm() < reach * reach) d = smax(d, -part(), k);
-    };
-    auto add_ellipsoid = [&](const Vec3f& q, const Vec3f& c, const Vec3f& r, float k) {
+    }
+    void add_ellipsoid(const Vec3f& q, const Vec3f& c, const Vec3f& r, float k) {
         add(q, c, r.maxCoeff(), k, [&] { return ellipsoid(q, c, r); });
-    };
-    auto carve_ellipsoid = [&](const Vec3f& q, const Vec3f& c, const Vec3f& r, float k) {
+    }
+    void carve_ellipsoid(const Vec3f& q, const Vec3f& c, const Vec3f& r, float k) {
         carve(q, c, r.maxCoeff(), k, [&] { return ellipsoid(q, c, r); });
-    };
-    auto add_capsule = [&](const Vec3f& q, const Vec3f& a, const Vec3f& b, float ra, float rb,
-                           float k) {
+    }
+    void add_capsule(const Vec3f& q, const Vec3f& a, const Vec3f& b, float ra, float rb, float k) {
         add(q, 0.5f * (a + b), 0.5f * (b - a).norm() + std::max(ra, rb), k,
             [&] { return cone_capsule(q, a, b, ra, rb); });
-    };
+    }
+};
+
+// The figure ends in a flat cut through the top of the hips, as a display mannequin does.
+constexpr float kBodyBottom = -62.f;  // cm
+
+// The torso below the neck, to the waist: the shoulder girdle (collarbones, shoulder blades,
+// trapezius, deltoids), the rib cage with chest and back muscles, the waist and the top of the
+// hips, and the arms hanging beside it, the upper arms to the elbows and the forearms down to
+// the cut, a hand's breadth from the waist. Proportions of an adult whose head (chin to
+// crown, 22.8 cm) is an eighth of their height: the nipples two heads below the crown, the
+// waist and the elbows three.
+void add_torso(Blend& b, const Vec3f& p, const Vec3f& m) {
+    // The rib cage, narrowing to the waist, and the top of the hips.
+    b.add_ellipsoid(p, {0.f, -33.5f, -0.8f}, {13.6f, 15.5f, 9.8f}, 5.f);
+    b.add_ellipsoid(p, {0.f, -51.5f, -0.2f}, {12.4f, 10.5f, 9.0f}, 6.f);
+    b.add_ellipsoid(p, {0.f, -64.f, -0.8f}, {14.6f, 8.5f, 10.2f}, 6.f);
+    // The shoulder girdle, chest and back muscles.
+    b.add_ellipsoid(p, {0.f, -23.5f, -1.3f}, {17.f, 4.8f, 7.0f}, 4.f);
+    b.add_ellipsoid(m, {5.8f, -27.f, 4.6f}, {6.2f, 4.2f, 4.6f}, 3.f);
+    b.add_ellipsoid(m, {6.5f, -27.5f, -5.6f}, {6.0f, 7.0f, 4.5f}, 3.f);
+    // Shoulders: the trapezius sloping from the neck to the point of the shoulder, the deltoid
+    // rounding it; the collarbones.
+    b.add_capsule(m, {2.5f, -15.5f, -3.2f}, {16.f, -21.6f, -2.2f}, 3.4f, 2.6f, 3.f);
+    b.add_ellipsoid(m, {16.4f, -24.4f, -1.2f}, {4.0f, 4.6f, 4.6f}, 4.f);
+    b.add_capsule(m, {1.7f, -20.4f, 4.3f}, {15.2f, -21.4f, -0.6f}, 0.75f, 0.75f, 1.5f);
+    // The arms: the upper arm from under the deltoid to the elbow, out a little from the
+    // waist, then the forearm turning forward.
+    b.add_capsule(m, {16.9f, -25.f, -1.3f}, {18.4f, -51.f, -2.4f}, 4.1f, 3.2f, 2.5f);
+    b.add_capsule(m, {18.4f, -51.f, -2.4f}, {18.f, -66.f, 2.2f}, 3.1f, 2.7f, 1.2f);
+    b.d = smax(b.d, kBodyBottom - p.y(), 1.2f);
+}
+
+float head_field(const Vec3f& p) {
+    const Vec3f m(std::abs(p.x()), p.y(), p.z());  // mirror: the head is symmetric in x
+    Blend b;
 
     // -- The big forms first, so that the small ones are skipped wherever they cannot matter.
     // Cranium and the back of the skull.
-    add(p, {0.f, 3.f, -0.7f}, 10.f, 2.f, [&] { return cranium(p); });
-    add_ellipsoid(p, {0.f, 1.8f, -4.6f}, {6.3f, 6.8f, 4.8f}, 2.f);
+    b.add(p, {0.f, 3.f, -0.7f}, 10.f, 2.f, [&] { return cranium(p); });
+    b.add_ellipsoid(p, {0.f, 1.8f, -4.6f}, {6.3f, 6.8f, 4.8f}, 2.f);
 
     // -- Face: the mass of the face from the brow to the jaw, full in the cheeks, cut below by
     // the plane through the angles of the jaw and the bottom of the chin, so the jaw line
     // shows above the neck.
-    add(p, {0.f, -2.2f, 2.8f}, 7.3f, 2.f, [&] {
+    b.add(p, {0.f, -2.2f, 2.8f}, 7.3f, 2.f, [&] {
         const float under_jaw = -(0.899f * (p.y() + 10.1f) + 0.437f * (p.z() - 7.f));
         return smax(ellipsoid(p, {0.f, -2.2f, 2.8f}, {6.3f, 7.3f, 6.2f}), under_jaw, 1.f);
     });
     // -- Neck: an oval column leaning forward, the sternocleidomastoid muscles running from
     // behind the ears to the top of the breastbone.
-    add(p, {0.f, -12.f, -1.6f}, 13.f, 2.5f, [&] {
+    b.add(p, {0.f, -12.f, -1.6f}, 13.f, 2.5f, [&] {
         const Vec3f s(p.x(), p.y(), p.z() * 0.92f);
         return cone_capsule(s, {0.f, -19.f, -2.8f * 0.92f}, {0.f, -5.f, -0.6f * 0.92f}, 5.6f, 4.9f);
     });
-    add_capsule(m, {4.9f, -3.4f, -2.6f}, {1.5f, -19.0f, 4.0f}, 1.2f, 0.9f, 1.6f);
+    b.add_capsule(m, {4.9f, -3.4f, -2.6f}, {1.5f, -19.0f, 4.0f}, 1.2f, 0.9f, 1.6f);
 
-    // -- Bust: the rib cage cut flat at the bottom, the shoulder girdle across its top (the
-    // collarbones and shoulder blades, so the shoulders are one mass with the chest, not balls
-    // beside it), chest and back muscles, collarbones.
-    add(p, {0.f, -31.f, -0.8f}, 13.5f, 5.f, [&] {
-        return smax(ellipsoid(p, {0.f, -31.f, -0.8f}, {13.5f, 13.f, 9.6f}), -38.f - p.y(), 1.5f);
-    });
-    add_ellipsoid(p, {0.f, -23.5f, -1.3f}, {17.f, 4.8f, 7.0f}, 4.f);
-    add_ellipsoid(m, {5.8f, -27.f, 4.6f}, {6.2f, 4.2f, 4.6f}, 3.f);
-    add_ellipsoid(m, {6.5f, -26.5f, -5.6f}, {6.0f, 6.0f, 4.5f}, 3.f);
-    // Shoulders: the trapezius sloping from the neck to the point of the shoulder, the deltoid
-    // rounding it.
-    add_capsule(m, {2.5f, -15.5f, -3.2f}, {16.f, -21.6f, -2.2f}, 3.4f, 2.6f, 3.f);
-    add_ellipsoid(m, {16.4f, -24.4f, -1.2f}, {4.0f, 4.6f, 4.6f}, 4.f);
-    add_capsule(m, {1.7f, -20.4f, 4.3f}, {15.2f, -21.4f, -0.6f}, 0.75f, 0.75f, 1.5f);
-    // The arms cut off flat through the shoulders, as on a display bust.
-    d = smax(d, (m.x() - 18.6f) * 0.944f - (m.y() + 24.4f) * 0.33f, 1.2f);
+    add_torso(b, p, m);
 
     // -- The forms of the face: cheekbones, the jaw (ramus, body, chin), the muzzle around the
     // mouth, brow ridges.
-    add_ellipsoid(m, {4.7f, -0.3f, 5.2f}, {1.9f, 1.3f, 2.0f}, 1.5f);
-    add_capsule(m, {4.9f, -6.8f, -0.3f}, {5.4f, -2.0f, -0.6f}, 0.95f, 0.95f, 1.5f);
-    add_capsule(m, {4.9f, -6.9f, -0.3f}, {1.9f, -9.1f, 6.4f}, 0.9f, 0.85f, 1.8f);
-    add_ellipsoid(p, {0.f, -8.3f, 7.6f}, {2.2f, 1.6f, 1.5f}, 1.5f);
-    add_ellipsoid(p, {0.f, -4.7f, 5.5f}, {3.6f, 2.6f, 3.5f}, 1.5f);
-    add_ellipsoid(m, {2.6f, 3.3f, 7.7f}, {2.4f, 0.9f, 1.4f}, 1.2f);
+    b.add_ellipsoid(m, {4.7f, -0.3f, 5.2f}, {1.9f, 1.3f, 2.0f}, 1.5f);
+    b.add_capsule(m, {4.9f, -6.8f, -0.3f}, {5.4f, -2.0f, -0.6f}, 0.95f, 0.95f, 1.5f);
+    b.add_capsule(m, {4.9f, -6.9f, -0.3f}, {1.9f, -9.1f, 6.4f}, 0.9f, 0.85f, 1.8f);
+    b.add_ellipsoid(p, {0.f, -8.3f, 7.6f}, {2.2f, 1.6f, 1.5f}, 1.5f);
+    b.add_ellipsoid(p, {0.f, -4.7f, 5.5f}, {3.6f, 2.6f, 3.5f}, 1.5f);
+    b.add_ellipsoid(m, {2.6f, 3.3f, 7.7f}, {2.4f, 0.9f, 1.4f}, 1.2f);
 
     // -- Eye sockets, then the eyes in them.
-    carve_ellipsoid(m, {3.2f, 1.5f, 8.4f}, {1.7f, 1.2f, 1.3f}, 1.5f);
-    add(m, kEyeCentre, kEyeRadius + 0.5f, 0.2f, [&] { return eye_and_lids(m); });
+    b.carve_ellipsoid(m, {3.2f, 1.5f, 8.4f}, {1.7f, 1.2f, 1.3f}, 1.5f);
+    b.add(m, kEyeCentre, kEyeRadius + 0.5f, 0.2f, [&] { return eye_and_lids(m); });
 
     // -- Nose: bridge from the root between the eyes to the tip, its sides, the wings of the
     // nostrils and the column under the tip.
-    add_capsule(p, {0.f, 2.3f, 8.35f}, {0.f, -1.35f, 10.5f}, 0.45f, 0.7f, 0.8f);
-    add_ellipsoid(p, {0.f, -0.9f, 9.3f}, {1.2f, 1.9f, 1.1f}, 0.8f);
-    add_ellipsoid(p, {0.f, -1.65f, 10.55f}, {0.8f, 0.75f, 0.85f}, 0.6f);
-    add_ellipsoid(m, {1.15f, -2.1f, 9.5f}, {0.6f, 0.55f, 0.8f}, 0.6f);
-    add_capsule(p, {0.f, -2.1f, 10.6f}, {0.f, -2.75f, 9.65f}, 0.35f, 0.35f, 0.4f);
+    b.add_capsule(p, {0.f, 2.3f, 8.35f}, {0.f, -1.35f, 10.5f}, 0.45f, 0.7f, 0.8f);
+    b.add_ellipsoid(p, {0.f, -0.9f, 9.3f}, {1.2f, 1.9f, 1.1f}, 0.8f);
+    b.add_ellipsoid(p, {0.f, -1.65f, 10.55f}, {0.8f, 0.75f, 0.85f}, 0.6f);
+    b.add_ellipsoid(m, {1.15f, -2.1f, 9.5f}, {0.6f, 0.55f, 0.8f}, 0.6f);
+    b.add_capsule(p, {0.f, -2.1f, 10.6f}, {0.f, -2.75f, 9.65f}, 0.35f, 0.35f, 0.4f);
 
     // -- Mouth.
-    add(p, {0.f, -5.1f, 8.8f}, 3.4f, 0.35f, [&] { return lips(p); });
+    b.add(p, {0.f, -5.1f, 8.8f}, 3.4f, 0.35f, [&] { return lips(p); });
 
     // -- Ears.
-    add(m, kEarCentre, kEarRadius, 0.9f, [&] { return ear(m); });
-    return d;
+    b.add(m, kEarCentre, kEarRadius, 0.9f, [&] { return ear(m); });
+    return b.d;
 }
 
-Vec3f field_gradient(const Vec3f& p, float f0) {
+template <typename Field>
+Vec3f field_gradient(const Field& field, const Vec3f& p, float f0) {
     constexpr float h = 0.02f;
-    return Vec3f(head_field(p + Vec3f(h, 0, 0)) - f0, head_field(p + Vec3f(0, h, 0)) - f0,
-                 head_field(p + Vec3f(0, 0, h)) - f0) /
+    return Vec3f(field(p + Vec3f(h, 0, 0)) - f0, field(p + Vec3f(0, h, 0)) - f0,
+                 field(p + Vec3f(0, 0, h)) - f0) /
            h;
 }
 
@@ -339,13 +360,13 @@ Grid head_grid() {
 }
 Grid body_grid() {
     Grid g;
-    g.x = symmetric_axis(22.5f, kBodyCell);
-    g.y = axis(-40.f, kSeamBody, kBodyCell);
+    g.x = symmetric_axis(23.5f, kBodyCell);
+    g.y = axis(kBodyBottom - 1.5f, kSeamBody, kBodyCell);
     // The last layer is the rim's plane: shift the axis so it ends exactly there.
     const float shift = kSeamBody - g.y.back();
     for (float& y : g.y)
         y += shift;
-    g.z = axis(-13.f, 12.f, kBodyCell);
+    g.z = axis(-13.5f, 12.5f, kBodyCell);
     return g;
 }
 
@@ -358,7 +379,8 @@ constexpr int kTets[6][4] = {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7},
 // centre is far from the surface (by a safe bound on the field's slope) give their nodes the
 // centre's value, which has the right sign and never makes a crossing; the other nodes are
 // evaluated one by one.
-std::vector<float> node_values(const Grid& g) {
+template <typename Field>
+std::vector<float> node_values(const Grid& g, const Field& field) {
     const int nx = static_cast<int>(g.x.size()), ny = static_cast<int>(g.y.size()),
               nz = static_cast<int>(g.z.size());
     const int i0 = nx / 2;  // the first node with x >= 0
@@ -376,7 +398,7 @@ std::vector<float> node_values(const Grid& g) {
                 const Vec3f hi =
                     g.node(i0 + std::min(ia + kBlock, hx - 1), std::min(j0 + kBlock, ny - 1),
                            std::min(k0 + kBlock, nz - 1));
-                const float f = head_field(0.5f * (lo + hi));
+                const float f = field(0.5f * (lo + hi));
                 const size_t b = (kb * by + jb) * bx + ib;
                 block_value[b] = f;
                 // The field's slope stays under ~1.5 (tapers and warps stretch distances); the
@@ -406,7 +428,7 @@ std::vector<float> node_values(const Grid& g) {
                             far = block_far[b];
                             f = block_value[b];
                         }
-                if (!far) f = head_field(g.node(i0 + ih, j, static_cast<int>(k)));
+                if (!far) f = field(g.node(i0 + ih, j, static_cast<int>(k)));
                 if (f == 0.f) f = 1e-6f;  // keep the zero set off the nodes
                 row[i0 + ih] = f;
                 row[nx - 1 - (i0 + ih)] = f;
@@ -417,11 +439,12 @@ std::vector<float> node_values(const Grid& g) {
 }
 
 // The zero set of the field over grid g, open where it leaves the grid.
-Mesh march(const Grid& g) {
+template <typename Field>
+Mesh march(const Grid& g, const Field& field) {
     const int nx = static_cast<int>(g.x.size()), ny = static_cast<int>(g.y.size()),
               nz = static_cast<int>(g.z.size());
     const size_t nodes = static_cast<size_t>(nx) * ny * nz;
-    const std::vector<float> value = node_values(g);
+    const std::vector<float> value = node_values(g, field);
     auto position = [&](size_t n) {
         return g.node(static_cast<int>(n % nx), static_cast<int>((n / nx) % ny),
                       static_cast<int>(n / (static_cast<size_t>(nx) * ny)));
@@ -588,8 +611,8 @@ void join_rims(Mesh& upper, const Mesh& lower) {
 }
 
 Mesh polygonize() {
-    Mesh mesh = march(head_grid());
-    join_rims(mesh, march(body_grid()));
+    Mesh mesh = march(head_grid(), head_field);
+    join_rims(mesh, march(body_grid(), head_field));
     return mesh;
 }
 
@@ -798,7 +821,8 @@ void collapse_short_edges(Mesh& mesh, MaxLength&& max_length, int passes) {
 // normal) and a Newton step takes it onto the zero set. Evens out the triangles of marching
 // tetrahedra without changing the connectivity; moving only along the surface keeps vertices
 // from being pulled across creases (the lips, the lids) and projected onto the wrong side.
-void relax(Mesh& mesh, int iterations) {
+template <typename Field>
+void relax(Mesh& mesh, const Field& field, int iterations) {
     const size_t nv = mesh.vertices.size();
     // Vertex neighbours in CSR form from the (directed) triangle edges; each undirected edge
     // appears once per direction in a closed manifold, so neighbours are listed once.
@@ -817,9 +841,9 @@ void relax(Mesh& mesh, int iterations) {
                 for (uint32_t a = start[v]; a < start[v + 1]; ++a)
                     c += mesh.vertices[adj[a]];
                 const uint32_t n = start[v + 1] - start[v];
-                const float f = head_field(x);
+                const float f = field(x);
                 if (it == 0) {
-                    gradient[v] = field_gradient(x, f);
+                    gradient[v] = field_gradient(field, x, f);
                     const float len = gradient[v].norm();
                     normal[v] = len > 0.f ? Vec3f(gradient[v] / len) : Vec3f::Zero();
                 }
@@ -878,14 +902,39 @@ float hairline_height(float phi) {
     return kKeys[std::size(kKeys) - 1].y;
 }
 
+// The torso alone under a neck column that rises from inside the shoulders to a flat top at
+// y = neck_top, of radius neck_radius there (the body proxy: a user's neck goes on into it).
+float torso_field(const Vec3f& p, float neck_top, float neck_radius) {
+    const Vec3f m(std::abs(p.x()), p.y(), p.z());
+    Blend b;
+    const Vec3f bottom(0.f, -19.f, -2.8f), top(0.f, neck_top, -2.f);
+    b.add(p, 0.5f * (bottom + top), 0.5f * (top - bottom).norm() + 6.f, 2.5f, [&] {
+        return smax(cone_capsule(p, bottom, top, 5.6f, neck_radius), p.y() - neck_top, 0.4f);
+    });
+    add_torso(b, p, m);
+    return b.d;
+}
+
 }  // namespace
+
+Mesh builtin_torso_mesh(float neck_top, float neck_radius) {
+    neck_top = std::clamp(neck_top, -16.f, -6.f);
+    neck_radius = std::clamp(neck_radius, 2.f, 8.f);
+    const auto field = [&](const Vec3f& p) { return torso_field(p, neck_top, neck_radius); };
+    Grid g = body_grid();
+    g.y = axis(kBodyBottom - 1.5f, neck_top + 2.f * kBodyCell, kBodyCell);
+    Mesh mesh = march(g, field);
+    collapse_short_edges(mesh, [](const Vec3f&) { return 0.7f; }, 2);
+    relax(mesh, field, 2);
+    return mesh;
+}
 
 Mesh builtin_head_mesh() {
     Mesh mesh = polygonize();
     // Slivers everywhere; on the bust, whose forms are broad, edges up to 0.7 cm.
     collapse_short_edges(
         mesh, [](const Vec3f& p) { return 0.2f + 0.5f * smoothstep(-10.f, -14.f, p.y()); }, 2);
-    relax(mesh, 2);
+    relax(mesh, head_field, 2);
 
     // Groups: the scalp is above the hairline and off the ears.
     mesh.group_names = {"scalp", "body"};

@@ -1,8 +1,10 @@
 #pragma once
-// The built-in procedural head and bust: a smooth mannequin, 22.8 cm from chin to crown, with
-// ears, eyes in their sockets, nose, lips, jaw and chin, a forward-leaning neck, trapezius,
-// shoulders cut off flat like a display bust's, chest and back; in centimetres, Y up, facing
-// +Z, so that no file is needed for the default run.
+// The built-in procedural figure: a smooth mannequin of an adult's head and upper body, 22.8 cm
+// from chin to crown, with ears, eyes in their sockets, nose, lips, jaw and chin, a
+// forward-leaning neck, trapezius, shoulders, chest, back, the waist and arms hanging beside
+// it, cut flat through the top of the hips like a display mannequin; in centimetres, Y up,
+// facing +Z, so that no file is needed for the default run. Long hair rests on its shoulders,
+// chest and back.
 #include "geometry/mesh.hpp"
 
 namespace wisp {
@@ -28,8 +30,15 @@ namespace wisp {
 //   eyes, 6.3 cm apart           centres (±3.15, 1.3, 6.65), fronts at z ≈ 7.8
 //   nose tip                     (0, -1.45, 11.45) mouth line           y ≈ -4.95, z ≈ 9.4
 //   ears, 6.1 cm tall            y = -2.5 … 3.5, out to |x| = 9.0, z ≈ -3.3 … 0
-//   neck, 11.2 cm wide           y ≈ -10 … -17     shoulders, 39 cm wide y ≈ -19 … -28
-//   flat bottom of the chest     y = -38
+//   neck, 11.2 cm wide           y ≈ -10 … -17     shoulders, 41 cm wide y ≈ -19 … -28
+//   chest (nipple line)          y ≈ -33           waist, 25 cm wide      y ≈ -52
+//   elbows                       y ≈ -51, |x| ≈ 18 flat bottom (top of the hips) y = -62
 Mesh builtin_head_mesh();
+
+// The same figure's torso and arms below a neck column that rises from inside the shoulders
+// to a flat top at y = neck_top (clamped to −16 … −6 cm) of radius neck_radius (2 … 8 cm),
+// without head or face: a closed, oriented mesh in the built-in head's space. The body proxy
+// fitted under a head-only mesh is this torso moved, turned and scaled (body_proxy.hpp).
+Mesh builtin_torso_mesh(float neck_top, float neck_radius);
 
 }  // namespace wisp

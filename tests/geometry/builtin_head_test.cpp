@@ -167,15 +167,57 @@ TEST(BuiltinHead, HumanProportionsFacingPlusZ) {
     EXPECT_LT(l.nose.y(), 0.f);
     EXPECT_GT(l.nose.z() - l.glabella_z, 1.8f);
     EXPECT_LT(l.nose.z() - l.glabella_z, 3.2f);
-    // Neck about 11-12 cm wide under the jaw; shoulders about 40 cm.
+    // Neck about 11-12 cm wide under the jaw; shoulders about 41 cm.
     EXPECT_NEAR(extent_in_slab(m, 1, -12.f, -11.f, 0), 11.5f, 1.f);
-    EXPECT_NEAR(m.bounds().size().x(), 40.f, 2.f);
+    EXPECT_NEAR(extent_in_slab(m, 1, -25.f, -23.f, 0), 41.f, 2.f);
     // A bust, not a column: the chest juts in front of the neck, the shoulders spread wide of it.
     EXPECT_GT(extent_in_slab(m, 1, -28.f, -27.f, 2), extent_in_slab(m, 1, -12.f, -11.f, 2) + 6.f);
     EXPECT_GT(extent_in_slab(m, 1, -22.f, -21.f, 0), 2.5f * extent_in_slab(m, 1, -12.f, -11.f, 0));
     // Symmetric in x.
     const Box3 b = m.bounds();
     EXPECT_NEAR(b.lo.x(), -b.hi.x(), 0.05f);
+}
+
+// The largest |x| of the vertices in the slab lo <= y <= hi with |x| < x_max (the torso
+// without the arms, which hang further out).
+float half_width(const Mesh& m, float lo, float hi, float x_max) {
+    float w = 0.f;
+    for (const Vec3f& p : m.vertices)
+        if (p.y() >= lo && p.y() <= hi && std::abs(p.x()) < x_max) w = std::max(w, std::abs(p.x()));
+    return w;
+}
+
+// An upper body to the waist, as hair of any length needs to rest on: shoulders, chest, back,
+// a waist narrower than the chest, and arms hanging free beside it down to the cut through the
+// top of the hips, 3 heads below the crown (a figure 8 heads tall).
+TEST(BuiltinHead, UpperBodyToTheWaistWithArms) {
+    const Mesh& m = head();
+    const Box3 b = m.bounds();
+    const float head_height = 22.8f;
+    EXPECT_NEAR(b.lo.y(), b.hi.y() - 3.3f * head_height, 1.5f);
+    // The flat cut at the bottom: a horizontal face there, facing down.
+    size_t bottom_faces = 0;
+    for (size_t f = 0; f < m.faces.size(); ++f)
+        if (centroid(m, f).y() < b.lo.y() + 0.2f && m.face_normal(f).y() < -0.95f) ++bottom_faces;
+    EXPECT_GT(bottom_faces, 50u);
+    // The waist narrower than the chest and the hips.
+    const float chest = half_width(m, -34.f, -32.f, 15.f);
+    const float waist = half_width(m, -53.f, -51.f, 14.5f);
+    EXPECT_GT(chest, 12.5f);
+    EXPECT_LT(waist, chest - 0.8f);
+    // A gap between the arm and the waist, seen from the front: nothing at |x| 13.5-14.3 cm
+    // around the elbows, but arm beyond it.
+    size_t in_gap = 0, arm = 0;
+    for (const Vec3f& p : m.vertices) {
+        if (p.y() < -52.f || p.y() > -48.f) continue;
+        in_gap += std::abs(p.x()) > 13.5f && std::abs(p.x()) < 14.3f;
+        arm += std::abs(p.x()) > 18.f;
+    }
+    EXPECT_EQ(in_gap, 0u);
+    EXPECT_GT(arm, 20u);
+    // The chest and the back stand in front of and behind the neck, so hair parts over the
+    // shoulders into front and back sections.
+    EXPECT_GT(extent_in_slab(m, 1, -34.f, -32.f, 2), 19.f);
 }
 
 TEST(BuiltinHead, EarsStandOutBetweenTheBrowAndTheNose) {
