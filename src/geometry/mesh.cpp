@@ -365,4 +365,52 @@ void close_holes(const Mesh& mesh, Mesh* closed, Mesh* caps) {
     }
 }
 
+void append_mesh(Mesh& mesh, const Mesh& piece, const std::string& group) {
+    const int32_t first_vertex = static_cast<int32_t>(mesh.vertices.size());
+    const size_t first_face = mesh.faces.size();
+    mesh.vertices.insert(mesh.vertices.end(), piece.vertices.begin(), piece.vertices.end());
+    for (const Vec3i& f : piece.faces)
+        mesh.faces.push_back(f + Vec3i::Constant(first_vertex));
+    const size_t faces = mesh.faces.size();
+
+    // Names by index into `names`, adding those not there yet.
+    const auto name_index = [](std::vector<std::string>& names, const std::string& name) {
+        const auto it = std::find(names.begin(), names.end(), name);
+        if (it != names.end()) return static_cast<int32_t>(it - names.begin());
+        names.push_back(name);
+        return static_cast<int32_t>(names.size() - 1);
+    };
+    const auto labels = [&](std::vector<int32_t>& into, std::vector<std::string>& names,
+                            const std::vector<int32_t>& from,
+                            const std::vector<std::string>& from_names, const std::string& dflt) {
+        if (into.empty() && from.empty() && dflt.empty()) return;
+        into.resize(first_face, -1);
+        const int32_t fallback = dflt.empty() ? -1 : name_index(names, dflt);
+        for (size_t f = 0; f < piece.faces.size(); ++f) {
+            const int32_t g = from.empty() ? -1 : from[f];
+            into.push_back(g >= 0 ? name_index(names, from_names[g]) : fallback);
+        }
+    };
+    labels(mesh.face_group, mesh.group_names, piece.face_group, piece.group_names, group);
+    labels(mesh.face_material, mesh.material_names, piece.face_material, piece.material_names,
+           {});
+
+    if (!mesh.face_uvs.empty() || !piece.face_uvs.empty()) {
+        if (mesh.face_uvs.size() < first_face || mesh.uvs.empty()) {
+            // The mesh had none: one UV (0, 0) for its faces so far.
+            mesh.face_uvs.assign(first_face, Vec3i::Constant(static_cast<int32_t>(mesh.uvs.size())));
+            mesh.uvs.emplace_back(0.f, 0.f);
+        }
+        const int32_t first_uv = static_cast<int32_t>(mesh.uvs.size());
+        if (piece.face_uvs.empty()) {
+            mesh.uvs.emplace_back(0.f, 0.f);
+            mesh.face_uvs.resize(faces, Vec3i::Constant(first_uv));
+        } else {
+            mesh.uvs.insert(mesh.uvs.end(), piece.uvs.begin(), piece.uvs.end());
+            for (const Vec3i& f : piece.face_uvs)
+                mesh.face_uvs.push_back(f + Vec3i::Constant(first_uv));
+        }
+    }
+}
+
 }  // namespace wisp

@@ -35,6 +35,11 @@ inline constexpr uint64_t kMaxObjMeshBytes = uint64_t(1) << 30;
 // Writes an OBJ atomically with `g NAME` blocks per face group and `vt` when present.
 void write_obj_mesh(const std::filesystem::path& path, const Mesh& mesh);
 
+// Appends `piece` to `mesh`: its vertices, its faces (renumbered), its groups by name (faces
+// without a group get `group` when it is not empty) and its UVs, so a mesh with UVs keeps one
+// per corner (a piece without UVs gets the UV (0, 0)); materials likewise.
+void append_mesh(Mesh& mesh, const Mesh& piece, const std::string& group = {});
+
 // Per-vertex lists in CSR form: vertex v's entries are items[first[v]] … items[first[v+1]−1].
 struct VertexLists {
     std::vector<uint32_t> first;  // #vertices + 1

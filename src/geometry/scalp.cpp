@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <type_traits>
 
 #include "core/error.hpp"
 #include "core/image.hpp"
@@ -212,17 +213,38 @@ float ray_triangle(const Vec3f& o, const Vec3f& d, const Vec3f& a, const Vec3f& 
 
 }  // namespace
 
-Scalp::Scalp(const Mesh& mesh, const ScalpSpec& spec, const std::string& source) : mesh_(&mesh) {
+Scalp::Scalp(const Mesh& mesh, const ScalpSpec& spec, const std::string& source,
+             size_t head_faces)
+    : mesh_(&mesh) {
     if (mesh.faces.empty()) fail(source, ": the mesh has no faces, so no scalp");
+    // A body appended after the head (Head::first_body_face) never grows hair: the selection
+    // sees the head's faces alone, whose indices are the whole mesh's.
+    Mesh head_part;
+    const Mesh* select_from = &mesh;
+    if (head_faces < mesh.faces.size()) {
+        const auto first = [&](const auto& v) {
+            using V = std::decay_t<decltype(v)>;
+            return v.size() > head_faces ? V(v.begin(), v.begin() + head_faces) : v;
+        };
+        head_part.vertices = mesh.vertices;
+        head_part.faces = first(mesh.faces);
+        head_part.uvs = mesh.uvs;
+        head_part.face_uvs = first(mesh.face_uvs);
+        head_part.face_group = first(mesh.face_group);
+        head_part.group_names = mesh.group_names;
+        head_part.face_material = first(mesh.face_material);
+        head_part.material_names = mesh.material_names;
+        select_from = &head_part;
+    }
     switch (spec.kind) {
         case ScalpSpec::Kind::kGroup:
-            faces_ = select_by_group(mesh, spec, source);
+            faces_ = select_by_group(*select_from, spec, source);
             break;
         case ScalpSpec::Kind::kMask:
-            faces_ = select_by_mask(mesh, spec, source);
+            faces_ = select_by_mask(*select_from, spec, source);
             break;
         case ScalpSpec::Kind::kHairline:
-            faces_ = select_by_hairline(mesh, spec);
+            faces_ = select_by_hairline(*select_from, spec);
             break;
     }
     // Degenerate faces can never be sampled; dropping them keeps the CDF strictly increasing.

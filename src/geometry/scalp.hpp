@@ -12,6 +12,8 @@
 // the character's left (+X) toward u = 0 (the left of an image). A user's map PNG is thus the
 // top view of the head seen from above with the face up: what a hairdresser standing behind
 // the chair sees. Points beyond θmax clamp to the rim.
+#include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -55,7 +57,10 @@ class Scalp {
     //             centroid lies within the cranium's horizontal extent (measured 0.5-8 cm below
     //             the top, grown 8%) and whose normal faces away from the head and not down,
     //             connected to the topmost one. Depth blends front → side → back smoothly.
-    Scalp(const Mesh& mesh, const ScalpSpec& spec, const std::string& source);
+    // Only the first head_faces faces may be scalp (a body appended after the head never
+    // grows hair; the hairline's "largest piece" is the head's).
+    Scalp(const Mesh& mesh, const ScalpSpec& spec, const std::string& source,
+          size_t head_faces = SIZE_MAX);
 
     const Mesh& mesh() const { return *mesh_; }
     const std::vector<uint32_t>& faces() const { return faces_; }  // sorted, face indices

@@ -906,6 +906,9 @@ void Parser::section_pre(const std::string& section, const Given& given, Style& 
             }
         }
         if (kind) style.head.scalp.kind = *kind;
+    } else if (section == "body") {
+        // A body mesh given alone says which method it is for.
+        if (given("obj") && !given("method")) style.head.body.kind = BodySpec::Kind::kObj;
     } else if (section == "prototype") {
         const toml::node* points = given("points");
         if (const toml::node* shape = given("shape")) {
@@ -936,6 +939,9 @@ void Parser::section_post(const std::string& section, const Given& given, const 
     if (section == "head.scalp") {
         if (style.head.scalp.kind == ScalpSpec::Kind::kMask && style.head.scalp.mask.empty())
             error(where, "head.scalp.mask", "required by method = \"mask\"");
+    } else if (section == "body") {
+        if (style.head.body.kind == BodySpec::Kind::kObj && style.head.body.obj.empty())
+            error(where, "body.obj", "required by method = \"obj\"");
     } else if (section == "roots") {
         if (style.wisps > style.strands) {
             if (given("wisps"))

@@ -12,34 +12,17 @@ namespace wisp {
 namespace {
 // The grid covers the mesh's bounding box grown by this many cells on every side.
 constexpr float kPadCells = 3.f;
-}  // namespace
 
-double HeadField::node_count(const Box3& mesh_bounds, float cell) {
-    return grid_nodes(mesh_bounds.size() + Vec3f::Constant(2.f * kPadCells * cell), cell);
-}
-
-HeadField::HeadField(const Mesh& open_mesh, float cell) {
-    // A head cut open at the neck or chest (most head meshes) encloses its inside only once
-    // closed: otherwise the inside far from the skin is one region with the outside, through
-    // the cut, and takes its sign, so hair that crossed the skin's band could pass through
-    // the head.
-    Mesh mesh;
-    close_holes(open_mesh, &mesh);
-    const Box3 b = mesh.bounds();
-    const Vec3f pad = Vec3f::Constant(kPadCells * cell);
-    const Vec3f lo = b.lo - pad;
-    const Vec3f size = b.size() + 2.f * pad;
-    Vec3i dims;
-    for (int a = 0; a < 3; ++a)
-        dims[a] = std::max(2, static_cast<int>(std::ceil(size[a] / cell)) + 1);
-    grid_ = Grid3<float>(lo, cell, dims, 0.f);
-    box_.lo = lo;
-    box_.hi = lo + cell * Vec3f(dims.x() - 1, dims.y() - 1, dims.z() - 1);
-
+// The signed distance of the closed `mesh` at every node of `grid`: exact within 1.5 cells of
+// the skin, beyond it the sign of the region and the distance walked from the band.
+void signed_distance_on_grid(const Mesh& mesh, Grid3<float>& grid) {
+    const Vec3i dims = grid.dims();
+    const Vec3f lo = grid.origin();
+    const float cell = grid.cell();
     const MeshDistance distance(mesh);
     const float band = 1.5f * cell;
-    const size_t n = grid_.size();
-    std::vector<float>& d = grid_.data();
+    const size_t n = grid.size();
+    std::vector<float>& d = grid.data();
     // 1. Unsigned distance capped at the band; exact sign inside the band. Blocks of 4³
     // nodes whose centre is further than the band plus the block's half-diagonal are far as
     // a whole, which spares most queries.
@@ -62,7 +45,7 @@ HeadField::HeadField(const Mesh& open_mesh, float cell) {
             for (int z = bz * kBlock; z < std::min((bz + 1) * kBlock, dims.z()); ++z)
                 for (int y = by * kBlock; y < std::min((by + 1) * kBlock, dims.y()); ++y)
                     for (int x = bx * kBlock; x < std::min((bx + 1) * kBlock, dims.x()); ++x) {
-                        const Vec3f p = grid_.node(x, y, z);
+                        const Vec3f p = grid.node(x, y, z);
                         if (distance.unsigned_distance(p, band) >= band) continue;
                         uint32_t face = 0;
                         const Vec3f c = distance.closest_point(p, &face);
@@ -72,7 +55,7 @@ HeadField::HeadField(const Mesh& open_mesh, float cell) {
                         // closest face; near edges and vertices the winding number does.
                         const float facing = u > 0.f ? v.dot(mesh.face_normal(face)) / u : 0.f;
                         const bool in = std::abs(facing) > 0.5f ? facing < 0.f : distance.inside(p);
-                        d[grid_.index(x, y, z)] = in ? -u : u;
+                        d[grid.index(x, y, z)] = in ? -u : u;
                     }
         },
         4);
@@ -91,19 +74,19 @@ HeadField::HeadField(const Mesh& open_mesh, float cell) {
     auto for_neighbours = [&](size_t i, auto&& f) {
         int x, y, z;
         decode(i, x, y, z);
-        if (x > 0) f(grid_.index(x - 1, y, z));
-        if (x + 1 < dims.x()) f(grid_.index(x + 1, y, z));
-        if (y > 0) f(grid_.index(x, y - 1, z));
-        if (y + 1 < dims.y()) f(grid_.index(x, y + 1, z));
-        if (z > 0) f(grid_.index(x, y, z - 1));
-        if (z + 1 < dims.z()) f(grid_.index(x, y, z + 1));
+        if (x > 0) f(grid.index(x - 1, y, z));
+        if (x + 1 < dims.x()) f(grid.index(x + 1, y, z));
+        if (y > 0) f(grid.index(x, y - 1, z));
+        if (y + 1 < dims.y()) f(grid.index(x, y + 1, z));
+        if (z > 0) f(grid.index(x, y, z - 1));
+        if (z + 1 < dims.z()) f(grid.index(x, y, z + 1));
     };
     for (size_t seed = 0; seed < n; ++seed) {
         if (!std::isnan(d[seed]) || region[seed] >= 0) continue;
         int x0, y0, z0;
         decode(seed, x0, y0, z0);
         const int id = static_cast<int32_t>(sign_of.size());
-        sign_of.push_back(distance.inside(grid_.node(x0, y0, z0)) ? -1.f : 1.f);
+        sign_of.push_back(distance.inside(grid.node(x0, y0, z0)) ? -1.f : 1.f);
         region[seed] = id;
         std::vector<size_t> stack{seed};
         while (!stack.empty()) {
@@ -136,6 +119,54 @@ HeadField::HeadField(const Mesh& open_mesh, float cell) {
                 }
             });
         frontier.swap(next);
+    }
+}
+
+}  // namespace
+
+double HeadField::node_count(const Box3& mesh_bounds, float cell) {
+    return grid_nodes(mesh_bounds.size() + Vec3f::Constant(2.f * kPadCells * cell), cell);
+}
+
+HeadField::HeadField(const Mesh& open_mesh, float cell, size_t first_body_face) {
+    // A head cut open at the neck or chest (most head meshes) encloses its inside only once
+    // closed: otherwise the inside far from the skin is one region with the outside, through
+    // the cut, and takes its sign, so hair that crossed the skin's band could pass through
+    // the head.
+    const bool two = first_body_face < open_mesh.faces.size();
+    Mesh head, body;
+    if (two) {
+        // The head and the body overlap at the neck: each is closed and measured on its own,
+        // and the field is their union (the smaller distance), which a single mesh's faces
+        // inside the other would break (a node just outside the head's neck, deep in the body,
+        // would be "outside").
+        Mesh part;
+        part.vertices = open_mesh.vertices;
+        part.faces.assign(open_mesh.faces.begin(), open_mesh.faces.begin() + first_body_face);
+        close_holes(part, &head);
+        part.faces.assign(open_mesh.faces.begin() + first_body_face, open_mesh.faces.end());
+        close_holes(part, &body);
+    } else {
+        close_holes(open_mesh, &head);
+    }
+    const Box3 b = open_mesh.bounds();
+    const Vec3f pad = Vec3f::Constant(kPadCells * cell);
+    const Vec3f lo = b.lo - pad;
+    const Vec3f size = b.size() + 2.f * pad;
+    Vec3i dims;
+    for (int a = 0; a < 3; ++a)
+        dims[a] = std::max(2, static_cast<int>(std::ceil(size[a] / cell)) + 1);
+    grid_ = Grid3<float>(lo, cell, dims, 0.f);
+    box_.lo = lo;
+    box_.hi = lo + cell * Vec3f(dims.x() - 1, dims.y() - 1, dims.z() - 1);
+    signed_distance_on_grid(head, grid_);
+    if (two) {
+        Grid3<float> other(lo, cell, dims, 0.f);
+        signed_distance_on_grid(body, other);
+        std::vector<float>& d = grid_.data();
+        const std::vector<float>& e = other.data();
+        for (size_t i = 0; i < d.size(); ++i)
+            d[i] = std::min(d[i], e[i]);
     }
     // 3. The smallest distance at each cell's nodes, for beyond().
     const Vec3i cells = dims - Vec3i::Ones();

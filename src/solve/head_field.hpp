@@ -4,6 +4,7 @@
 // its gradient, and which keeps every hair point out of the head.
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "core/grid.hpp"
@@ -19,8 +20,11 @@ class HeadField {
     // (MeshDistance); further in or out only their sign matters, found by flood-filling the
     // far nodes and classifying each connected region once by its winding number. An open
     // mesh (a head cut at the neck or chest) is first closed by a fan over each hole
-    // (close_holes), so that its inside is inside everywhere.
-    HeadField(const Mesh& mesh, float cell);
+    // (close_holes), so that its inside is inside everywhere. With first_body_face below the
+    // face count, the faces from it on are a second piece (a body under the head, Head::body)
+    // that may overlap the first: each is closed and measured alone and the field is their
+    // union.
+    HeadField(const Mesh& mesh, float cell, size_t first_body_face = SIZE_MAX);
     // The node count of the grid the constructor builds for a mesh with these bounds (cm), to
     // check against kMaxGridNodes before building it.
     static double node_count(const Box3& mesh_bounds, float cell);

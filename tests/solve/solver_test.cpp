@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <bit>
 #include <cmath>
@@ -12,6 +13,7 @@
 
 #include "core/parallel.hpp"
 #include "core/rng.hpp"
+#include "geometry/builtin_head.hpp"
 #include "geometry/mesh_distance.hpp"
 #include "groom/generate.hpp"
 #include "solve/pipeline.hpp"
@@ -528,19 +530,46 @@ TEST(Constraint, ForcesFollowSectionFour) {
 // from its skin, its inside must still be inside, not one region with the outside through
 // the cut, or hair could pass through the head.
 TEST(HeadField, InsideOfAnOpenMeshIsInside) {
-    // The built-in bust with its flat bottom (y = -38) cut away.
+    // The built-in figure with its flat bottom (y = -62) cut away.
     const Mesh& whole = *builtin().mesh;
+    const float bottom = whole.bounds().lo.y();
     Mesh bust;
     bust.vertices = whole.vertices;
     for (size_t f = 0; f < whole.faces.size(); ++f)
-        if (whole.face_normal(f).y() > -0.9f || whole.vertices[whole.faces[f][0]].y() > -37.f)
+        if (whole.face_normal(f).y() > -0.9f ||
+            whole.vertices[whole.faces[f][0]].y() > bottom + 1.f)
             bust.faces.push_back(whole.faces[f]);
     ASSERT_LT(bust.faces.size(), whole.faces.size());
     const HeadField field(bust, 0.75f);
     EXPECT_LT(field.sdf(Vec3f(0, -28, 0)), -3.f);  // the chest, far from the skin
+    EXPECT_LT(field.sdf(Vec3f(0, -55, 0)), -3.f);  // the waist, just above the cut
     EXPECT_LT(field.sdf(Vec3f(0, 2, 0)), -3.f);    // the head
-    EXPECT_GT(field.sdf(Vec3f(0, -42, 0)), 1.f);   // below the cut
-    EXPECT_GT(field.sdf(Vec3f(30, 0, 0)), 3.f);    // beside the head
+    EXPECT_GT(field.sdf(Vec3f(0, bottom - 1.5f, 0)), 1.f);  // below the cut
+    EXPECT_GT(field.sdf(Vec3f(30, 0, 0)), 3.f);             // beside the head
+}
+
+// A body under a head (a proxy fitted under a head that ends at the neck) overlaps the head's
+// neck: the field is their union, so a point outside the head's neck but inside the body's
+// is inside, though the nearest skin is the head's, facing out.
+TEST(HeadField, AHeadAndABodyAreTheirUnion) {
+    const Mesh& whole = *builtin().mesh;
+    Mesh figure;
+    figure.vertices = whole.vertices;
+    for (size_t f = 0; f < whole.faces.size(); ++f) {
+        const Vec3i& t = whole.faces[f];
+        if (std::min({whole.vertices[t[0]].y(), whole.vertices[t[1]].y(),
+                      whole.vertices[t[2]].y()}) > -16.f)
+            figure.faces.push_back(t);
+    }
+    const size_t head_faces = figure.faces.size();
+    append_mesh(figure, builtin_torso_mesh(-12.f, 7.f));  // its neck column wider than the neck
+    const HeadField two(figure, 0.5f, head_faces), one(figure, 0.5f);
+    const Vec3f beside_neck(6.2f, -13.f, -1.9f);  // ~0.9 cm out of the neck, in the column
+    EXPECT_LT(two.sdf(beside_neck), -0.2f);
+    EXPECT_GT(one.sdf(beside_neck), 0.f);  // what a single piece's field would say
+    EXPECT_LT(two.sdf(Vec3f(0, -30, 0)), -3.f);  // the chest
+    EXPECT_LT(two.sdf(Vec3f(0, 3, 0)), -3.f);    // the head
+    EXPECT_GT(two.sdf(Vec3f(0, -14, 12)), 3.f);  // under the chin, in front of the neck
 }
 
 TEST(HeadField, BeyondNeverClaimsAPointCloserThanItsDistance) {
