@@ -1,5 +1,6 @@
 #include "app/cli.hpp"
 #include "app/dataset_command.hpp"
+#include "app/head_args.hpp"
 #include "app/edit_command.hpp"
 
 #include <unistd.h>
@@ -194,6 +195,7 @@ struct GenerateArgs {
     std::string up = "y";  // .usda up axis: "y" (head space) or "z"
     ExportArgs exports;
     bool guides = false, with_head = false;
+    HeadArgs head;
     bool quiet = false;
     std::string png;
     std::string views;
@@ -348,6 +350,7 @@ nlohmann::json coverage_stats(const Hair& hair, const Head& head, const Style& s
 int run_generate(const GenerateArgs& args) {
     Stopwatch total;
     Style style = resolve_style(args.style_path, args.preset);
+    args.head.apply(style);
     if (!args.seed.empty()) style.seed = parse_seed(args.seed);
     if (args.strands > 0) style.strands = args.strands;
     if (args.wisps > 0) style.wisps = args.wisps;
@@ -422,6 +425,7 @@ int run_generate(const GenerateArgs& args) {
         j["seed"] = style.seed;
         j["style"] = style.name;
         j["head"] = head.source;
+        j["body"] = head.body;
         j["scalp_area_cm2"] = head.scalp->area();
         j["points_per_strand"] = style.points_per_strand;
         j["threads"] =
@@ -455,9 +459,9 @@ struct AnimateArgs {
     std::vector<std::string> outputs;
     std::string png, mp4, view = "three-quarter",
                           size = cat(kAnimationPictureSide, "x", kAnimationPictureSide);
-    std::string stats, seed, head, links;
+    std::string stats, seed, links;
+    HeadArgs head;
     std::vector<std::string> ties;
-    float head_scale = 1.f;
     int threads = 0, strands = 0, levels = 0, sub_wisps = 0, wisps_per_group = 0, sections = 0;
     bool single_level = false, quiet = false;
     std::string usda = "clips";  // .usda layout: clips (a layer per frame) or single
@@ -542,10 +546,7 @@ int run_animate(const AnimateArgs& args) {
         spec.links = args.links == "rigid"  ? DynamicsSpec::Links::kRigid
                      : args.links == "soft" ? DynamicsSpec::Links::kSoft
                                             : DynamicsSpec::Links::kAuto;
-    if (!from_style && !args.head.empty()) {
-        style.head.obj = args.head;
-        style.head.scale = args.head_scale;
-    }
+    args.head.apply(style);
 
     Stopwatch watch;
     const Head head = load_head(style.head);
@@ -705,6 +706,7 @@ int run_cli(int argc, char** argv) {
                              "three-quarter, top); several make a contact sheet");
     generate_cmd->add_option("--size", gen.size, "Image size WxH for --png")->capture_default_str();
     gen.look.add_to(generate_cmd);
+    gen.head.add_to(generate_cmd);
     generate_cmd->add_option("--seed", gen.seed,
                              "Random seed (overrides the style's), or 'random'");
     generate_cmd->add_option("--threads", gen.threads, "Worker threads (0 = all cores)")
@@ -846,8 +848,7 @@ int run_cli(int argc, char** argv) {
         "Hold the strands passing within radius (cm, default 2) of the point x,y,z (the rest "
         "hair's coordinates, cm) rigidly to the head from the root to there, like a ponytail's "
         "tie: x,y,z[,radius]; repeatable");
-    animate_cmd->add_option("--head", anim.head, "Head OBJ for a hair file (default: built-in)");
-    animate_cmd->add_option("--head-scale", anim.head_scale, "Scale of --head to centimetres");
+    anim.head.add_to(animate_cmd);
     animate_cmd->add_option("--seed", anim.seed, "Random seed of the style, or 'random'");
     animate_cmd->add_option("--threads", anim.threads, "Worker threads (0 = all cores)")
         ->check(CLI::Range(0, 1024));

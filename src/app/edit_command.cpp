@@ -57,7 +57,7 @@ void add_edit_commands(CLI::App& app, EditCommands& args) {
     args.edit->add_option("style", args.style, "Style file (TOML) to start from")
         ->check(CLI::ExistingFile);
     args.edit->add_option("--preset", args.preset, "A shipped preset to start from");
-    args.edit->add_option("--head", args.head, "A head mesh (OBJ) instead of the style's");
+    args.head.add_to(args.edit);
     args.edit
         ->add_option("--host", args.host,
                      "Address to listen on; anything but 127.0.0.1 lets other machines "
@@ -88,7 +88,7 @@ std::optional<int> run_edit_commands(const EditCommands& args) {
     } else {
         style = load_preset(args.preset.empty() ? "default" : args.preset);
     }
-    if (!args.head.empty()) style.head.obj = std::filesystem::absolute(args.head);
+    args.head.apply(style);
     if (args.host != "127.0.0.1" && args.host != "localhost")
         std::cerr << "wisp: warning: listening on " << excerpt(args.host)
                   << ": other machines may reach the editor (the token still guards it)\n";

@@ -6,12 +6,15 @@
 
 #include <CLI/CLI.hpp>
 
+#include "app/head_args.hpp"
+
 namespace wisp {
 
 struct EditCommands {
     CLI::App* edit = nullptr;
     CLI::App* schema = nullptr;
-    std::string style, preset, head, host = "127.0.0.1";
+    std::string style, preset, host = "127.0.0.1";
+    HeadArgs head;  // --head, --head-scale, --scalp
     int port = 0;
     bool open = false;  // --open: the URL in the desktop's browser (xdg-open)
 };

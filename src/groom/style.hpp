@@ -40,10 +40,26 @@ struct ScalarMap {
     std::shared_ptr<const GrayImage> pixels;
 };
 
+// What hair rests on below the head ([body]): the solver's head field, the export with the
+// head and the pictures take it with the head.
+struct BodySpec {
+    enum class Kind {
+        kAuto,   // the built-in figure as it is; a head mesh that stops above the waist (a
+                 // head, a bust) gets a proxy, one that reaches it is taken as it is
+        kProxy,  // a proxy under any head mesh (geometry/body_proxy.hpp)
+        kMesh,   // the head mesh as it is, whatever it ends in
+        kObj,    // a second mesh, `obj`, in the head's space
+    };
+    Kind kind = Kind::kAuto;
+    std::filesystem::path obj;  // kObj: an OBJ body mesh
+    float scale = 1.f;          // kObj: multiplies its coordinates to reach centimetres, > 0
+};
+
 struct HeadSpec {
     std::filesystem::path obj;  // empty: the built-in head
     float scale = 1.f;          // multiplies the OBJ's coordinates to reach centimetres, > 0
     ScalpSpec scalp;
+    BodySpec body;
 };
 
 // The prototype strand (§2.2): a built-in preset or a user polyline, decomposed into
@@ -151,6 +167,7 @@ struct SolveSpec {
     int max_tries = 12;           // bound on the bends per joint, ≥ 0
     bool depth_first = false;     // Algorithm 1 is breadth-first; true compares depth-first
     float head_margin = 0.25f;    // cm: head density ramps from 1 at the surface to 0 here
+    float friction = 0.3f;        // μ: hair on the skin (slide_direction), ≥ 0
     // Φ: gravity, and the scalp's growth direction over the head (which frames the face).
     std::vector<FieldTerm> field{FieldTerm{}, FieldTerm{FieldTerm::Kind::kGrowth, 1.5f}};
 };

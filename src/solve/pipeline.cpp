@@ -202,7 +202,7 @@ HeadField build_head_field(const Style& style, const Head& head) {
              " nodes (the head spans ", span.maxCoeff(), " cm, its cell is ", cell,
              " cm from solve.cell = ", style.solve.cell, "), more than ", kMaxGridNodes,
              "; raise solve.cell or check head.scale");
-    return HeadField(*head.mesh, cell);
+    return HeadField(*head.mesh, cell, head.first_body_face);
 }
 
 GroupSelection select_groups(const Style& style, const Head& head, const Roots& roots) {
@@ -474,6 +474,7 @@ nlohmann::json solve_stats_json(const SolveStats& solve, const SolveSpec& spec) 
                         {"collision_iterations", solve.bends},
                         {"colliding_joints", solve.collisions},
                         {"unresolved_joints", solve.unresolved},
+                        {"contact_joints", solve.contacts},
                         {"projected_joints", solve.projected},
                         {"constrained_joints", solve.constrained}};
     nlohmann::json groups = nlohmann::json::array();

@@ -82,7 +82,8 @@ void deposit(Grid3<float>& g, const Vec3f& p, float amount) {
 // The figures one joint placement adds to SolveStats: integers, so their sums do not depend
 // on the order the joints were placed in.
 struct Counts {
-    size_t joints = 0, bends = 0, collisions = 0, unresolved = 0, projected = 0, constrained = 0;
+    size_t joints = 0, bends = 0, collisions = 0, unresolved = 0, projected = 0, constrained = 0,
+           contacts = 0;
 };
 
 // The grid nodes one joint placement may touch, as inclusive index ranges per axis: every
@@ -200,6 +201,7 @@ class Solver {
             stats_.collisions += c.collisions;
             stats_.unresolved += c.unresolved;
             stats_.projected += c.projected;
+            stats_.contacts += c.contacts;
             stats_.constrained += c.constrained;
         }
         if (in_.update_frames)
@@ -347,6 +349,21 @@ class Solver {
             ++counts.constrained;
         }
         Vec3f q = following ? followed : best_direction(phi, q0, spec_.stiffness);
+        if (!following) {
+            // On the skin, the segment slides along it instead of bending away by eq. (6)'s
+            // steps, which crinkled hair lying on the shoulders into zigzags. A constraint's
+            // pull (a hand gathering hair) is not held back by friction.
+            Vec3f n;
+            const float d_end = in_.head->sdf(x + s * q, &n);
+            const float nn = n.norm();
+            if (d_end < spec_.head_margin && nn > 1e-6f) {
+                const float d_x = in_.head->sdf(x);
+                const float lift = (spec_.head_margin - d_x) / s;
+                q = slide_direction(phi, q0, n / nn, spec_.stiffness, c ? 0.f : spec_.friction,
+                                    lift);
+                ++counts.contacts;
+            }
+        }
         // Decided once per joint, at the joint: nearest_on_path is not cheap.
         // A tie with w = 1 pulls hair in like a hand gathering it: while it acts, and within
         // reach of a trajectory's tube, hair passes through hair.

@@ -27,6 +27,37 @@ inline Vec3f best_direction(const Vec3f& phi, const Vec3f& q0, float kappa) {
     return n > 1e-8f ? Vec3f(v / n) : q0;
 }
 
+// Contact with the skin (hair that lies on the shoulders, the chest, the back or the scalp):
+// the unit direction along the skin, whose outward unit normal is n, that a segment takes
+// instead of eq. (5)'s q* when q* would end inside the skin's margin. Coulomb friction holds the
+// styling force's pull along the skin back by mu times its push into it (hair pressed on a
+// shoulder stays there until the slope pulls harder than it presses); the bending stiffness κ
+// keeps the previous direction q0 with its part into the skin taken out. Turned `lift` (the
+// sine of the angle) out of the tangent plane, so the segment's end clears the margin. Where
+// nothing pulls along the skin and q0 ran straight into it, the styling force's tangential
+// part decides, else any tangent.
+inline Vec3f slide_direction(const Vec3f& phi, const Vec3f& q0, const Vec3f& n, float kappa,
+                             float mu, float lift) {
+    const float into = -phi.dot(n);
+    Vec3f pull = phi + into * n;  // tangential part
+    const float t = pull.norm();
+    const Vec3f free_pull = pull;
+    if (t > 0.f) pull *= std::max(0.f, 1.f - mu * std::max(into, 0.f) / t);
+    Vec3f along = pull + kappa * (q0 - std::min(0.f, q0.dot(n)) * n);
+    along -= along.dot(n) * n;
+    float len = along.norm();
+    if (!(len > 1e-4f)) {
+        along = free_pull;
+        len = t;
+    }
+    if (!(len > 1e-6f)) {
+        along = std::abs(n.x()) < 0.9f ? Vec3f::UnitX().cross(n) : Vec3f::UnitY().cross(n);
+        len = along.norm();
+    }
+    const float up = std::clamp(lift, 0.f, 1.f);
+    return along / len * std::sqrt(1.f - up * up) + up * n;
+}
+
 // A constraint group resolved for the solver.
 struct SolverGroup {
     std::string name;
@@ -40,6 +71,7 @@ struct SolveStats {
     size_t collisions = 0;   // joints that collided at least once
     size_t unresolved = 0;   // joints still colliding after max_tries bends
     size_t projected = 0;    // joints pushed back out of the head after that
+    size_t contacts = 0;     // joints that slid along the skin (slide_direction)
     size_t constrained = 0;  // joints placed under a constraint field
     // Per group (§4): how far through its queue it got. A wisp belongs to the first group
     // that selects it; `met[k]` is the fraction of the group's wisps that met constraint k.
