@@ -1,7 +1,7 @@
 #include "app/cli.hpp"
 #include "app/dataset_command.hpp"
-#include "app/head_args.hpp"
 #include "app/edit_command.hpp"
+#include "app/head_args.hpp"
 
 #include <unistd.h>
 
@@ -332,7 +332,7 @@ void info(bool quiet, const std::string& line) {
 // How much of the face the hair veils and how much scalp it leaves bare from the top, back
 // and sides (solve/coverage.hpp), the part line left out.
 nlohmann::json coverage_stats(const Hair& hair, const Head& head, const Style& style) {
-    const FaceLandmarks face = face_landmarks(*head.mesh, *head.scalp);
+    const FaceLandmarks face = face_landmarks(head);
     const HeadFrame frame = head_frame(*head.scalp);
     nlohmann::json j;
     j["face_covered"] = face_coverage(hair, *head.mesh, face.eye_y, face.chin_y).fraction();
@@ -439,6 +439,10 @@ int run_generate(const GenerateArgs& args) {
         j["coverage"] = coverage_stats(result.hair, head, style);
         j["points_pushed_out_of_head"] = result.points_pushed;
         j["points_inside_head"] = result.points_inside_head;
+        // Hair hanging past the end of the body (into the air below a bust) reads as wrong.
+        const float bottom = head.mesh->bounds().lo.y() - 1.f;
+        j["points_below_body"] = std::count_if(result.hair.points.begin(), result.hair.points.end(),
+                                               [&](const Vec3f& p) { return p.y() < bottom; });
         j["strands_cut"] = result.strands_cut;
         j["strands_removed_by_cut"] = result.strands_removed;
         write_json(args.stats, j);
@@ -883,9 +887,11 @@ int run_cli(int argc, char** argv) {
             const PngArgs png = png_args(render_view, render_size, render_look, "--view");
             check_writable(render_out);
             const Hair hair = read_hair(render_in);
-            const Mesh head =
-                render_head.empty() ? builtin_head_mesh() : read_obj_mesh(render_head, head_scale);
-            render_png(render_out, hair, head, png, render_quiet);
+            HeadSpec spec;
+            spec.obj = render_head;
+            spec.scale = head_scale;
+            const Head head = load_head_mesh(spec);  // with the body it gets in `generate`
+            render_png(render_out, hair, *head.mesh, png, render_quiet);
             info(render_quiet, cat("wisp: wrote ", render_out));
             return 0;
         }

@@ -31,7 +31,8 @@ void HeadArgs::apply(Style& style) const {
         style.head.obj = std::filesystem::absolute(head);
         style.head.scale = scale;
         const ScalpSpec defaults;
-        if (s.kind == defaults.kind && s.group == defaults.group) s.kind = ScalpSpec::Kind::kHairline;
+        if (s.kind == defaults.kind && s.group == defaults.group)
+            s.kind = ScalpSpec::Kind::kHairline;
     }
     if (scalp.empty()) return;
     if (scalp == "hairline") {
@@ -43,11 +44,11 @@ void HeadArgs::apply(Style& style) const {
         s.kind = ScalpSpec::Kind::kMask;
         s.mask = std::filesystem::absolute(scalp.substr(5));
         if (!std::filesystem::is_regular_file(s.mask))
-            throw CLI::ValidationError("--scalp", "mask " + excerpt(s.mask.string()) + " is not a file");
+            throw CLI::ValidationError("--scalp",
+                                       "mask " + excerpt(s.mask.string()) + " is not a file");
     } else {
-        throw CLI::ValidationError("--scalp",
-                                   "expects hairline, group:NAME or mask:PNG, got '" +
-                                       excerpt(scalp) + "'");
+        throw CLI::ValidationError(
+            "--scalp", "expects hairline, group:NAME or mask:PNG, got '" + excerpt(scalp) + "'");
     }
 }
 

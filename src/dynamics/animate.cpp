@@ -20,7 +20,19 @@ HierarchyOptions hierarchy_options(const DynamicsSpec& spec) {
 }
 
 std::vector<Sphere> body_spheres_for(const Mesh& body, const HeadFrame& head, const Hierarchy& h) {
-    std::vector<Sphere> spheres = fit_body_spheres(body, head);
+    // Down to where the hair reaches (long hair lies on the chest and the back), with as many
+    // spheres per head radius of height as the default fit spends above the chest.
+    BodyFitOptions options;
+    float lowest = head.center.y();
+    for (const Vec3f& p : h.rest)
+        lowest = std::min(lowest, p.y());
+    const float reach = (head.center.y() - lowest) / head.radius + 0.5f;
+    if (reach > options.reach) {
+        options.max_spheres = std::min(
+            64, static_cast<int>(std::lround(options.max_spheres * reach / options.reach)));
+        options.reach = reach;
+    }
+    std::vector<Sphere> spheres = fit_body_spheres(body, head, options);
     // The rest pose must be collision-free: every node past the roots and the child half of
     // its segment (what the body test checks, awt.cpp) clear every sphere.
     for (Sphere& sphere : spheres) {

@@ -678,12 +678,21 @@ void AwtSimulation::integrate() {
         // hair at rest. The node keeps the acceleration its sub-nodes carried (try_merge) and
         // measures its own from the next step, which §3.2's third condition (no merge that
         // would split right away) assumes.
+        //
+        // A node the body stopped this step lies on it and moves with it (its velocity is the
+        // obstacle's): it does not deform, and its Δv is the contact's jolt, the free step's
+        // velocity against the obstacle's, step after step while long hair lies on the back
+        // or the shoulders. It counts as no acceleration, so hair resting on the body settles
+        // into the coarse level instead of splitting and merging there many times a second.
         if (merge_step_[c]) {
             merge_step_[c] = 0;
         } else {
-            const Vec3f world = (v_[c] - v_old_[c]) * inv_dt;
-            const Vec3f relative = world - head_acceleration_.at(head_.to_local(x_[c]));
-            const Vec3f& a = relative.squaredNorm() < world.squaredNorm() ? relative : world;
+            Vec3f a = Vec3f::Zero();
+            if (!collided_[c]) {
+                const Vec3f world = (v_[c] - v_old_[c]) * inv_dt;
+                const Vec3f relative = world - head_acceleration_.at(head_.to_local(x_[c]));
+                a = relative.squaredNorm() < world.squaredNorm() ? relative : world;
+            }
             acc_[c] += std::min(1.f, dt / kAccelerationTime) * (a - acc_[c]);
         }
         rotation_[c] = segment_rotation(c, parent_[c], x_[c]);

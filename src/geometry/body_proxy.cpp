@@ -1,6 +1,8 @@
 #include "geometry/body_proxy.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "geometry/builtin_head.hpp"
 
@@ -15,7 +17,7 @@ constexpr float kBuiltinNeckZ = -2.f;
 
 }  // namespace
 
-Mesh fit_body_proxy(const Landmarks& head) {
+Mesh fit_body_proxy(const Landmarks& head, const Mesh* mesh) {
     const float s = head.height / kBuiltinHeight;
     // The neck column goes up into the mesh's neck, 2 head-scaled cm above where the mesh
     // ends, or to the narrowest section if that is higher, never above 1 cm under the chin;
@@ -33,8 +35,38 @@ Mesh fit_body_proxy(const Landmarks& head) {
     const float c = std::cos(yaw), sn = std::sin(yaw);
     const Vec3f a(0.f, kBuiltinChinY, kBuiltinNeckZ);
     const Vec3f t(head.neck.x(), head.chin.y(), head.neck.z());
+    // A bust's own shoulders, where it has them, may be broader or deeper than the built-in
+    // figure's at this head size: the proxy is widened (never narrowed) to hold them, so their
+    // cut edge does not stand out of it. Measured in the face's frame across the shoulders,
+    // a little above where the mesh ends (or 0.45 heights below the chin).
+    Vec3f stretch = Vec3f::Ones();
+    if (mesh) {
+        const float level =
+            std::max(head.chin.y() - 0.45f * head.height, mesh->bounds().lo.y() + 1.5f * s);
+        if (level < head.chin.y() - 0.3f * head.height) {
+            const auto extent = [&](const std::vector<Vec3f>& points, bool builtin) {
+                Vec3f lo = Vec3f::Constant(INFINITY), hi = Vec3f::Constant(-INFINITY);
+                for (const Vec3f& v : points) {
+                    // Across (character's left) and forward in the face's frame: the built-in
+                    // torso faces +Z already, the mesh turns by the yaw.
+                    const Vec3f d = builtin ? Vec3f(s * (v - a)) : Vec3f(v - t);
+                    if (std::abs(d.y() + t.y() - level) > 1.f * s) continue;
+                    const Vec3f f =
+                        builtin ? Vec3f(d.x(), 0.f, d.z())
+                                : Vec3f(c * d.x() - sn * d.z(), 0.f, sn * d.x() + c * d.z());
+                    lo = lo.cwiseMin(f);
+                    hi = hi.cwiseMax(f);
+                }
+                return Vec3f(hi - lo);
+            };
+            const Vec3f theirs = extent(mesh->vertices, false), ours = extent(torso.vertices, true);
+            for (int axis : {0, 2})
+                if (ours[axis] > 0.f && std::isfinite(theirs[axis]))
+                    stretch[axis] = std::clamp(1.02f * theirs[axis] / ours[axis], 1.f, 1.4f);
+        }
+    }
     for (Vec3f& v : torso.vertices) {
-        const Vec3f q = s * (v - a);
+        const Vec3f q = s * (v - a).cwiseProduct(stretch);
         v = t + Vec3f(c * q.x() + sn * q.z(), q.y(), -sn * q.x() + c * q.z());
     }
     torso.group_names = {kBodyProxyGroup};

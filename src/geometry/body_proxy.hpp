@@ -17,7 +17,9 @@ namespace wisp {
 inline constexpr const char* kBodyProxyGroup = "body_proxy";
 
 // The proxy for a head with these landmarks (cm, the head's space): a closed, oriented
-// triangle mesh with every face in group kBodyProxyGroup. Deterministic.
-Mesh fit_body_proxy(const Landmarks& head);
+// triangle mesh with every face in group kBodyProxyGroup. With the head's `mesh`, a bust whose
+// shoulders are broader or deeper than the proxy's gets a proxy widened to hold them (by at
+// most 40%). Deterministic.
+Mesh fit_body_proxy(const Landmarks& head, const Mesh* mesh = nullptr);
 
 }  // namespace wisp

@@ -924,7 +924,8 @@ Mesh builtin_torso_mesh(float neck_top, float neck_radius) {
     Grid g = body_grid();
     g.y = axis(kBodyBottom - 1.5f, neck_top + 2.f * kBodyCell, kBodyCell);
     Mesh mesh = march(g, field);
-    collapse_short_edges(mesh, [](const Vec3f&) { return 0.7f; }, 2);
+    collapse_short_edges(
+        mesh, [](const Vec3f&) { return 0.7f; }, 2);
     relax(mesh, field, 2);
     return mesh;
 }

@@ -392,13 +392,13 @@ void append_mesh(Mesh& mesh, const Mesh& piece, const std::string& group) {
         }
     };
     labels(mesh.face_group, mesh.group_names, piece.face_group, piece.group_names, group);
-    labels(mesh.face_material, mesh.material_names, piece.face_material, piece.material_names,
-           {});
+    labels(mesh.face_material, mesh.material_names, piece.face_material, piece.material_names, {});
 
     if (!mesh.face_uvs.empty() || !piece.face_uvs.empty()) {
         if (mesh.face_uvs.size() < first_face || mesh.uvs.empty()) {
             // The mesh had none: one UV (0, 0) for its faces so far.
-            mesh.face_uvs.assign(first_face, Vec3i::Constant(static_cast<int32_t>(mesh.uvs.size())));
+            mesh.face_uvs.assign(first_face,
+                                 Vec3i::Constant(static_cast<int32_t>(mesh.uvs.size())));
             mesh.uvs.emplace_back(0.f, 0.f);
         }
         const int32_t first_uv = static_cast<int32_t>(mesh.uvs.size());

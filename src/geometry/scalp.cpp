@@ -213,8 +213,7 @@ float ray_triangle(const Vec3f& o, const Vec3f& d, const Vec3f& a, const Vec3f& 
 
 }  // namespace
 
-Scalp::Scalp(const Mesh& mesh, const ScalpSpec& spec, const std::string& source,
-             size_t head_faces)
+Scalp::Scalp(const Mesh& mesh, const ScalpSpec& spec, const std::string& source, size_t head_faces)
     : mesh_(&mesh) {
     if (mesh.faces.empty()) fail(source, ": the mesh has no faces, so no scalp");
     // A body appended after the head (Head::first_body_face) never grows hair: the selection

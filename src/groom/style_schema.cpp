@@ -138,8 +138,7 @@ const std::vector<StyleField>& fields() {
                 "under a head mesh that stops above the waist), proxy (always), mesh (the head "
                 "mesh as it is), obj (body.obj)",
          .get_choice = [](const Style& s) { return static_cast<int>(s.head.body.kind); },
-         .set_choice = [](Style& s,
-                          int i) { s.head.body.kind = static_cast<BodySpec::Kind>(i); }},
+         .set_choice = [](Style& s, int i) { s.head.body.kind = static_cast<BodySpec::Kind>(i); }},
         {.path = "body.obj",
          .type = T::kPath,
          .stage = S::kHead,

@@ -181,7 +181,17 @@ Coverage scalp_coverage(const Hair& hair, const Scalp& scalp, const OrthoView& v
     return c;
 }
 
-FaceLandmarks face_landmarks(const Mesh& head, const Scalp& scalp) {
+FaceLandmarks face_landmarks(const Head& found) {
+    if (found.landmarks) {
+        const Landmarks& m = *found.landmarks;
+        FaceLandmarks l;
+        l.nose_tip = m.nose_tip;
+        l.eye_y = 0.5f * (m.eye_left.y() + m.eye_right.y());
+        l.chin_y = m.chin.y();
+        return l;
+    }
+    const Mesh& head = *found.mesh;
+    const Scalp& scalp = *found.scalp;
     // The nose tip: the most forward vertex near the midline between 8 and 25 cm below the
     // crown (the face of any adult head; the chest of a bust lies lower or further back).
     const float crown = scalp.crown().y();

@@ -14,6 +14,7 @@
 
 #include "core/hair.hpp"
 #include "geometry/scalp.hpp"
+#include "groom/head.hpp"
 
 namespace wisp {
 
@@ -50,13 +51,14 @@ Coverage scalp_coverage(const Hair& hair, const Scalp& scalp, const OrthoView& v
                         const std::function<bool(const Vec3f&)>& exclude = {},
                         float width_scale = 1.f);
 
-// Face landmarks of a head mesh facing +Z: the nose tip (the most forward vertex above the
-// neck), the eye line and the chin, placed from the nose tip and the crown in human
-// proportion (coverage.cpp). Throws wisp::Error if no vertex can be the nose.
+// The face window's landmarks of a head facing +Z: the nose tip, the eye line and the chin,
+// as find_landmarks found them on the head's own mesh (Head::landmarks). Where it found none,
+// they are placed from the most forward vertex near the midline (the nose tip) and the crown in
+// human proportion (coverage.cpp). Throws wisp::Error if no vertex can be the nose.
 struct FaceLandmarks {
     Vec3f nose_tip = Vec3f::Zero();
     float eye_y = 0.f, chin_y = 0.f;  // cm
 };
-FaceLandmarks face_landmarks(const Mesh& head, const Scalp& scalp);
+FaceLandmarks face_landmarks(const Head& head);
 
 }  // namespace wisp

@@ -140,7 +140,39 @@ inline void push_points(std::span<Vec3f> s, const HeadField& head, float clearan
     for (size_t k = std::max<size_t>(k0, 1); k < std::min(k1, s.size()); ++k) {
         if (flags && !flags[std::min<size_t>(k, n - 1)] && !flags[k - 1]) continue;
         bool in = false;
-        if (push_point(s[k], head, clearance, in)) {
+        bool pushed = push_point(s[k], head, clearance, in);
+        // Two points clear of the skin can still have the segment between them cut through a
+        // thin part of the head (an ear's rim, with one point in front of it and the next
+        // behind): the deepest of three samples along it comes out by moving the far point,
+        // 1/t as far for the sample at t.
+        for (int it = 0; it < 6; ++it) {
+            float deepest = 0.f, at = 0.f;
+            Vec3f g = Vec3f::Zero();
+            for (const float t : {0.25f, 0.5f, 0.75f}) {
+                const Vec3f q = s[k - 1] + t * (s[k] - s[k - 1]);
+                if (head.beyond(q, 0.f)) continue;
+                Vec3f gq;
+                const float d = head.sdf(q, &gq);
+                if (d < deepest) deepest = d, at = t, g = gq;
+            }
+            if (!(deepest < 0.f) || !(g.norm() > 1e-6f)) break;
+            s[k] += (clearance - deepest) / at * g.normalized();
+            pushed = true;
+            push_point(s[k], head, clearance, in);
+        }
+        // Caught where the field's gradient leads nowhere (the crease where a bust's cut edge
+        // meets the body under it): the point goes back along its segment toward the previous
+        // one, which is clear, until it is clear too.
+        if (in && head.sdf(s[k - 1]) >= 0.f)
+            for (const float t : {0.75f, 0.5f, 0.25f, 0.f}) {
+                const Vec3f q = s[k - 1] + t * (s[k] - s[k - 1]);
+                if (head.sdf(q) >= 0.f) {
+                    s[k] = q;
+                    in = false;
+                    break;
+                }
+            }
+        if (pushed) {
             ++moved;
             inside += in;
         }

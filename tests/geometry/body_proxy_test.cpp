@@ -159,7 +159,8 @@ TEST(BodyProxy, FollowsTheHeadTurnedScaledAndMoved) {
     const Vec3f shift(3.f, -40.f, 7.f);
     const auto move = [&](const Vec3f& p) -> Vec3f {
         const float c = std::cos(angle), s = std::sin(angle);
-        return Vec3f(scale * (c * p.x() + s * p.z()), scale * p.y(), scale * (-s * p.x() + c * p.z())) +
+        return Vec3f(scale * (c * p.x() + s * p.z()), scale * p.y(),
+                     scale * (-s * p.x() + c * p.z())) +
                shift;
     };
     Mesh moved = head;

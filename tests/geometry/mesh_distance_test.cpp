@@ -106,8 +106,7 @@ TEST(MeshDistance, ClosestPointMatchesBruteForce) {
 TEST(MeshDistance, BuiltinHeadInsideOutside) {
     const MeshDistance d(head());
     for (const Vec3f& p : {Vec3f(0, 2, -1), Vec3f(0, -12, -1), Vec3f(0, -30, 0), Vec3f(12, -25, -1),
-                           Vec3f(0, -45, 0), Vec3f(18.4f, -45, -2),
-                           Vec3f(0, -2.5f, 10.f)})
+                           Vec3f(0, -45, 0), Vec3f(18.4f, -45, -2), Vec3f(0, -2.5f, 10.f)})
         EXPECT_TRUE(d.inside(p)) << p.transpose();
     for (const Vec3f& p : {Vec3f(0, 20, 0), Vec3f(30, 0, 0), Vec3f(12, -5, 0), Vec3f(0, -8, 12),
                            Vec3f(0, -70, 0), Vec3f(0, 0, -15), Vec3f(14, -50, -1)})

@@ -29,6 +29,8 @@ struct Measured {
     float face = 0.f;
     float bare[4] = {};  // top, back, left, right
     size_t inside = 0, non_finite = 0;
+    size_t below_body = 0;     // points more than 1 cm below the lowest point of the body
+    size_t ear_piercings = 0;  // segments near an ear that pass through it
     std::vector<SolveStats::Group> groups;
 };
 
@@ -52,9 +54,31 @@ Measured measure(const std::string& preset, const Head& head) {
     const HairstyleResult r = generate_hairstyle(style, head);
     Measured m;
     m.inside = r.points_inside_head;
-    for (const Vec3f& p : r.hair.points)
+    const float bottom = head.mesh->bounds().lo.y() - 1.f;
+    for (const Vec3f& p : r.hair.points) {
         m.non_finite += !p.allFinite();
-    const FaceLandmarks face = face_landmarks(*head.mesh, *head.scalp);
+        m.below_body += p.y() < bottom;
+    }
+    // Ears: hair goes behind or over them, never through them. Points are pushed out of the
+    // head, but a segment between two of them could still cut through the thin ear: sample
+    // each segment near an ear.
+    if (head.landmarks) {
+        const HeadField field = build_head_field(style, head);
+        const Vec3f ears[2] = {head.landmarks->ear_left, head.landmarks->ear_right};
+        const float reach = 0.2f * head.landmarks->height;
+        for (size_t i = 0; i < r.hair.strand_count(); ++i) {
+            const auto s = r.hair.strand(i);
+            for (size_t k = 1; k < s.size(); ++k)
+                for (const Vec3f& ear : ears) {
+                    if ((s[k] - ear).norm() > reach && (s[k - 1] - ear).norm() > reach) continue;
+                    bool through = false;
+                    for (float t : {0.25f, 0.5f, 0.75f})
+                        through |= field.sdf(s[k - 1] + t * (s[k] - s[k - 1])) < -0.1f;
+                    m.ear_piercings += through;
+                }
+        }
+    }
+    const FaceLandmarks face = face_landmarks(head);
     m.face =
         face_coverage(r.hair, *head.mesh, face.eye_y, face.chin_y, 4.5f, 0.5f, widths).fraction();
     const HeadFrame frame = head_frame(*head.scalp);
@@ -71,7 +95,8 @@ Measured measure(const std::string& preset, const Head& head) {
 }
 
 // The MakeHuman bust is cut open below the shoulders; the head field closes the cut
-// (close_holes), so "inside" is defined there too.
+// (close_holes), so "inside" is defined there too, and a body proxy goes on below it ([body]
+// auto), which long hair lies on: no hair hangs past the end of the body.
 void expect_reads_as_hair(const std::string& preset, const Head& head) {
     const Measured m = measure(preset, head);
     EXPECT_LT(m.face, 0.10f) << preset << " on " << head.source << ": face covered";
@@ -79,6 +104,8 @@ void expect_reads_as_hair(const std::string& preset, const Head& head) {
         EXPECT_LT(m.bare[v], 0.05f)
             << preset << " on " << head.source << ": bare scalp seen from the " << kViews[v];
     EXPECT_EQ(m.inside, 0u) << preset << " on " << head.source;
+    EXPECT_EQ(m.below_body, 0u) << preset << " on " << head.source << ": hair below the body";
+    EXPECT_EQ(m.ear_piercings, 0u) << preset << " on " << head.source << ": hair through an ear";
     EXPECT_EQ(m.non_finite, 0u) << preset << " on " << head.source;
     for (const SolveStats::Group& g : m.groups) {
         EXPECT_EQ(g.completed, g.constraints) << preset << ": group " << g.name;
@@ -138,7 +165,7 @@ TEST(Coverage, SparseHairLeavesScalpBareAndNoHairCoversNothing) {
 }
 
 TEST(Coverage, AVeilOverTheFaceCoversItsWindow) {
-    const FaceLandmarks face = face_landmarks(*builtin().mesh, *builtin().scalp);
+    const FaceLandmarks face = face_landmarks(builtin());
     EXPECT_GT(face.nose_tip.z(), 8.f);
     EXPECT_GT(face.eye_y, face.nose_tip.y());
     EXPECT_LT(face.chin_y, face.nose_tip.y());
