@@ -10,11 +10,12 @@
 #include "geometry/builtin_head.hpp"
 #include "geometry/landmarks.hpp"
 #include "geometry/mesh_distance.hpp"
+#include "test_meshes.hpp"
 
 namespace wisp {
 namespace {
 
-const char* const kMakeHumanBody = WISP_SHARED_DIR "/data/heads/makehuman/makehuman_hm08_base.obj";
+const std::string& kMakeHumanBody = test::kBase;
 
 // The faces of `m` whose corners all lie above y = cut: a head that ends at the neck.
 Mesh cut_below(const Mesh& m, float cut) {
@@ -153,7 +154,7 @@ TEST(BodyProxy, StandsInForTheBodyAHeadLost) {
 
 // Turned, scaled and moved with the head, the proxy turns, scales and moves with it.
 TEST(BodyProxy, FollowsTheHeadTurnedScaledAndMoved) {
-    const Mesh head = cut_below(builtin_head_mesh(), -15.f);
+    const Mesh head = cut_below(test::builtin_mesh(), -15.f);
     const Mesh proxy = fit_body_proxy(find_landmarks(head));
     const float angle = 1.1f, scale = 1.25f;
     const Vec3f shift(3.f, -40.f, 7.f);

@@ -9,15 +9,15 @@
 #include "core/error.hpp"
 #include "geometry/builtin_head.hpp"
 #include "geometry/mesh.hpp"
+#include "test_meshes.hpp"
 
 namespace wisp {
 namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kHeadNeckShoulders =
-    WISP_SHARED_DIR "/data/heads/makehuman/makehuman_hm08_head_neck_shoulders.obj";
-const std::string kBase = WISP_SHARED_DIR "/data/heads/makehuman/makehuman_hm08_base.obj";
+using test::kBase;
+using test::kHeadNeckShoulders;
 
 fs::path temp_dir() {
     const fs::path dir =

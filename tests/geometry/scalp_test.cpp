@@ -11,19 +11,18 @@
 #include "core/error.hpp"
 #include "core/image.hpp"
 #include "geometry/builtin_head.hpp"
+#include "test_meshes.hpp"
 
 namespace wisp {
 namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kHeadNeckShoulders =
-    WISP_SHARED_DIR "/data/heads/makehuman/makehuman_hm08_head_neck_shoulders.obj";
-const std::string kBase = WISP_SHARED_DIR "/data/heads/makehuman/makehuman_hm08_base.obj";
+using test::kBase;
+using test::kHeadNeckShoulders;
 
 const Mesh& head() {
-    static const Mesh mesh = builtin_head_mesh();
-    return mesh;
+    return test::builtin_mesh();
 }
 
 ScalpSpec hairline() {
