@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 #include "geometry/builtin_head.hpp"
+#include "geometry/mesh_distance.hpp"
 
 namespace wisp {
 namespace {
@@ -14,6 +17,126 @@ namespace {
 constexpr float kBuiltinHeight = 22.8f;
 constexpr float kBuiltinChinY = -10.3f;
 constexpr float kBuiltinNeckZ = -2.f;
+
+// Where a bust is cut open below the shoulders, the proxy takes the bust's surface on, so the
+// cut's ragged rim lies on the proxy instead of standing out of it as a ledge. The proxy's
+// vertices that the bust covers (whose nearest point on the bust is inside its surface, not on
+// the rim, facing the same way and within `reach`) move onto the bust, a millimetre inside;
+// those within `blend` of the rim below it follow them, by the mean of their neighbours'
+// moves (a harmonic blend), fading to nothing further away; the proxy's vertex nearest each
+// of the rim's vertices goes onto it.
+void meet_bust_rim(Mesh& proxy, const Mesh& bust, const Landmarks& head) {
+    // The bust's open edges below the face (not a scan's eye sockets or nostrils).
+    std::unordered_map<uint64_t, int> uses;
+    const auto key = [](int a, int b) {
+        return (uint64_t(uint32_t(std::min(a, b))) << 32) | uint32_t(std::max(a, b));
+    };
+    for (const Vec3i& t : bust.faces)
+        for (int e = 0; e < 3; ++e)
+            ++uses[key(t[e], t[(e + 1) % 3])];
+    const float below = head.chin.y() - 0.2f * head.height;
+    std::vector<uint8_t> rim(bust.vertices.size(), 0);
+    std::vector<Vec3f> rim_points;
+    for (const Vec3i& t : bust.faces)
+        for (int e = 0; e < 3; ++e) {
+            const int a = t[e], b = t[(e + 1) % 3];
+            if (uses[key(a, b)] != 1) continue;
+            if (bust.vertices[a].y() > below || bust.vertices[b].y() > below) continue;
+            for (int v : {a, b})
+                if (!rim[v]) rim[v] = 1, rim_points.push_back(bust.vertices[v]);
+        }
+    if (rim_points.empty()) return;
+
+    const float reach = 0.15f * head.height, blend = 0.35f * head.height;
+    const float inset = 0.1f * head.height / 22.8f;
+    const size_t n = proxy.vertices.size();
+    std::vector<Vec3f> normal(n, Vec3f::Zero());
+    std::vector<uint32_t> start(n + 1, 0);
+    for (const Vec3i& t : proxy.faces) {
+        const Vec3f& a = proxy.vertices[t[0]];
+        const Vec3f area = (proxy.vertices[t[1]] - a).cross(proxy.vertices[t[2]] - a);
+        for (int k = 0; k < 3; ++k) {
+            normal[t[k]] += area;
+            start[t[k] + 1] += 2;
+        }
+    }
+    for (size_t i = 0; i < n; ++i)
+        start[i + 1] += start[i];
+    std::vector<uint32_t> next(start.begin(), start.end() - 1), around(start[n]);
+    for (const Vec3i& t : proxy.faces)
+        for (int k = 0; k < 3; ++k) {
+            around[next[t[k]]++] = uint32_t(t[(k + 1) % 3]);
+            around[next[t[k]]++] = uint32_t(t[(k + 2) % 3]);
+        }
+
+    const MeshDistance distance(bust);
+    enum : uint8_t { kFree, kOnBust, kStill };
+    std::vector<uint8_t> kind(n, kFree);
+    std::vector<Vec3f> move(n, Vec3f::Zero());
+    const float on_rim = 1e-3f * head.height;
+    for (size_t i = 0; i < n; ++i) {
+        const Vec3f& v = proxy.vertices[i];
+        uint32_t f = 0;
+        const Vec3f c = distance.closest_point(v, &f);
+        const Vec3f nb = bust.face_normal(f);
+        bool at_rim = false;
+        for (int k = 0; k < 3; ++k)
+            at_rim |= rim[bust.faces[f][k]] && (bust.vertices[bust.faces[f][k]] - c).norm() < on_rim;
+        for (int e = 0; e < 3 && !at_rim; ++e) {
+            const int a = bust.faces[f][e], b = bust.faces[f][(e + 1) % 3];
+            if (!rim[a] || !rim[b] || uses[key(a, b)] != 1) continue;
+            const Vec3f ab = bust.vertices[b] - bust.vertices[a];
+            const float t = std::clamp((c - bust.vertices[a]).dot(ab) / ab.squaredNorm(), 0.f, 1.f);
+            at_rim = (bust.vertices[a] + t * ab - c).norm() < on_rim;
+        }
+        const float nn = normal[i].norm();
+        if (!at_rim && (c - v).norm() < reach && nn > 0.f && nb.dot(normal[i] / nn) > 0.5f &&
+            v.y() < head.neck.y()) {
+            kind[i] = kOnBust;
+            move[i] = c - inset * nb - v;
+            continue;
+        }
+        float nearest = INFINITY;
+        for (const Vec3f& r : rim_points)
+            nearest = std::min(nearest, (r - v).squaredNorm());
+        if (nearest > blend * blend) kind[i] = kStill;
+    }
+    // The rim itself: each of its vertices pins the proxy's vertex nearest to it (where the
+    // rim's teeth stand out between the covered vertices and the free ones below).
+    std::vector<Vec3f> pinned(n, Vec3f::Zero());
+    std::vector<uint32_t> pins(n, 0);
+    for (const Vec3f& r : rim_points) {
+        size_t best = 0;
+        float closest = INFINITY;
+        for (size_t i = 0; i < n; ++i)
+            if (const float d = (proxy.vertices[i] - r).squaredNorm(); d < closest)
+                closest = d, best = i;
+        if (closest > reach * reach) continue;
+        pinned[best] += r;
+        ++pins[best];
+    }
+    for (size_t i = 0; i < n; ++i)
+        if (pins[i]) {
+            kind[i] = kOnBust;
+            move[i] = pinned[i] / float(pins[i]) - proxy.vertices[i];
+        }
+    // Jacobi sweeps of the mean of the neighbours' moves: enough for the blend band, a few
+    // dozen edges across, to settle.
+    std::vector<Vec3f> step(n);
+    for (int sweep = 0; sweep < 400; ++sweep) {
+        for (size_t i = 0; i < n; ++i) {
+            step[i] = move[i];
+            if (kind[i] != kFree || start[i + 1] == start[i]) continue;
+            Vec3f sum = Vec3f::Zero();
+            for (uint32_t k = start[i]; k < start[i + 1]; ++k)
+                sum += move[around[k]];
+            step[i] = sum / float(start[i + 1] - start[i]);
+        }
+        move.swap(step);
+    }
+    for (size_t i = 0; i < n; ++i)
+        proxy.vertices[i] += move[i];
+}
 
 }  // namespace
 
@@ -69,6 +192,7 @@ Mesh fit_body_proxy(const Landmarks& head, const Mesh* mesh) {
         const Vec3f q = s * (v - a).cwiseProduct(stretch);
         v = t + Vec3f(c * q.x() + sn * q.z(), q.y(), -sn * q.x() + c * q.z());
     }
+    if (mesh) meet_bust_rim(torso, *mesh, head);
     torso.group_names = {kBodyProxyGroup};
     torso.face_group.assign(torso.faces.size(), 0);
     return torso;

@@ -29,6 +29,30 @@ HeadFrame head_frame(const Scalp& scalp) {
     return f;
 }
 
+HeadFrame head_frame(const Head& head) {
+    HeadFrame f = head_frame(*head.scalp);
+    if (!head.landmarks || !head.mesh) return f;
+    const Landmarks& l = *head.landmarks;
+    f.neck = l.neck;
+    f.forward = l.forward;
+    f.neck_radius = l.neck_radius;
+    f.split = (l.center - l.neck).dot(l.forward);
+    // The shoulders' top beside the neck: the highest skin below the neck between 1.8 and 2.6
+    // neck radii out to either side, within 1.5 radii of the neck's axis front to back (the
+    // slope of the trapezius, where hair falling beside the neck lands).
+    const Vec3f side = Vec3f::UnitY().cross(l.forward);
+    float top = -INFINITY;
+    for (const Vec3f& v : head.mesh->vertices) {
+        const Vec3f d = v - l.neck;
+        const float out = std::abs(d.dot(side)) / l.neck_radius;
+        if (d.y() < 0.f && out > 1.8f && out < 2.6f &&
+            std::abs(d.dot(l.forward)) < 1.5f * l.neck_radius)
+            top = std::max(top, v.y());
+    }
+    if (std::isfinite(top)) f.shoulder_top = top;
+    return f;
+}
+
 float head_field_cell(const SolveSpec& spec) {
     return std::min(0.75f, 0.75f * spec.cell);
 }
@@ -278,7 +302,7 @@ Box3 solve_bounds(const Style& style, const Head& head, const Roots& roots,
 }
 
 StylingField styling_field(const Style& style, const Head& head, const Box3& bounds) {
-    return StylingField(style.solve.field, head_frame(*head.scalp),
+    return StylingField(style.solve.field, head_frame(head),
                         GrowthField(style.growth, *head.scalp), bounds, style.solve.cell);
 }
 

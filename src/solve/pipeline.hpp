@@ -31,6 +31,9 @@ struct HairstyleResult {
 
 // The centre and radius of the head (the scalp's fitted sphere).
 HeadFrame head_frame(const Scalp& scalp);
+// The same with where the shoulders are (HeadFrame::shoulder_top), from the head's landmarks
+// and the top of its body beside the neck.
+HeadFrame head_frame(const Head& head);
 
 // Shortens every strand at the plane n·p = offset (n unit): points beyond it go, and the
 // strand ends on the plane. Strands whose root is beyond are removed. Returns the number of

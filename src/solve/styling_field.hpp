@@ -1,6 +1,7 @@
 #pragma once
 // The styling force field Φ (Choe & Ko §3.1, §6.1): the desired flow direction and
 // intensity of hair at every point, on a 3D grid read by trilinear interpolation (§3.3).
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <span>
@@ -15,6 +16,17 @@ namespace wisp {
 struct HeadFrame {
     Vec3f center = Vec3f::Zero();
     float radius = 10.f;
+    // Where long hair reaches the shoulders and divides, as a stylist lays it, into a section
+    // that falls in front of them and one behind (hair left to land on a shoulder's top slides
+    // out over the arm): the neck's axis and radius, the way the face looks (horizontal,
+    // unit), the top of the shoulders beside the neck, and the dividing plane's offset along
+    // `forward` from the neck (the ears' plane). From the head's landmarks and body
+    // (head_frame(const Head&)); shoulder_top NaN when they are not known: hair is not divided.
+    Vec3f neck = Vec3f::Zero();
+    Vec3f forward = Vec3f::UnitZ();
+    float neck_radius = 0.f;
+    float shoulder_top = NAN;
+    float split = 0.f;
     Vec3f to_space(const Vec3f& head_units) const { return center + radius * head_units; }
 };
 
@@ -28,6 +40,8 @@ struct HeadFrame {
 //   growth       on the head, the scalp's growth direction (groom/growth.hpp) where p lies,
 //                turning to gravity as hair leaves the head; hair in front of the face (below
 //                the brows when the front hairline grows a fringe) is carried sideways out
+//                of the face; from just above the shoulders' top to below it, hair beside
+//                the neck is carried forward or back (HeadFrame::shoulder_top)
 Vec3f field_term(const FieldTerm& term, const HeadFrame& head, const GrowthField& growth,
                  const Vec3f& p);
 

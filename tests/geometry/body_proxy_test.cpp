@@ -152,6 +152,40 @@ TEST(BodyProxy, StandsInForTheBodyAHeadLost) {
     EXPECT_NEAR(l.crown.y() - proxy.bounds().lo.y(), 3.3f * l.height, 0.4f * l.height);
 }
 
+// A bust cut open below the shoulders: the proxy fitted with it passes through the cut's rim,
+// so no ledge of the bust stands out of it.
+TEST(BodyProxy, MeetsABustAtItsRim) {
+    if (!std::filesystem::exists(test::kHeadNeckShoulders))
+        GTEST_SKIP() << "no " << test::kHeadNeckShoulders;
+    const Mesh bust = read_obj_mesh(test::kHeadNeckShoulders, 10.f);
+    const Landmarks l = find_landmarks(bust);
+    const Mesh proxy = fit_body_proxy(l, &bust);
+    const Mesh plain = fit_body_proxy(l);
+    expect_closed_and_oriented(proxy);
+    // The rim: the bust's open edges below the face.
+    std::map<std::pair<int, int>, int> uses;
+    for (const Vec3i& t : bust.faces)
+        for (int e = 0; e < 3; ++e)
+            ++uses[std::minmax(t[e], t[(e + 1) % 3])];
+    const MeshDistance to_proxy(proxy), to_plain(plain);
+    float worst = 0.f, worst_plain = 0.f;
+    double sum = 0;
+    size_t rim = 0;
+    for (const auto& [edge, count] : uses) {
+        const Vec3f& p = bust.vertices[edge.first];
+        if (count != 1 || p.y() > l.chin.y() - 0.2f * l.height) continue;
+        ++rim;
+        worst = std::max(worst, to_proxy.unsigned_distance(p));
+        sum += to_proxy.unsigned_distance(p);
+        worst_plain = std::max(worst_plain, to_plain.unsigned_distance(p));
+    }
+    std::printf("rim: %zu vertices, from the proxy %.2f cm on average, %.2f at most (%.2f fitted "
+                "to the landmarks alone)\n",
+                rim, sum / double(std::max<size_t>(rim, 1)), worst, worst_plain);
+    ASSERT_GT(rim, 50u);
+    EXPECT_LT(worst, 0.3f);
+}
+
 // Turned, scaled and moved with the head, the proxy turns, scales and moves with it.
 TEST(BodyProxy, FollowsTheHeadTurnedScaledAndMoved) {
     const Mesh head = cut_below(test::builtin_mesh(), -15.f);

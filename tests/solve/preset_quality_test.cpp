@@ -1,6 +1,7 @@
-// Every shipped preset reads as hair (issue 12), on the built-in head and on the CC0 MakeHuman
-// head with a hairline scalp: the face stays visible, the scalp is covered away from the
-// parting, every constraint group completes, no point is inside the head or non-finite.
+// Every shipped preset reads as hair, on the built-in head and on the CC0 MakeHuman head with a
+// hairline scalp: the face stays visible, the scalp is covered away from the parting, every
+// constraint group completes, no point is inside the head or non-finite, none below the body,
+// through an ear or hanging down the outside of the arms.
 //
 // How it is measured (solve/coverage.hpp): orthographic grids of 0.5 cm cells.
 //  - face: the window from the eye line to the chin, 4.5 cm either side of the midline, seen
@@ -31,6 +32,11 @@ struct Measured {
     size_t inside = 0, non_finite = 0;
     size_t below_body = 0;     // points more than 1 cm below the lowest point of the body
     size_t ear_piercings = 0;  // segments near an ear that pass through it
+    // Of all points, those hanging beside the upper arms: below the shoulders' top by more
+    // than a third of the head's height, further out than 2.5 neck radii from the neck and
+    // within a neck radius of the plane hair divides at (not in front of the arms, on the
+    // chest, or behind them, on the back).
+    float over_arms = 0.f;
     std::vector<SolveStats::Group> groups;
 };
 
@@ -78,6 +84,18 @@ Measured measure(const std::string& preset, const Head& head) {
                 }
         }
     }
+    const HeadFrame body = head_frame(head);
+    if (std::isfinite(body.shoulder_top) && head.landmarks) {
+        const Vec3f side = Vec3f::UnitY().cross(body.forward);
+        const float level = body.shoulder_top - head.landmarks->height / 3.f;
+        size_t beside = 0;
+        for (const Vec3f& p : r.hair.points) {
+            const Vec3f d = p - body.neck;
+            beside += p.y() < level && std::abs(d.dot(side)) > 2.5f * body.neck_radius &&
+                      std::abs(d.dot(body.forward) - body.split) < body.neck_radius;
+        }
+        m.over_arms = float(beside) / float(std::max<size_t>(r.hair.points.size(), 1));
+    }
     const FaceLandmarks face = face_landmarks(head);
     m.face =
         face_coverage(r.hair, *head.mesh, face.eye_y, face.chin_y, 4.5f, 0.5f, widths).fraction();
@@ -106,6 +124,8 @@ void expect_reads_as_hair(const std::string& preset, const Head& head) {
     EXPECT_EQ(m.inside, 0u) << preset << " on " << head.source;
     EXPECT_EQ(m.below_body, 0u) << preset << " on " << head.source << ": hair below the body";
     EXPECT_EQ(m.ear_piercings, 0u) << preset << " on " << head.source << ": hair through an ear";
+    EXPECT_LT(m.over_arms, 0.001f) << preset << " on " << head.source
+                                   << ": hair hanging down the outside of the arms";
     EXPECT_EQ(m.non_finite, 0u) << preset << " on " << head.source;
     for (const SolveStats::Group& g : m.groups) {
         EXPECT_EQ(g.completed, g.constraints) << preset << ": group " << g.name;

@@ -485,6 +485,42 @@ TEST(Solver, BraidGroupFollowsItsTrajectory) {
     EXPECT_EQ(outside, 0u);
 }
 
+// Long hair reaching the shoulders divides there, as a stylist lays it: beside the neck, hair
+// in front of the ears' plane is carried forward over the shoulder onto the chest, hair behind
+// it back, instead of landing on the shoulder's top and sliding out over the arm. Over the neck
+// itself, far above the shoulders and well below them, the growth term is as before.
+TEST(StylingField, LongHairDividesInFrontOfAndBehindTheShoulders) {
+    const Head& head = builtin();
+    const HeadFrame frame = head_frame(head);
+    ASSERT_TRUE(std::isfinite(frame.shoulder_top));
+    ASSERT_TRUE(head.landmarks);
+    // The shoulders' top lies between the chin and a head's height below it.
+    EXPECT_LT(frame.shoulder_top, head.landmarks->chin.y());
+    EXPECT_GT(frame.shoulder_top, head.landmarks->chin.y() - head.landmarks->height);
+    const GrowthField growth(GrowthSpec{}, *head.scalp);
+    const FieldTerm term{FieldTerm::Kind::kGrowth};
+    const HeadFrame plain = head_frame(*head.scalp);  // no shoulders known
+    const float across = 2.f * frame.neck_radius;
+    for (float side : {-1.f, 1.f}) {
+        const Vec3f at(frame.neck.x() + side * across, frame.shoulder_top + 0.2f * frame.radius,
+                       frame.neck.z() + frame.split);
+        const Vec3f ahead = field_term(term, frame, growth, at + 2.f * frame.forward);
+        const Vec3f behind = field_term(term, frame, growth, at - 2.f * frame.forward);
+        EXPECT_GT(ahead.dot(frame.forward), 0.5f) << "side " << side;
+        EXPECT_LT(behind.dot(frame.forward), -0.5f) << "side " << side;
+        EXPECT_LT(ahead.y(), 0.f);  // still falling
+        for (const Vec3f& p : {Vec3f(at + 2.f * frame.forward), Vec3f(at - 2.f * frame.forward)})
+            EXPECT_NEAR(field_term(term, plain, growth, p).dot(frame.forward), 0.f, 1e-4f);
+        const Vec3f far_below = at - 2.f * frame.radius * Vec3f::UnitY() + 2.f * frame.forward;
+        EXPECT_EQ(field_term(term, frame, growth, far_below),
+                  field_term(term, plain, growth, far_below));
+    }
+    const Vec3f over_neck(frame.neck.x(), frame.shoulder_top + 0.2f * frame.radius,
+                          frame.neck.z() + frame.split + 2.f);
+    EXPECT_EQ(field_term(term, frame, growth, over_neck),
+              field_term(term, plain, growth, over_neck));
+}
+
 TEST(Constraint, ForcesFollowSectionFour) {
     const HeadFrame frame;  // centre 0, radius 10
     ConstraintSpec spec;
