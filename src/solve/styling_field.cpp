@@ -47,19 +47,20 @@ Vec3f swept_toward(const HeadFrame& head, const Vec3f& p, const Vec3f& pole) {
 // Long hair divided at the shoulders: beside the neck, from a little above the shoulders' top
 // (so hair is already on its way before it lands) to below it, hair in front of the dividing
 // plane is carried forward, over the front of the shoulder onto the chest, and hair behind it
-// back, onto the back; within a centimetre of the plane it goes less far either way.
+// back, onto the back. Decisively: hair left near the plane, weakly pushed, would stay on the
+// shoulder's top and slide out over the arm, so the push is full 2 mm from it.
 Vec3f shoulder_section(const HeadFrame& head, const Vec3f& p) {
     if (!std::isfinite(head.shoulder_top) || !(head.neck_radius > 0.f)) return Vec3f::Zero();
     const float h = (p.y() - head.shoulder_top) / head.radius;
-    if (h > 0.9f || h < -1.3f) return Vec3f::Zero();
+    if (h > 1.6f || h < -0.9f) return Vec3f::Zero();
     const Vec3f d = p - head.neck;
     const Vec3f side = Vec3f::UnitY().cross(head.forward);
     const float beside = std::abs(d.dot(side)) / head.neck_radius;
     if (beside < 1.f) return Vec3f::Zero();
     const float f = d.dot(head.forward) - head.split;
     const float weight =
-        smoothstep(1.f, 1.5f, beside) * smoothstep(0.9f, 0.4f, h) * smoothstep(-1.3f, -0.7f, h);
-    return (0.9f * weight * std::clamp(f, -1.f, 1.f)) * head.forward;
+        smoothstep(1.f, 1.5f, beside) * smoothstep(1.6f, 0.8f, h) * smoothstep(-0.9f, -0.4f, h);
+    return (weight * std::clamp(f / 0.2f, -1.f, 1.f)) * head.forward;
 }
 
 // The growth term: the scalp's growth direction at the point of the head's sphere under p,
@@ -96,7 +97,7 @@ Vec3f grown(const HeadFrame& head, const GrowthField& growth, const Vec3f& p) {
         const float face = smoothstep(0.1f, 0.4f, q.z()) * smoothstep(top, full, q.y()) *
                            smoothstep(-1.9f, -1.4f, q.y()) *
                            (1.f - smoothstep(0.55f, 0.9f, std::abs(q.x())));
-        phi += (1.5f * face * std::clamp(x / 0.1f, -1.f, 1.f)) * Vec3f::UnitX();
+        phi += (1.5f * face * std::clamp(x / 0.03f, -1.f, 1.f)) * Vec3f::UnitX();
     }
     phi += shoulder_section(head, p);
     return phi;
