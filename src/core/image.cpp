@@ -25,6 +25,44 @@ float GrayImage::sample(float u, float v) const {
            (at(x0, y1) * (1 - fx) + at(x1, y1) * fx) * fy;
 }
 
+namespace {
+
+// The most pixels a byte of the file can hold in its format at its best compression: a header
+// claiming more (beyond a megapixel) is truncated or corrupt, and a few bytes would otherwise
+// decode to 64 Mpixel. PNG: deflate's 1,032 to 1 on 1-bit pixels; GIF: LZW strings of up to
+// 4,096 pixels per 12-bit code; Softimage PIC: runs of 65,535 in 5 bytes; JPEG: an empty 8×8
+// block in 2 bits; BMP, PSD: runs of 255 or 128 in 2 bytes; Radiance HDR: runs of 127 per
+// component; PNM: raw; TGA (no signature): runs of 128 in 2 bytes.
+int64_t most_pixels_per_byte(std::string_view b) {
+    const auto starts = [&](std::string_view magic) { return b.substr(0, magic.size()) == magic; };
+    if (starts("\x89PNG")) return 8400;
+    if (starts("GIF8")) return 2800;
+    if (starts("\x53\x80\xF6\x34")) return 13200;
+    if (starts("\xFF\xD8")) return 256;
+    if (starts("BM")) return 128;
+    if (starts("8BPS")) return 64;
+    if (starts("#?")) return 32;
+    if (starts("P5") || starts("P6")) return 1;
+    return 64;
+}
+
+// A PNG's chunks each fit in the file: stb_image grows its buffer to a chunk's declared length
+// before reading it, so a corrupt length would have it ask for gigabytes.
+void check_png_chunks(std::string_view b, const std::string& source) {
+    size_t pos = 8;
+    while (pos + 8 <= b.size()) {
+        const auto byte = [&](size_t i) { return uint32_t(static_cast<uint8_t>(b[pos + i])); };
+        const uint32_t length = byte(0) << 24 | byte(1) << 16 | byte(2) << 8 | byte(3);
+        if (length > b.size() - pos - 8)
+            fail(source, ": PNG chunk '", b.substr(pos + 4, 4), "' at byte ", pos, " declares ",
+                 length, " bytes, more than the file holds (truncated or corrupt)");
+        if (b.substr(pos + 4, 4) == "IEND") return;
+        pos += size_t(length) + 12;
+    }
+}
+
+}  // namespace
+
 std::vector<GrayImage> read_image_planes(const std::filesystem::path& path, int channels) {
     const std::string bytes = read_file(path, {kMaxImageFileBytes, "an image file"});
     return decode_image_planes(bytes, path.string(), channels);
@@ -35,6 +73,7 @@ std::vector<GrayImage> decode_image_planes(std::string_view bytes, const std::st
     if (bytes.size() > kMaxImageFileBytes)
         fail(source, ": image of ", bytes.size(), " bytes is over the limit of ",
              kMaxImageFileBytes);
+    if (bytes.substr(0, 4) == "\x89PNG") check_png_chunks(bytes, source);
     int w = 0, h = 0, file_channels = 0;
     const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
     const int len = static_cast<int>(bytes.size());
@@ -42,6 +81,11 @@ std::vector<GrayImage> decode_image_planes(std::string_view bytes, const std::st
         fail(source, ": not a readable image (", stbi_failure_reason(), ")");
     if (w <= 0 || h <= 0 || static_cast<int64_t>(w) * h > (int64_t{1} << 26))
         fail(source, ": image size ", w, "x", h, " is out of range (at most 64 Mpixel)");
+    if (static_cast<int64_t>(w) * h >
+        std::max<int64_t>(int64_t{1} << 20,
+                          most_pixels_per_byte(bytes) * static_cast<int64_t>(bytes.size())))
+        fail(source, ": image size ", w, "x", h, " is more than a file of ", bytes.size(),
+             " bytes can hold (truncated or corrupt)");
     stbi_us* pixels = stbi_load_16_from_memory(data, len, &w, &h, &file_channels, channels);
     if (!pixels) fail(source, ": cannot decode image (", stbi_failure_reason(), ")");
     std::vector<GrayImage> planes(static_cast<size_t>(channels));
