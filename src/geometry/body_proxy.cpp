@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "geometry/builtin_head.hpp"
@@ -27,47 +27,31 @@ constexpr float kBuiltinNeckZ = -2.f;
 // of the rim's vertices goes onto it.
 void meet_bust_rim(Mesh& proxy, const Mesh& bust, const Landmarks& head) {
     // The bust's open edges below the face (not a scan's eye sockets or nostrils).
-    std::unordered_map<uint64_t, int> uses;
-    const auto key = [](int a, int b) {
-        return (uint64_t(uint32_t(std::min(a, b))) << 32) | uint32_t(std::max(a, b));
+    const std::vector<std::pair<int, int>> open = boundary_edges(bust);
+    const auto is_open = [&](int a, int b) {
+        return std::binary_search(open.begin(), open.end(), std::make_pair(a, b));
     };
-    for (const Vec3i& t : bust.faces)
-        for (int e = 0; e < 3; ++e)
-            ++uses[key(t[e], t[(e + 1) % 3])];
     const float below = head.chin.y() - 0.2f * head.height;
     std::vector<uint8_t> rim(bust.vertices.size(), 0);
     std::vector<Vec3f> rim_points;
-    for (const Vec3i& t : bust.faces)
-        for (int e = 0; e < 3; ++e) {
-            const int a = t[e], b = t[(e + 1) % 3];
-            if (uses[key(a, b)] != 1) continue;
-            if (bust.vertices[a].y() > below || bust.vertices[b].y() > below) continue;
-            for (int v : {a, b})
-                if (!rim[v]) rim[v] = 1, rim_points.push_back(bust.vertices[v]);
-        }
+    for (const auto& [a, b] : open) {
+        if (bust.vertices[a].y() > below || bust.vertices[b].y() > below) continue;
+        for (int v : {a, b})
+            if (!rim[v]) rim[v] = 1, rim_points.push_back(bust.vertices[v]);
+    }
     if (rim_points.empty()) return;
 
     const float reach = 0.15f * head.height, blend = 0.35f * head.height;
-    const float inset = 0.1f * head.height / 22.8f;
+    const float inset = 0.1f * head.height / kBuiltinHeight;  // a millimetre at the built-in's
     const size_t n = proxy.vertices.size();
     std::vector<Vec3f> normal(n, Vec3f::Zero());
-    std::vector<uint32_t> start(n + 1, 0);
     for (const Vec3i& t : proxy.faces) {
         const Vec3f& a = proxy.vertices[t[0]];
         const Vec3f area = (proxy.vertices[t[1]] - a).cross(proxy.vertices[t[2]] - a);
-        for (int k = 0; k < 3; ++k) {
+        for (int k = 0; k < 3; ++k)
             normal[t[k]] += area;
-            start[t[k] + 1] += 2;
-        }
     }
-    for (size_t i = 0; i < n; ++i)
-        start[i + 1] += start[i];
-    std::vector<uint32_t> next(start.begin(), start.end() - 1), around(start[n]);
-    for (const Vec3i& t : proxy.faces)
-        for (int k = 0; k < 3; ++k) {
-            around[next[t[k]]++] = uint32_t(t[(k + 1) % 3]);
-            around[next[t[k]]++] = uint32_t(t[(k + 2) % 3]);
-        }
+    const VertexLists around = vertex_edges(proxy);  // the proxy is closed: each neighbour once
 
     const MeshDistance distance(bust);
     enum : uint8_t { kFree, kOnBust, kStill };
@@ -81,10 +65,11 @@ void meet_bust_rim(Mesh& proxy, const Mesh& bust, const Landmarks& head) {
         const Vec3f nb = bust.face_normal(f);
         bool at_rim = false;
         for (int k = 0; k < 3; ++k)
-            at_rim |= rim[bust.faces[f][k]] && (bust.vertices[bust.faces[f][k]] - c).norm() < on_rim;
+            at_rim |=
+                rim[bust.faces[f][k]] && (bust.vertices[bust.faces[f][k]] - c).norm() < on_rim;
         for (int e = 0; e < 3 && !at_rim; ++e) {
             const int a = bust.faces[f][e], b = bust.faces[f][(e + 1) % 3];
-            if (!rim[a] || !rim[b] || uses[key(a, b)] != 1) continue;
+            if (!rim[a] || !rim[b] || !is_open(a, b)) continue;
             const Vec3f ab = bust.vertices[b] - bust.vertices[a];
             const float t = std::clamp((c - bust.vertices[a]).dot(ab) / ab.squaredNorm(), 0.f, 1.f);
             at_rim = (bust.vertices[a] + t * ab - c).norm() < on_rim;
@@ -126,11 +111,12 @@ void meet_bust_rim(Mesh& proxy, const Mesh& bust, const Landmarks& head) {
     for (int sweep = 0; sweep < 400; ++sweep) {
         for (size_t i = 0; i < n; ++i) {
             step[i] = move[i];
-            if (kind[i] != kFree || start[i + 1] == start[i]) continue;
+            const uint32_t lo = around.first[i], hi = around.first[i + 1];
+            if (kind[i] != kFree || hi == lo) continue;
             Vec3f sum = Vec3f::Zero();
-            for (uint32_t k = start[i]; k < start[i + 1]; ++k)
-                sum += move[around[k]];
-            step[i] = sum / float(start[i + 1] - start[i]);
+            for (uint32_t k = lo; k < hi; ++k)
+                sum += move[around.items[k]];
+            step[i] = sum / float(hi - lo);
         }
         move.swap(step);
     }

@@ -298,11 +298,7 @@ VertexLists vertex_faces(const Mesh& mesh) {
     return corner_lists(mesh, [](size_t f, int) { return static_cast<uint32_t>(f); });
 }
 
-void close_holes(const Mesh& mesh, Mesh* closed, Mesh* caps) {
-    Mesh unused;
-    if (!caps) caps = &unused;
-    closed->vertices = mesh.vertices;
-    closed->faces = mesh.faces;
+std::vector<std::pair<int, int>> boundary_edges(const Mesh& mesh) {
     // Half-edges a→b grouped by a, to find those without a twin b→a.
     const VertexLists edges = vertex_edges(mesh);
     const std::vector<uint32_t>& first = edges.first;
@@ -311,7 +307,7 @@ void close_holes(const Mesh& mesh, Mesh* closed, Mesh* caps) {
         return std::find(to.begin() + first[a], to.begin() + first[a + 1],
                          static_cast<uint32_t>(b)) != to.begin() + first[a + 1];
     };
-    std::vector<std::pair<int, int>> boundary;  // half-edges without a twin, sorted by start
+    std::vector<std::pair<int, int>> boundary;
     for (const Vec3i& f : mesh.faces)
         for (int k = 0; k < 3; ++k) {
             const int a = f[k], b = f[(k + 1) % 3];
@@ -319,6 +315,15 @@ void close_holes(const Mesh& mesh, Mesh* closed, Mesh* caps) {
         }
     std::sort(boundary.begin(), boundary.end());
     boundary.erase(std::unique(boundary.begin(), boundary.end()), boundary.end());
+    return boundary;
+}
+
+void close_holes(const Mesh& mesh, Mesh* closed, Mesh* caps) {
+    Mesh unused;
+    if (!caps) caps = &unused;
+    closed->vertices = mesh.vertices;
+    closed->faces = mesh.faces;
+    const std::vector<std::pair<int, int>> boundary = boundary_edges(mesh);  // sorted by start
 
     std::vector<uint8_t> used(boundary.size(), 0);
     auto next_from = [&](int v) -> int {  // the first unused boundary edge leaving v, or -1

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/math.hpp"
@@ -50,6 +51,9 @@ struct VertexLists {
 VertexLists vertex_edges(const Mesh& mesh);
 // For each vertex, the faces that use it.
 VertexLists vertex_faces(const Mesh& mesh);
+
+// The half-edges a→b of `mesh` without a twin b→a (its open boundary), sorted by a, then b.
+std::vector<std::pair<int, int>> boundary_edges(const Mesh& mesh);
 
 // `mesh` with every boundary loop closed by a fan about the loop's centroid (the loop as a
 // curve: edge midpoints weighted by length), into `closed`; the fans alone into `caps` (may

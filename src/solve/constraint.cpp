@@ -124,10 +124,8 @@ Vec3f constraint_force(const Constraint& c, const Vec3f& x) {
             // is combed up and over, never down across the face, wherever the hairline lies
             // on the head's sphere).
             const Vec3f up(0.f, 1.f, 0.f);
-            const float opposite =
-                smoothstep(0.8f, 1.f, -rn.dot(to_tie) / std::max(shell, 1e-6f));
-            const Vec3f along =
-                d - d.dot(rn) * rn + (0.6f * n * opposite) * (up - up.dot(rn) * rn);
+            const float opposite = smoothstep(0.8f, 1.f, -rn.dot(to_tie) / std::max(shell, 1e-6f));
+            const Vec3f along = d - d.dot(rn) * rn + (0.6f * n * opposite) * (up - up.dot(rn) * rn);
             if (wrap <= 0.f || along.norm() < 1e-6f) return direct;
             const float out = std::clamp((dist - shell) / (0.1f * shell), 0.f, 1.f);
             const Vec3f hug = (along.normalized() - (0.2f + 0.5f * out) * rn).normalized();

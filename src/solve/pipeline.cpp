@@ -302,8 +302,8 @@ Box3 solve_bounds(const Style& style, const Head& head, const Roots& roots,
 }
 
 StylingField styling_field(const Style& style, const Head& head, const Box3& bounds) {
-    return StylingField(style.solve.field, head_frame(head),
-                        GrowthField(style.growth, *head.scalp), bounds, style.solve.cell);
+    return StylingField(style.solve.field, head_frame(head), GrowthField(style.growth, *head.scalp),
+                        bounds, style.solve.cell);
 }
 
 SolveStats solve_stage(const Style& style, const Head& head, const HeadField& head_field,

@@ -62,9 +62,8 @@ TEST(Image, GrayPngIsDeterministicAndDecodesToItsEightBitValues) {
 // Inputs the fuzzer found (fuzz/corpus/image/, docs/fuzzing.md): each is read or refused with
 // wisp::Error, never a crash.
 TEST(Image, FuzzFindingsReadOrFailCleanly) {
-    for (const char* name :
-         {"empty_idat.png", "rle_tga_claims_38_mpixel.tga", "rle_tga_claims_38_mpixel_padded.tga",
-          "idat_length_2gb.png"}) {
+    for (const char* name : {"empty_idat.png", "rle_tga_claims_38_mpixel.tga",
+                             "rle_tga_claims_38_mpixel_padded.tga", "idat_length_2gb.png"}) {
         const fs::path p = fs::path(WISP_SOURCE_DIR) / "fuzz/corpus/image" / name;
         ASSERT_TRUE(fs::exists(p)) << p;
         try {

@@ -179,9 +179,10 @@ TEST(BodyProxy, MeetsABustAtItsRim) {
         sum += to_proxy.unsigned_distance(p);
         worst_plain = std::max(worst_plain, to_plain.unsigned_distance(p));
     }
-    std::printf("rim: %zu vertices, from the proxy %.2f cm on average, %.2f at most (%.2f fitted "
-                "to the landmarks alone)\n",
-                rim, sum / double(std::max<size_t>(rim, 1)), worst, worst_plain);
+    std::printf(
+        "rim: %zu vertices, from the proxy %.2f cm on average, %.2f at most (%.2f fitted "
+        "to the landmarks alone)\n",
+        rim, sum / double(std::max<size_t>(rim, 1)), worst, worst_plain);
     ASSERT_GT(rim, 50u);
     EXPECT_LT(worst, 0.3f);
 }

@@ -124,8 +124,8 @@ void expect_reads_as_hair(const std::string& preset, const Head& head) {
     EXPECT_EQ(m.inside, 0u) << preset << " on " << head.source;
     EXPECT_EQ(m.below_body, 0u) << preset << " on " << head.source << ": hair below the body";
     EXPECT_EQ(m.ear_piercings, 0u) << preset << " on " << head.source << ": hair through an ear";
-    EXPECT_LT(m.over_arms, 0.001f) << preset << " on " << head.source
-                                   << ": hair hanging down the outside of the arms";
+    EXPECT_LT(m.over_arms, 0.001f)
+        << preset << " on " << head.source << ": hair hanging down the outside of the arms";
     EXPECT_EQ(m.non_finite, 0u) << preset << " on " << head.source;
     for (const SolveStats::Group& g : m.groups) {
         EXPECT_EQ(g.completed, g.constraints) << preset << ": group " << g.name;
