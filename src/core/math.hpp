@@ -3,6 +3,7 @@
 // Y up, +Z forward (the face looks along +Z).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -29,6 +30,12 @@ struct Frame {
     }
     Vec3f to_local(const Vec3f& world) const { return {world.dot(t), world.dot(n), world.dot(b)}; }
 };
+
+// Hermite step from 0 at e0 to 1 at e1 (e1 < e0 steps down), clamped.
+inline float smoothstep(float e0, float e1, float x) {
+    const float t = std::clamp((x - e0) / (e1 - e0), 0.f, 1.f);
+    return t * t * (3.f - 2.f * t);
+}
 
 // A unit vector perpendicular to the unit vector v, chosen deterministically.
 inline Vec3f any_perpendicular(const Vec3f& v) {

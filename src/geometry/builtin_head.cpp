@@ -19,11 +19,6 @@ float smin(float a, float b, float k) {  // polynomial smooth minimum, blend wid
 float smax(float a, float b, float k) {
     return -smin(-a, -b, k);
 }
-float smoothstep(float e0, float e1, float x) {
-    const float t = std::clamp((x - e0) / (e1 - e0), 0.f, 1.f);
-    return t * t * (3.f - 2.f * t);
-}
-
 // Ellipsoid bound (Quilez): exact on the surface, good nearby.
 float ellipsoid(const Vec3f& p, const Vec3f& c, const Vec3f& r) {
     const Vec3f q = p - c;

@@ -9,11 +9,6 @@
 namespace wisp {
 namespace {
 
-float smoothstep(float e0, float e1, float x) {
-    const float t = std::clamp((x - e0) / (e1 - e0), 0.f, 1.f);
-    return t * t * (3.f - 2.f * t);
-}
-
 Vec3f tangent(const Vec3f& v, const Vec3f& r) {
     return v - v.dot(r) * r;
 }

@@ -9,11 +9,6 @@
 namespace wisp {
 namespace {
 
-float smoothstep(float e0, float e1, float x) {
-    const float t = std::clamp((x - e0) / (e1 - e0), 0.f, 1.f);
-    return t * t * (3.f - 2.f * t);
-}
-
 // A procedural map from the scalp's polar UV: r in [0,1] from crown to hairline, (x, z) the
 // unit direction on the map (x toward the character's left, z toward the front). Maps that
 // follow the growth directions' regions take the point's direction from the scalp's centre

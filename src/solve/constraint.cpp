@@ -9,14 +9,6 @@
 #include "groom/maps.hpp"
 
 namespace wisp {
-namespace {
-
-float smoothstep(float e0, float e1, float x) {
-    const float t = std::clamp((x - e0) / (e1 - e0), 0.f, 1.f);
-    return t * t * (3.f - 2.f * t);
-}
-
-}  // namespace
 
 Constraint resolve_constraint(const ConstraintSpec& spec, const HeadFrame& head) {
     Constraint c;

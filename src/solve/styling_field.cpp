@@ -14,11 +14,6 @@
 namespace wisp {
 namespace {
 
-float smoothstep(float e0, float e1, float x) {
-    const float t = std::clamp((x - e0) / (e1 - e0), 0.f, 1.f);
-    return t * t * (3.f - 2.f * t);
-}
-
 // A field that sweeps hair over the head toward `pole` (a unit direction from the head's
 // centre): along the great circles of the head's sphere, turning to gravity as hair leaves
 // the head (beyond 1.6 radii) or passes the pole.
