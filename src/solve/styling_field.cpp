@@ -47,14 +47,14 @@ Vec3f swept_toward(const HeadFrame& head, const Vec3f& p, const Vec3f& pole) {
 Vec3f shoulder_section(const HeadFrame& head, const Vec3f& p) {
     if (!std::isfinite(head.shoulder_top) || !(head.neck_radius > 0.f)) return Vec3f::Zero();
     const float h = (p.y() - head.shoulder_top) / head.radius;
-    if (h > 1.3f || h < -1.3f) return Vec3f::Zero();
+    if (h > 1.6f || h < -1.3f) return Vec3f::Zero();
     const Vec3f d = p - head.neck;
     const Vec3f side = Vec3f::UnitY().cross(head.forward);
     const float beside = std::abs(d.dot(side)) / head.neck_radius;
     if (beside < 1.f) return Vec3f::Zero();
     const float f = d.dot(head.forward) - head.split;
     const float weight =
-        smoothstep(1.f, 1.5f, beside) * smoothstep(1.3f, 0.6f, h) * smoothstep(-1.3f, -0.7f, h);
+        smoothstep(1.f, 1.5f, beside) * smoothstep(1.6f, 0.9f, h) * smoothstep(-1.3f, -0.7f, h);
     return (0.9f * weight * std::clamp(f / 0.2f, -1.f, 1.f)) * head.forward;
 }
 
