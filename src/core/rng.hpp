@@ -30,6 +30,7 @@ enum class Stream : uint64_t {
     kMisc = 7,
     kMemberRoot = 8,
     kRoll = 9,
+    kCut = 10,
 };
 
 // xoshiro256** seeded through SplitMix64 from (seed, domain, id).

@@ -182,6 +182,9 @@ struct CutSpec {
     Vec3f normal{0, -1, 0};  // unit on use, non-zero
     float offset = 0.f;      // cm, or head units (along normal, from the scalp centre)
     bool head_relative = true;
+    // Point-cut texture, cm: each wisp's ends lie up to this far past the plane, and each
+    // strand up to a third of it further, so the cut line is uneven as a scissor cut is.
+    float texture = 0.f;
 };
 
 // Animation with the Adaptive Wisp Tree (Bertails et al. 2003); docs/animate.md.

@@ -662,6 +662,16 @@ const std::vector<StyleField>& fields() {
          .panel = "cut",
          .doc = "offset in head units; false: centimetres",
          .ref = WISP_REF(cut.head_relative)},
+        {.path = "cut.texture",
+         .type = T::kNumber,
+         .stage = S::kMembers,
+         .panel = "cut",
+         .unit = "cm",
+         .lo = 0,
+         .hi = 100,
+         .doc = "point-cut texture: each wisp ends up to this far past the plane, each strand up "
+                "to a third of it further, for an uneven, natural cut line",
+         .ref = WISP_REF(cut.texture)},
 
         // Constraint groups and hairdressing operations (§4, §6.2), read in file order.
         {.path = "group",

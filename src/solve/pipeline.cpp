@@ -2,11 +2,14 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cmath>
+#include <limits>
 
 #include "core/error.hpp"
 #include "core/grid.hpp"
 #include "core/parallel.hpp"
+#include "core/rng.hpp"
 #include "groom/color.hpp"
 #include "groom/growth.hpp"
 
@@ -57,8 +60,8 @@ float head_field_cell(const SolveSpec& spec) {
     return std::min(0.75f, 0.75f * spec.cell);
 }
 
-size_t cut_hair(Hair& hair, const Vec3f& normal, float offset, size_t* removed,
-                const std::vector<uint8_t>* only) {
+size_t cut_hair(Hair& hair, const Vec3f& normal, float plane, size_t* removed,
+                const std::vector<float>* offsets) {
     const size_t s_count = hair.strand_count();
     std::vector<uint32_t> keep(s_count, 0);  // points kept per strand (0: removed)
     std::vector<uint8_t> cut(s_count, 0);
@@ -69,7 +72,8 @@ size_t cut_hair(Hair& hair, const Vec3f& normal, float offset, size_t* removed,
         [&](size_t i) {
             const auto s = hair.strand(i);
             keep[i] = static_cast<uint32_t>(s.size());
-            if (s.empty() || (only && !(*only)[i])) return;
+            const float offset = offsets ? (*offsets)[i] : plane;
+            if (s.empty() || std::isnan(offset)) return;
             keep[i] = 0;
             if (normal.dot(s[0]) > offset) return;
             size_t k = 1;
@@ -122,6 +126,53 @@ size_t cut_hair(Hair& hair, const Vec3f& normal, float offset, size_t* removed,
 }
 
 namespace {
+
+// Where the plane cuts each strand: `plane` along the normal (cm), then further by the
+// point-cut texture, a random depth per wisp (the clump a hairdresser holds between two
+// fingers and cuts as one) plus a third of it per strand, so ends neither line up on a
+// ruler line nor scatter strand by strand. A fringe cut cuts only the fringe's strands, and
+// lower toward its corners, where it meets the side hair: 0.08 head units lower at its
+// outer ends (a blunt fringe is cut on a slight curve) and down to 0.35 at the sector's
+// edge, graduated into the side hair as a fringe is blended in, not ending in a square
+// corner. NaN: the strand is not cut.
+std::vector<float> cut_offsets(const Style& style, const Scalp& scalp, float radius,
+                               const Hair& hair, float plane) {
+    const bool fringe = style.cut.region == CutSpec::Region::kFringe;
+    const float texture = style.cut.texture;
+    std::vector<float> offsets(hair.strand_count(), plane);
+    parallel_for(
+        offsets.size(),
+        [&](size_t i) {
+            const auto s = hair.strand(i);
+            if (s.empty()) return;
+            float offset = plane;
+            if (fringe) {
+                const Vec3f r = scalp_direction(scalp, s[0]);
+                const float w = fringe_sector(r);
+                if (w <= 0.05f) {
+                    offsets[i] = std::numeric_limits<float>::quiet_NaN();
+                    return;
+                }
+                const float corner = 1.f - smoothstep(0.05f, 0.8f, w);
+                const float side = std::min(std::abs(r.x()) / 0.45f, 1.f);
+                offset += radius * (0.35f * corner * corner + 0.08f * side * side);
+            }
+            if (texture > 0.f) {
+                // Keyed by the wisp and by the root's position, which a strand keeps whichever
+                // other strands are grown with it (the editor regrows some wisps alone).
+                const uint64_t wisp = hair.wisp.empty() ? i : static_cast<uint64_t>(hair.wisp[i]);
+                const uint64_t root = (uint64_t{std::bit_cast<uint32_t>(s[0].x())} << 32 |
+                                       std::bit_cast<uint32_t>(s[0].y())) ^
+                                      mix64(std::bit_cast<uint32_t>(s[0].z()));
+                Rng clump(style.seed, Stream::kCut, wisp);
+                Rng strand(style.seed, Stream::kCut, mix64(root) | (uint64_t{1} << 63));
+                offset += texture * (clump.uniform() + strand.uniform() / 3.f);
+            }
+            offsets[i] = offset;
+        },
+        4096);
+    return offsets;
+}
 
 // Moves point p out along the head's gradient to `clearance` cm from the skin when it is
 // closer; true when it moved, and `inside` when it is still inside afterwards.
@@ -461,19 +512,11 @@ MembersResult members_stage(const Style& style, const Head& head, const HeadFiel
     const float offset = style.cut.head_relative
                              ? normal.dot(frame.center) + style.cut.offset * frame.radius
                              : style.cut.offset;
-    std::vector<uint8_t> fringe;  // kFringe: the strands rooted in the fringe sector
-    if (style.cut.region == CutSpec::Region::kFringe) {
-        fringe.resize(r.hair.strand_count());
-        parallel_for(
-            fringe.size(),
-            [&](size_t i) {
-                const auto s = r.hair.strand(i);
-                fringe[i] = !s.empty() && fringe_sector(scalp_direction(*head.scalp, s[0])) > 0.05f;
-            },
-            4096);
-    }
+    std::vector<float> offsets;  // per strand: where the plane cuts it (NaN: not at all)
+    if (style.cut.region == CutSpec::Region::kFringe || style.cut.texture > 0.f)
+        offsets = cut_offsets(style, *head.scalp, frame.radius, r.hair, offset);
     r.strands_cut =
-        cut_hair(r.hair, normal, offset, &r.strands_removed, fringe.empty() ? nullptr : &fringe);
+        cut_hair(r.hair, normal, offset, &r.strands_removed, offsets.empty() ? nullptr : &offsets);
     lap("cut");
     std::vector<uint8_t> near;
     near_head(style, roots, head_field, masters, 0, n, near);

@@ -37,10 +37,10 @@ HeadFrame head_frame(const Head& head);
 
 // Shortens every strand at the plane n·p = offset (n unit): points beyond it go, and the
 // strand ends on the plane. Strands whose root is beyond are removed. Returns the number of
-// strands shortened; `removed` receives the number removed. With `only` (#strands), only the
-// strands it flags are cut.
+// strands shortened; `removed` receives the number removed. With `offsets` (#strands), each
+// strand is cut at its own plane n·p = offsets[i] instead, or not at all where it is NaN.
 size_t cut_hair(Hair& hair, const Vec3f& normal, float offset, size_t* removed,
-                const std::vector<uint8_t>* only = nullptr);
+                const std::vector<float>* offsets = nullptr);
 
 // Moves every non-root point whose head distance is below `clearance` cm out along the
 // head's gradient to that clearance. Returns the number of points moved. With `near`

@@ -205,6 +205,47 @@ TEST(Coverage, AVeilOverTheFaceCoversItsWindow) {
     EXPECT_EQ(face_coverage(veil, *builtin().mesh, face.eye_y, face.chin_y).covered, 0u);
 }
 
+// A fringe is cut along a natural line, not a ruler: the bangs preset's fringe ends lower
+// toward its corners than at the middle (a curve blending into the side hair), and its ends
+// are uneven within a few millimetres (point-cut texture), on any head.
+void expect_natural_fringe(const Head& head) {
+    const Style style = reduced("bangs");
+    const HairstyleResult r = generate_hairstyle(style, head);
+    const FaceLandmarks face = face_landmarks(head);
+    const HeadFrame frame = head_frame(*head.scalp);
+    // Fringe ends: strand tips in front of the forehead, above the eyes.
+    std::vector<float> middle, outer;
+    for (size_t i = 0; i < r.hair.strand_count(); ++i) {
+        const Vec3f tip = r.hair.strand(i).back() - frame.center;
+        if (tip.z() < 0.5f * frame.radius || tip.y() + frame.center.y() < face.eye_y) continue;
+        const float x = std::abs(tip.x()) / frame.radius;
+        if (x < 0.12f)
+            middle.push_back(tip.y());
+        else if (x > 0.3f && x < 0.45f)
+            outer.push_back(tip.y());
+    }
+    ASSERT_GT(middle.size(), 20u) << head.source;
+    ASSERT_GT(outer.size(), 20u) << head.source;
+    const auto median = [](std::vector<float> v) {
+        std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+        return v[v.size() / 2];
+    };
+    const auto spread = [&](const std::vector<float>& v) {  // interquartile range, cm
+        std::vector<float> w = v;
+        std::sort(w.begin(), w.end());
+        return w[w.size() * 3 / 4] - w[w.size() / 4];
+    };
+    EXPECT_GT(median(middle) - median(outer), 0.02f * frame.radius)
+        << head.source << ": the fringe's outer ends are no lower than its middle";
+    EXPECT_GT(spread(middle), 0.1f) << head.source << ": the fringe's ends lie on one line";
+    EXPECT_LT(spread(middle), 1.f) << head.source << ": the fringe's ends are ragged";
+}
+
+TEST(Fringe, CutOnAGentleCurveWithUnevenEnds) {
+    expect_natural_fringe(builtin());
+    expect_natural_fringe(makehuman());
+}
+
 }  // namespace
 }  // namespace wisp
 

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <bit>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <thread>
 
@@ -726,21 +727,22 @@ TEST(Cut, PlaneShortensAndRemoves) {
     EXPECT_LT((hair.strand(0).back() - Vec3f(0, -3, 0)).norm(), 1e-6f);
 }
 
-// A cut limited to flagged strands (a fringe cut) leaves the others whole, even where they
-// pass the plane or start beyond it.
-TEST(Cut, OnlyTheFlaggedStrands) {
+// A cut at each strand's own plane (a fringe cut, a textured cut) leaves the strands it does
+// not cut (NaN) whole, even where they pass the plane or start beyond it.
+TEST(Cut, EachStrandAtItsOwnPlane) {
     Hair hair;
     hair.add_strand(std::vector<Vec3f>{{0, 0, 0}, {0, -2, 0}, {0, -4, 0}});
     hair.add_strand(std::vector<Vec3f>{{1, 0, 0}, {1, -2, 0}, {1, -4, 0}});
     hair.add_strand(std::vector<Vec3f>{{0, -5, 0}, {0, -6, 0}});
-    const std::vector<uint8_t> only = {0, 1, 0};
+    const float no = std::numeric_limits<float>::quiet_NaN();
+    const std::vector<float> offsets = {no, 1.f, no};
     size_t removed = 0;
-    const size_t cut = cut_hair(hair, Vec3f(0, -1, 0), 3.f, &removed, &only);
+    const size_t cut = cut_hair(hair, Vec3f(0, -1, 0), 3.f, &removed, &offsets);
     EXPECT_EQ(cut, 1u);
     EXPECT_EQ(removed, 0u);
     ASSERT_EQ(hair.strand_count(), 3u);
     EXPECT_EQ(hair.strand(0).size(), 3u);
-    EXPECT_LT((hair.strand(1).back() - Vec3f(1, -3, 0)).norm(), 1e-6f);
+    EXPECT_LT((hair.strand(1).back() - Vec3f(1, -1, 0)).norm(), 1e-6f);
     EXPECT_EQ(hair.strand(2).size(), 2u);
 }
 
