@@ -37,13 +37,6 @@ inline float smoothstep(float e0, float e1, float x) {
     return t * t * (3.f - 2.f * t);
 }
 
-// Polynomial smooth minimum of two signed distances, blend width k (cm): the union of two
-// solids with a fillet where their surfaces meet within k of each other.
-inline float smin(float a, float b, float k) {
-    const float h = std::max(k - std::abs(a - b), 0.f) / k;
-    return std::min(a, b) - h * h * k * 0.25f;
-}
-
 // A unit vector perpendicular to the unit vector v, chosen deterministically.
 inline Vec3f any_perpendicular(const Vec3f& v) {
     const Vec3f a = std::abs(v.x()) < 0.9f ? Vec3f::UnitX() : Vec3f::UnitY();

@@ -12,6 +12,10 @@ namespace {
 // ---- The implicit head: a smooth union of ellipsoids, capsules and a few shaped parts.
 // Values are approximate signed distances in cm (negative inside), accurate near the surface.
 
+float smin(float a, float b, float k) {  // polynomial smooth minimum, blend width k
+    const float h = std::max(k - std::abs(a - b), 0.f) / k;
+    return std::min(a, b) - h * h * k * 0.25f;
+}
 float smax(float a, float b, float k) {
     return -smin(-a, -b, k);
 }

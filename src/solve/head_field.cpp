@@ -128,8 +128,7 @@ double HeadField::node_count(const Box3& mesh_bounds, float cell) {
     return grid_nodes(mesh_bounds.size() + Vec3f::Constant(2.f * kPadCells * cell), cell);
 }
 
-HeadField::HeadField(const Mesh& open_mesh, float cell, size_t first_body_face,
-                     const std::vector<EarEnvelope>& ears) {
+HeadField::HeadField(const Mesh& open_mesh, float cell, size_t first_body_face) {
     // A head cut open at the neck or chest (most head meshes) encloses its inside only once
     // closed: otherwise the inside far from the skin is one region with the outside, through
     // the cut, and takes its sign, so hair that crossed the skin's band could pass through
@@ -168,30 +167,6 @@ HeadField::HeadField(const Mesh& open_mesh, float cell, size_t first_body_face,
         const std::vector<float>& e = other.data();
         for (size_t i = 0; i < d.size(); ++i)
             d[i] = std::min(d[i], e[i]);
-    }
-    for (const EarEnvelope& ear : ears) {
-        const float k = 0.2f * ear.radii.y();
-        const float reach = ear.radii.maxCoeff() + k + cell;
-        Vec3i lo_node, hi_node;
-        for (int a = 0; a < 3; ++a) {
-            lo_node[a] =
-                std::clamp(static_cast<int>(std::floor((ear.center[a] - reach - lo[a]) / cell)), 0,
-                           dims[a] - 1);
-            hi_node[a] =
-                std::clamp(static_cast<int>(std::ceil((ear.center[a] + reach - lo[a]) / cell)), 0,
-                           dims[a] - 1);
-        }
-        parallel_for(
-            static_cast<size_t>(hi_node.z() - lo_node.z() + 1),
-            [&](size_t zi) {
-                const int z = lo_node.z() + static_cast<int>(zi);
-                for (int y = lo_node.y(); y <= hi_node.y(); ++y)
-                    for (int x = lo_node.x(); x <= hi_node.x(); ++x) {
-                        float& d = grid_.at(x, y, z);
-                        d = smin(d, ear.distance(grid_.node(x, y, z)), k);
-                    }
-            },
-            1);
     }
     // 3. The smallest distance at each cell's nodes, for beyond().
     const Vec3i cells = dims - Vec3i::Ones();

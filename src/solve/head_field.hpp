@@ -8,7 +8,6 @@
 #include <vector>
 
 #include "core/grid.hpp"
-#include "geometry/ear_envelope.hpp"
 #include "geometry/mesh.hpp"
 
 namespace wisp {
@@ -25,10 +24,7 @@ class HeadField {
     // face count, the faces from it on are a second piece (a body under the head, Head::body)
     // that may overlap the first: each is closed and measured alone and the field is their
     // union.
-    // With `ears`, each envelope is united with the field, with a fillet a fifth of its
-    // radius up (smin), so hair drapes over the ears instead of round their rims.
-    HeadField(const Mesh& mesh, float cell, size_t first_body_face = SIZE_MAX,
-              const std::vector<EarEnvelope>& ears = {});
+    HeadField(const Mesh& mesh, float cell, size_t first_body_face = SIZE_MAX);
     // The node count of the grid the constructor builds for a mesh with these bounds (cm), to
     // check against kMaxGridNodes before building it.
     static double node_count(const Box3& mesh_bounds, float cell);

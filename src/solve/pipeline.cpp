@@ -313,9 +313,7 @@ HeadField build_head_field(const Style& style, const Head& head) {
              " nodes (the head spans ", span.maxCoeff(), " cm, its cell is ", cell,
              " cm from solve.cell = ", style.solve.cell, "), more than ", kMaxGridNodes,
              "; raise solve.cell or check head.scale");
-    std::vector<EarEnvelope> ears;
-    if (head.landmarks) ears = ear_envelopes(*head.mesh, *head.landmarks);
-    return HeadField(*head.mesh, cell, head.first_body_face, ears);
+    return HeadField(*head.mesh, cell, head.first_body_face);
 }
 
 GroupSelection select_groups(const Style& style, const Head& head, const Roots& roots) {
