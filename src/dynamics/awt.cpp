@@ -190,7 +190,6 @@ void AwtSimulation::init() {
     if (h.held.size() != nodes) fail("dynamics: the hierarchy's held fractions are missing");
     state_.assign(nodes, kMerged);
     collided_.assign(nodes, 0);
-    since_contact_.assign(nodes, INFINITY);
     merge_step_.assign(nodes, 0);
     parent_.assign(nodes, 0);
     link_length_.assign(nodes, -1.f);
@@ -685,16 +684,11 @@ void AwtSimulation::integrate() {
         // velocity against the obstacle's, step after step while long hair lies on the back
         // or the shoulders. It counts as no acceleration, so hair resting on the body settles
         // into the coarse level instead of splitting and merging there many times a second.
-        // So does a node that touched the body within the averaging window: hair lying on the
-        // back or the shoulders touches it on some steps and not on others, and the free
-        // steps' Δv is the same jolt (a coarse node of long hair split 18 times in 3 s of
-        // settled hair, alternating).
         if (merge_step_[c]) {
             merge_step_[c] = 0;
         } else {
             Vec3f a = Vec3f::Zero();
-            since_contact_[c] = collided_[c] ? 0.f : since_contact_[c] + dt;
-            if (since_contact_[c] >= kAccelerationTime) {
+            if (!collided_[c]) {
                 const Vec3f world = (v_[c] - v_old_[c]) * inv_dt;
                 const Vec3f relative = world - head_acceleration_.at(head_.to_local(x_[c]));
                 a = relative.squaredNorm() < world.squaredNorm() ? relative : world;

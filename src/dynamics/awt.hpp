@@ -206,7 +206,6 @@ class AwtSimulation {
     std::vector<Vec3f> x_, v_, acc_, force_, offset_, x_old_, v_old_;
     std::vector<float> radius_, link_length_;
     std::vector<uint8_t> state_, collided_;
-    std::vector<float> since_contact_;  // s since the node last touched the body (active nodes)
     // 1 for a node made by a merge at the last adapt(), until its first step (integrate()).
     std::vector<uint8_t> merge_step_;
     std::vector<uint32_t> parent_;
