@@ -2,6 +2,7 @@
 
 #include <stb_image.h>
 #include <stb_image_write.h>
+#include <turbojpeg.h>
 
 #include <algorithm>
 #include <cmath>
@@ -29,20 +30,13 @@ namespace {
 
 // The most pixels a byte of the file can hold in its format at its best compression: a header
 // claiming more (beyond a megapixel) is truncated or corrupt, and a few bytes would otherwise
-// decode to 64 Mpixel. PNG: deflate's 1,032 to 1 on 1-bit pixels; GIF: LZW strings of up to
-// 4,096 pixels per 12-bit code; Softimage PIC: runs of 65,535 in 5 bytes; JPEG: an empty 8×8
-// block in 2 bits; BMP, PSD: runs of 255 or 128 in 2 bytes; Radiance HDR: runs of 127 per
-// component; PNM: raw; TGA (no signature): runs of 128 in 2 bytes.
+// decode to 64 Mpixel. PNG: deflate's 1,032 to 1 on 1-bit pixels; JPEG: an empty 8×8 block in
+// 2 bits; BMP: runs of 255 in 2 bytes; TGA (no signature): runs of 128 in 2 bytes.
 int64_t most_pixels_per_byte(std::string_view b) {
     const auto starts = [&](std::string_view magic) { return b.substr(0, magic.size()) == magic; };
     if (starts("\x89PNG")) return 8400;
-    if (starts("GIF8")) return 2800;
-    if (starts("\x53\x80\xF6\x34")) return 13200;
     if (starts("\xFF\xD8")) return 256;
     if (starts("BM")) return 128;
-    if (starts("8BPS")) return 64;
-    if (starts("#?")) return 32;
-    if (starts("P5") || starts("P6")) return 1;
     return 64;
 }
 
@@ -68,17 +62,27 @@ std::vector<GrayImage> read_image_planes(const std::filesystem::path& path, int 
     return decode_image_planes(bytes, path.string(), channels);
 }
 
-std::vector<GrayImage> decode_image_planes(std::string_view bytes, const std::string& source,
-                                           int channels) {
-    if (bytes.size() > kMaxImageFileBytes)
-        fail(source, ": image of ", bytes.size(), " bytes is over the limit of ",
-             kMaxImageFileBytes);
-    if (bytes.substr(0, 4) == "\x89PNG") check_png_chunks(bytes, source);
-    int w = 0, h = 0, file_channels = 0;
-    const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
-    const int len = static_cast<int>(bytes.size());
-    if (!stbi_info_from_memory(data, len, &w, &h, &file_channels))
-        fail(source, ": not a readable image (", stbi_failure_reason(), ")");
+namespace {
+
+// Formats some tools write and wisp does not read, known by their first bytes, so that the
+// error names what the file is. (stb_impl.cpp says why GIF, PSD, PIC, HDR and PNM are not
+// decoded.)
+std::string_view refused_format(std::string_view b) {
+    const auto starts = [&](std::string_view magic) { return b.substr(0, magic.size()) == magic; };
+    if (starts("GIF8")) return "GIF";
+    if (starts("8BPS")) return "Photoshop PSD";
+    if (starts("\x53\x80\xF6\x34")) return "Softimage PIC";
+    if (starts("#?")) return "Radiance HDR";
+    if (b.size() >= 2 && b[0] == 'P' && b[1] >= '1' && b[1] <= '7') return "PNM";
+    if (starts("\x76\x2F\x31\x01")) return "OpenEXR";
+    if (starts(std::string_view("II*\0", 4)) || starts(std::string_view("MM\0*", 4))) return "TIFF";
+    if (starts("RIFF") && b.size() >= 12 && b.substr(8, 4) == "WEBP") return "WebP";
+    return {};
+}
+
+// A size that is out of range, or more pixels than the file's bytes can hold, is refused
+// before anything is decoded.
+void check_image_size(int w, int h, std::string_view bytes, const std::string& source) {
     if (w <= 0 || h <= 0 || static_cast<int64_t>(w) * h > (int64_t{1} << 26))
         fail(source, ": image size ", w, "x", h, " is out of range (at most 64 Mpixel)");
     if (static_cast<int64_t>(w) * h >
@@ -86,8 +90,12 @@ std::vector<GrayImage> decode_image_planes(std::string_view bytes, const std::st
                           most_pixels_per_byte(bytes) * static_cast<int64_t>(bytes.size())))
         fail(source, ": image size ", w, "x", h, " is more than a file of ", bytes.size(),
              " bytes can hold (truncated or corrupt)");
-    stbi_us* pixels = stbi_load_16_from_memory(data, len, &w, &h, &file_channels, channels);
-    if (!pixels) fail(source, ": cannot decode image (", stbi_failure_reason(), ")");
+}
+
+// `channels` planes of interleaved pixels whose full scale is `scale`.
+template <typename T>
+std::vector<GrayImage> split_planes(const T* pixels, int w, int h, int stride, int channels,
+                                    float scale) {
     std::vector<GrayImage> planes(static_cast<size_t>(channels));
     const size_t count = static_cast<size_t>(w) * h;
     for (int c = 0; c < channels; ++c) {
@@ -95,9 +103,71 @@ std::vector<GrayImage> decode_image_planes(std::string_view bytes, const std::st
         img.width = w;
         img.height = h;
         img.values.resize(count);
+        // A plane the file does not have (alpha, or colour of a gray decode) is filled as
+        // stb fills it: alpha 1, gray repeated.
+        const int from = std::min(c, stride - 1);
+        const bool opaque = c == channels - 1 && (channels == 2 || channels == 4) && c >= stride;
         for (size_t i = 0; i < count; ++i)
-            img.values[i] = pixels[i * channels + c] / 65535.f;
+            img.values[i] = opaque ? 1.f : float(pixels[i * stride + from]) / scale;
     }
+    return planes;
+}
+
+// JPEG through libjpeg-turbo (TurboJPEG), which is fuzzed upstream. Its warnings (a few
+// stray bytes before a marker, a file cut short) decode as other tools decode them; errors
+// are refused.
+std::vector<GrayImage> decode_jpeg(std::string_view bytes, const std::string& source,
+                                   int channels) {
+    tjhandle tj = tjInitDecompress();
+    if (!tj) fail(source, ": cannot start the JPEG decoder");
+    struct Destroy {
+        tjhandle h;
+        ~Destroy() { tjDestroy(h); }
+    } destroy{tj};
+    const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+    const auto len = static_cast<unsigned long>(bytes.size());
+    int w = 0, h = 0, subsampling = 0, colorspace = 0;
+    if (tjDecompressHeader3(tj, data, len, &w, &h, &subsampling, &colorspace) != 0)
+        fail(source, ": not a readable JPEG (", tjGetErrorStr2(tj), ")");
+    check_image_size(w, h, bytes, source);
+    // Gray and gray-with-alpha decode to luminance, as stb converts colour to gray.
+    const int format = channels <= 2 ? TJPF_GRAY : TJPF_RGB;
+    const int stride = tjPixelSize[format];
+    std::vector<unsigned char> pixels(static_cast<size_t>(w) * h * stride);
+    // A progressive file of thousands of scans would take minutes: at most 500, as
+    // libjpeg-turbo's own tools allow.
+    if (tjDecompress2(tj, data, len, pixels.data(), w, 0, h, format,
+                      TJFLAG_LIMITSCANS | TJFLAG_ACCURATEDCT) != 0 &&
+        tjGetErrorCode(tj) != TJERR_WARNING)
+        fail(source, ": cannot decode JPEG (", tjGetErrorStr2(tj), ")");
+    return split_planes(pixels.data(), w, h, stride, channels, 255.f);
+}
+
+}  // namespace
+
+std::vector<GrayImage> decode_image_planes(std::string_view bytes, const std::string& source,
+                                           int channels) {
+    if (channels < 1 || channels > 4)
+        fail(source, ": ", channels, " channels asked of an image (1 to 4)");
+    if (bytes.size() > kMaxImageFileBytes)
+        fail(source, ": image of ", bytes.size(), " bytes is over the limit of ",
+             kMaxImageFileBytes);
+    if (const std::string_view name = refused_format(bytes); !name.empty())
+        fail(source, ": a ", name, " image; wisp reads maps and masks as PNG, JPEG, BMP or TGA");
+    if (bytes.size() >= 2 && static_cast<uint8_t>(bytes[0]) == 0xFF &&
+        static_cast<uint8_t>(bytes[1]) == 0xD8)
+        return decode_jpeg(bytes, source, channels);
+    if (bytes.substr(0, 4) == "\x89PNG") check_png_chunks(bytes, source);
+    int w = 0, h = 0, file_channels = 0;
+    const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
+    const int len = static_cast<int>(bytes.size());
+    if (!stbi_info_from_memory(data, len, &w, &h, &file_channels))
+        fail(source, ": not a readable image (", stbi_failure_reason(),
+             "; wisp reads PNG, JPEG, BMP and TGA)");
+    check_image_size(w, h, bytes, source);
+    stbi_us* pixels = stbi_load_16_from_memory(data, len, &w, &h, &file_channels, channels);
+    if (!pixels) fail(source, ": cannot decode image (", stbi_failure_reason(), ")");
+    std::vector<GrayImage> planes = split_planes(pixels, w, h, channels, channels, 65535.f);
     stbi_image_free(pixels);
     return planes;
 }

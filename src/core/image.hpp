@@ -20,14 +20,14 @@ struct GrayImage {
     float sample(float u, float v) const;
 };
 
-// Reads any 8- or 16-bit PNG (or JPEG/BMP/TGA that stb reads) as gray; colour images are
-// converted by luminance. Throws wisp::Error naming the file if it cannot.
+// Reads an 8- or 16-bit PNG, a JPEG, a BMP or a TGA as gray; colour images are converted by
+// luminance. Other formats (GIF, PSD, EXR, ...) are refused by name. Throws wisp::Error naming the file if it cannot.
 GrayImage read_gray_image(const std::filesystem::path& path);
 // The most an image file (a map or a mask) may hold.
 inline constexpr uint64_t kMaxImageFileBytes = uint64_t(256) << 20;
 
 // Reads the same files as `channels` planes (1: gray, 2: gray and alpha, 3: RGB, 4: RGBA;
-// stb converts: a gray file read as RGB has three equal planes, a file without alpha reads
+// a gray file read as RGB has three equal planes, a file without alpha reads
 // alpha 1). Throws wisp::Error naming the file if it cannot.
 std::vector<GrayImage> read_image_planes(const std::filesystem::path& path, int channels);
 // The same from the bytes of a file already in memory; `source` names it in errors.
