@@ -117,7 +117,9 @@ std::vector<uint32_t> select_by_hairline(const Mesh& mesh, const ScalpSpec& spec
             const float w = 0.5f - 0.5f * std::cos(kPi * a / h);
             return spec.hairline_front + (spec.hairline_side - spec.hairline_front) * w;
         }
-        const float w = 0.5f - 0.5f * std::cos(kPi * (a - h) / h);
+        // Behind the ear the hairline drops steeply to the nape, which runs nearly level
+        // across the back of the neck.
+        const float w = smoothstep(h, 1.5f * h, a);
         return spec.hairline_side + (spec.hairline_back - spec.hairline_side) * w;
     };
 

@@ -31,10 +31,11 @@ struct ScalpSpec {
     std::filesystem::path mask;   // kMask: grayscale image in the mesh's UV space;
                                   // faces whose UV centroid samples > 0.5 are scalp
     // kHairline: the cap above a hairline given as depths below the top of the head in cm,
-    // interpolated around the head by azimuth.
+    // interpolated around the head by azimuth. The back is the nape hairline, about the level
+    // of the ear lobes on an adult head (the built-in head's is 18 cm below its crown).
     float hairline_front = 6.5f;
     float hairline_side = 10.f;
-    float hairline_back = 14.f;
+    float hairline_back = 18.f;
 };
 
 struct SurfacePoint {

@@ -169,7 +169,7 @@ TEST(Scalp, BuiltinHairline) {
     const float top = head().bounds().hi.y();
     for (uint32_t f : scalp.faces()) {
         const Vec3f c = centroid(head(), f);
-        ASSERT_GT(c.y(), top - 14.5f);
+        ASSERT_GT(c.y(), top - hairline().hairline_back - 0.5f);
         if (c.z() > 5.f && std::abs(c.x()) < 3.f) {
             ASSERT_GT(c.y(), top - 7.f) << "scalp on the face";
         }
@@ -245,8 +245,22 @@ TEST(Scalp, MakeHumanHeadHairline) {
     EXPECT_LT(scalp.area(), 900.f);
     EXPECT_NEAR(scalp.crown().y(), m.bounds().hi.y(), 0.5f);
     const float top = m.bounds().hi.y();
-    for (uint32_t f : scalp.faces())
-        ASSERT_GT(centroid(m, f).y(), top - 14.5f);
+    const float nape = hairline().hairline_back;
+    // No scalp below the nape hairline; the nape reaches it in the middle of the back of the
+    // neck and runs nearly level from there to behind the ears, as on a real head (a hairline
+    // sloping up from the nape to above the ears leaves a bald patch behind each ear).
+    const Vec3f c0 = scalp.center();
+    float lowest_middle = INFINITY, lowest_behind_ear = INFINITY;
+    for (uint32_t f : scalp.faces()) {
+        const Vec3f c = centroid(m, f);
+        ASSERT_GT(c.y(), top - nape - 0.5f);
+        const float azimuth = std::abs(std::atan2(c.x() - c0.x(), c.z() - c0.z()));
+        if (azimuth > 0.95f * kPi) lowest_middle = std::min(lowest_middle, c.y());
+        if (azimuth > 0.7f * kPi && azimuth < 0.75f * kPi)
+            lowest_behind_ear = std::min(lowest_behind_ear, c.y());
+    }
+    EXPECT_LT(lowest_middle, top - nape + 1.5f);
+    EXPECT_LT(lowest_behind_ear, top - nape + 3.f);
     // The group "helper-hair" is not part of this file.
     ScalpSpec spec;
     spec.group = "helper-hair";
