@@ -14,6 +14,7 @@
 
 #include "core/error.hpp"
 #include "core/parallel.hpp"
+#include "geometry/body_proxy.hpp"
 #include "geometry/builtin_head.hpp"
 #include "synthetic_hair.hpp"
 
@@ -134,6 +135,74 @@ TEST(Render, AConvexHeadCastsNoShadowOnItself) {
         differ += d > 2;
     }
     EXPECT_EQ(differ, 0u) << "worst difference " << worst << " levels";
+}
+
+// A bust cut open at the chest on its body proxy: two surfaces meeting at an 11.5° crease. The
+// skin's shading must run on across the seam, not step in a line along the cut; a mesh whose
+// lower part is not a proxy keeps its own normals (the step shows).
+TEST(Render, SkinShadingRunsOnAcrossTheSeamOfABustAndItsProxy) {
+    const Mesh sphere = test::sphere_mesh(Vec3f(0, 0, 0), 10.f, 48);
+    Mesh body;
+    body.vertices = sphere.vertices;
+    for (const Vec3i& f : sphere.faces)  // the cap above y = −2, open at its rim
+        if (sphere.vertices[size_t(f[0])].y() > -2.f && sphere.vertices[size_t(f[1])].y() > -2.f &&
+            sphere.vertices[size_t(f[2])].y() > -2.f)
+            body.faces.push_back(f);
+    float rim = 10.f;  // the rim's lowest ring
+    for (const Vec3i& f : body.faces)
+        for (int k = 0; k < 3; ++k)
+            rim = std::min(rim, body.vertices[size_t(f[k])].y());
+    // The "proxy": an upright cylinder from just under the rim down, its normals level where
+    // the sphere's tilt down by 11.5°.
+    const float r = std::sqrt(100.f - rim * rim) - 0.05f;
+    const int cols = 96, rows = 24;
+    const int base = static_cast<int>(body.vertices.size());
+    for (int i = 0; i <= rows; ++i)
+        for (int j = 0; j < cols; ++j) {
+            const float a = 2.f * kPi * float(j) / float(cols);
+            body.vertices.emplace_back(r * std::sin(a), rim + 0.05f - 12.f * float(i) / float(rows),
+                                       r * std::cos(a));
+        }
+    const size_t head_faces = body.faces.size();
+    for (int i = 0; i < rows; ++i)
+        for (int j = 0; j < cols; ++j) {
+            const int a = base + i * cols + j, b = base + i * cols + (j + 1) % cols;
+            body.faces.emplace_back(a, b + cols, b);
+            body.faces.emplace_back(a, a + cols, b + cols);
+        }
+    body.face_group.assign(body.faces.size(), 1);
+    std::fill(body.face_group.begin(), body.face_group.begin() + long(head_faces), 0);
+    body.group_names = {"head", kBodyProxyGroup};
+    // The largest luminance step between vertically adjacent skin pixels near the rim, down
+    // the middle of a front view.
+    RenderOptions o = small_options("front");
+    o.width = o.height = 256;
+    o.shadows = false;
+    const RgbImage background = render(Hair{}, nullptr, o);
+    auto worst_step = [&](const Mesh& mesh) {
+        const RgbImage img = render(Hair{}, &mesh, o);
+        float worst = 0;
+        auto at = [&](int x, int y) { return (size_t(y) * size_t(o.width) + size_t(x)) * 3; };
+        auto skin = [&](int x, int y) {  // away from the outline's anti-aliased pixels
+            for (int k = -3; k <= 3; ++k) {
+                const size_t i = at(x, std::clamp(y + k, 0, o.height - 1));
+                if (std::equal(&img.rgb[i], &img.rgb[i] + 3, &background.rgb[i])) return false;
+            }
+            return true;
+        };
+        for (int x = 118; x < 138; ++x)
+            for (int y = 1; y < o.height; ++y)
+                if (skin(x, y))
+                    worst = std::max(worst, std::abs(luminance(&img.rgb[at(x, y)]) -
+                                                     luminance(&img.rgb[at(x, y - 1)])));
+        return worst;
+    };
+    const float blended = worst_step(body);
+    Mesh unjoined = body;
+    unjoined.group_names[1] = "body";
+    const float stepped = worst_step(unjoined);
+    EXPECT_GT(stepped, 6.f);
+    EXPECT_LT(blended, 0.4f * stepped) << "unjoined " << stepped;
 }
 
 // Luminance (sRGB levels, 0–255) of the hair's pixels: their mean and 95th percentile.
