@@ -10,6 +10,7 @@
 #include "core/error.hpp"
 #include "core/parallel.hpp"
 #include "core/rng.hpp"
+#include "geometry/skin_normals.hpp"
 #include "groom/maps.hpp"
 #include "groom/style_schema.hpp"
 #include "groom/style_toml.hpp"
@@ -128,12 +129,15 @@ std::string encode_masters(const Masters& masters) {
 
 std::string encode_head(const Mesh& mesh, const std::vector<uint8_t>& scalp_faces) {
     std::string out = "WISPHEAD";
-    put_u32(out, 1);
+    put_u32(out, 2);
     put_u32(out, static_cast<uint32_t>(mesh.vertices.size()));
     put_u32(out, static_cast<uint32_t>(mesh.faces.size()));
     for (const Vec3f& v : mesh.vertices)
         for (int c = 0; c < 3; ++c)
             put_f32(out, v[c]);
+    for (const Vec3f& n : skin_normals(mesh))
+        for (int c = 0; c < 3; ++c)
+            put_f32(out, n[c]);
     for (const Vec3i& f : mesh.faces)
         for (int c = 0; c < 3; ++c)
             put_u32(out, static_cast<uint32_t>(f[c]));

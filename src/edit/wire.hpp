@@ -55,7 +55,8 @@ std::span<char> begin_frame(uint32_t frame, size_t points, std::string& out);
 // The masters' control polylines in the same layout (colors: a neutral grey).
 std::string encode_masters(const Masters& masters);
 
-// The head mesh: "WISPHEAD", uint32 version (1), #V, #F, float32 positions[3·#V] (cm),
+// The head mesh: "WISPHEAD", uint32 version (2), #V, #F, float32 positions[3·#V] (cm),
+// float32 normals[3·#V] (skin_normals: the renderer's, so the editor shows the same skin),
 // uint32 triangles[3·#F], uint8 scalp[#F] (1 for scalp faces).
 std::string encode_head(const Mesh& mesh, const std::vector<uint8_t>& scalp_faces);
 

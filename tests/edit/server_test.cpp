@@ -170,6 +170,17 @@ TEST_F(EditServerTest, SendsShuffledStrandsAsLittleEndianArrays) {
     EXPECT_EQ(last, points);
     const std::string head = body_of(get("/api/head"));
     EXPECT_EQ(head.substr(0, 8), "WISPHEAD");
+    uint32_t head_header[3];  // version, #V, #F
+    ASSERT_GE(head.size(), 20u);
+    std::memcpy(head_header, head.data() + 8, sizeof head_header);
+    EXPECT_EQ(head_header[0], 2u);
+    const size_t nv = head_header[1], nf = head_header[2];
+    ASSERT_EQ(head.size(), 20 + 24 * nv + 13 * nf);
+    for (size_t v = 0; v < nv; v += 97) {  // the skin normals, after the positions: unit
+        float n[3];
+        std::memcpy(n, head.data() + 20 + 12 * nv + 12 * v, sizeof n);
+        EXPECT_NEAR(n[0] * n[0] + n[1] * n[1] + n[2] * n[2], 1.f, 1e-4f) << v;
+    }
     const std::string masters = body_of(get("/api/masters"));
     EXPECT_EQ(masters.substr(0, 8), "WISPHAIR");
     std::memcpy(header, masters.data() + 8, sizeof header);

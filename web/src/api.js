@@ -47,17 +47,19 @@ export function decodeStrands(buffer) {
   return { strands, points, total, offsets, positions, colors };
 }
 
-// "WISPHEAD": positions (cm), triangles, a scalp flag per face.
+// "WISPHEAD": positions (cm), the renderer's skin normals, triangles, a scalp flag per face.
 export function decodeHead(buffer) {
   const header = new Uint32Array(buffer, 8, 3);
   const [, vertices, faces] = header;
   let at = 20;
   const positions = new Float32Array(buffer.slice(at, at + 12 * vertices));
   at += 12 * vertices;
+  const normals = new Float32Array(buffer.slice(at, at + 12 * vertices));
+  at += 12 * vertices;
   const triangles = new Uint32Array(buffer.slice(at, at + 12 * faces));
   at += 12 * faces;
   const scalp = new Uint8Array(buffer, at, faces);
-  return { positions, triangles, scalp };
+  return { positions, normals, triangles, scalp };
 }
 
 // POST a binary body (a map's PNG); resolves to { ok, status, body } as postJson does.

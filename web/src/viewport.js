@@ -101,7 +101,9 @@ export class Viewport {
     const geometry = new THREE.BufferGeometry();
     geometry.setAttribute("position", new THREE.BufferAttribute(head.positions, 3));
     geometry.setIndex(new THREE.BufferAttribute(head.triangles, 1));
-    geometry.computeVertexNormals();
+    // The renderer's skin normals (smooth across a bust's seam with its body proxy), not
+    // three.js's, which would show the seam as a line.
+    geometry.setAttribute("normal", new THREE.BufferAttribute(head.normals, 3));
     geometry.computeBoundingBox();
     const material = new THREE.MeshStandardMaterial({ color: 0xc9a58c, roughness: 0.7 });
     if (this.head) this.scene.remove(this.head);
