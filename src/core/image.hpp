@@ -21,7 +21,8 @@ struct GrayImage {
 };
 
 // Reads an 8- or 16-bit PNG, a JPEG, a BMP or a TGA as gray; colour images are converted by
-// luminance. Other formats (GIF, PSD, EXR, ...) are refused by name. Throws wisp::Error naming the file if it cannot.
+// luminance. Other formats (GIF, PSD, EXR, ...) are refused by name. Throws wisp::Error naming the
+// file if it cannot.
 GrayImage read_gray_image(const std::filesystem::path& path);
 // The most an image file (a map or a mask) may hold.
 inline constexpr uint64_t kMaxImageFileBytes = uint64_t(256) << 20;
