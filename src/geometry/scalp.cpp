@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "core/image.hpp"
+#include "geometry/skin_normals.hpp"
 
 namespace wisp {
 namespace {
@@ -260,19 +261,7 @@ Scalp::Scalp(const Mesh& mesh, const ScalpSpec& spec, const std::string& source,
         fail(source, ": the scalp selected by ", how, " is empty");
     }
 
-    // Area-weighted smooth vertex normals of the whole mesh (the cross product's length is
-    // twice the face area).
-    vertex_normals_.assign(mesh.vertices.size(), Vec3f::Zero());
-    for (const Vec3i& t : mesh.faces) {
-        const Vec3f n = (mesh.vertices[t[1]] - mesh.vertices[t[0]])
-                            .cross(mesh.vertices[t[2]] - mesh.vertices[t[0]]);
-        for (int k = 0; k < 3; ++k)
-            vertex_normals_[t[k]] += n;
-    }
-    for (Vec3f& n : vertex_normals_) {
-        const float len = n.norm();
-        n = len > 0.f ? Vec3f(n / len) : Vec3f::UnitY();
-    }
+    vertex_normals_ = skin_normals(mesh);
 
     double total = 0.0;
     cdf_.resize(faces_.size());

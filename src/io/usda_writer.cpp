@@ -17,6 +17,7 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/parallel.hpp"
+#include "geometry/skin_normals.hpp"
 #include "io/float_text.hpp"
 #include "io/io_util.hpp"
 #include "io/usda.hpp"
@@ -436,18 +437,10 @@ void end_layer(Out& o, const Hair& hair) {
     o.flush(true);
 }
 
-// The head as a polygon mesh beside /hair: points, triangles, smooth vertex normals (area
-// weighted) and the scalp faces as a GeomSubset.
+// The head as a polygon mesh beside /hair: points, triangles, the skin's smooth vertex
+// normals (skin_normals: as wisp renders it) and the scalp faces as a GeomSubset.
 void head_prim(Out& o, const Mesh& mesh, std::span<const uint32_t> scalp, bool z_up) {
-    std::vector<Vec3f> normals(mesh.vertices.size(), Vec3f::Zero());
-    for (const Vec3i& f : mesh.faces) {
-        const Vec3f n = (mesh.vertices[f[1]] - mesh.vertices[f[0]])
-                            .cross(mesh.vertices[f[2]] - mesh.vertices[f[0]]);
-        for (int k = 0; k < 3; ++k)
-            normals[f[k]] += n;
-    }
-    for (Vec3f& n : normals)
-        n = n.norm() > 0.f ? Vec3f(n.normalized()) : Vec3f::UnitY();
+    const std::vector<Vec3f> normals = skin_normals(mesh);
     std::string& out = o.buf;
     out += "\ndef Mesh \"head\"\n{\n    uniform token subdivisionScheme = \"none\"\n";
     Box3 b = mesh.bounds();
