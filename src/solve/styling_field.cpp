@@ -108,8 +108,15 @@ Vec3f field_term(const FieldTerm& term, const HeadFrame& head, const GrowthField
             return grown(head, growth, p);
         case FieldTerm::Kind::kGravity:
             return down;
-        case FieldTerm::Kind::kPulledBack:
-            return swept_toward(head, p, Vec3f(0.f, -0.55f, -1.f).normalized());
+        case FieldTerm::Kind::kPulledBack: {
+            // Toward a point behind and below the head that moves sideways with p: each side's
+            // hair is swept back on its own side and falls as a curtain about as wide as the
+            // head. Toward one point, the great circles would gather all of it at the nape into
+            // a tail.
+            const Vec3f d = p - head.center;
+            const float across = d.x() / std::max(d.norm(), 1e-4f);
+            return swept_toward(head, p, Vec3f(0.9f * across, -0.55f, -1.f).normalized());
+        }
         case FieldTerm::Kind::kSidePart:
             return swept_toward(head, p, Vec3f(-term.side, -0.45f, 0.15f).normalized());
         case FieldTerm::Kind::kWind:

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "groom/style_toml.hpp"
 #include "solve/constraint.hpp"
@@ -244,6 +245,39 @@ void expect_natural_fringe(const Head& head) {
 TEST(Fringe, CutOnAGentleCurveWithUnevenEnds) {
     expect_natural_fringe(builtin());
     expect_natural_fringe(makehuman());
+}
+
+// Combed back reads as combed back on any head: the sides go behind the ears with the rest (no
+// section falls forward onto the chest), and the back falls as a curtain about as wide as the
+// head, not gathered into a tail at the nape. Measured on the strands' tips: in front of the
+// ears' plane, and their spread across the back against the distance between the ears.
+void expect_combed_back(const Head& head) {
+    const Style style = reduced("combed-back");
+    const HairstyleResult r = generate_hairstyle(style, head);
+    ASSERT_TRUE(head.landmarks);
+    const Landmarks& l = *head.landmarks;
+    const Vec3f side = Vec3f::UnitY().cross(l.forward);
+    const Vec3f ears = 0.5f * (l.ear_left + l.ear_right);
+    size_t in_front = 0;
+    std::vector<float> across;
+    for (size_t i = 0; i < r.hair.strand_count(); ++i) {
+        const Vec3f tip = r.hair.strand(i).back() - ears;
+        in_front += tip.dot(l.forward) > 0.f;
+        across.push_back(tip.dot(side));
+    }
+    const size_t n = across.size();
+    ASSERT_GT(n, 1000u);
+    std::sort(across.begin(), across.end());
+    EXPECT_LT(float(in_front) / float(n), 0.02f)
+        << head.source << ": tips in front of the ears' plane";
+    const float width = (l.ear_left - l.ear_right).norm();
+    EXPECT_GT(across[n * 9 / 10] - across[n / 10], 0.65f * width)
+        << head.source << ": the back is gathered into a tail";
+}
+
+TEST(CombedBack, SidesGoBehindTheEarsAndTheBackFallsAsACurtain) {
+    expect_combed_back(builtin());
+    expect_combed_back(makehuman());
 }
 
 }  // namespace
