@@ -131,6 +131,8 @@ float ear(const Vec3f& m) {
     return d;
 }
 
+const Vec3f kMouthCentre(0.f, -5.1f, 8.8f), kNoseTip(0.f, -1.8f, 10.3f);
+
 // ---- The lips, in coordinates that wrap around the dental arch: s is the arc length along
 // the arch from the midline (cm), t the distance out of it, y the height.
 Vec3f arch_coordinates(const Vec3f& p) {
@@ -162,16 +164,18 @@ float lips(const Vec3f& p) {
     return smin(upper, lower, 0.2f);
 }
 
-// ---- The eyes: a ball in each socket behind lids that leave an almond-shaped opening.
+// ---- The eyes: a ball in each socket, the lids a layer over it that leaves an almond-shaped
+// opening. The lids are a height over the ball (no overhang), rising smoothly from the
+// opening's edge, so the mesh's 0.35 cm cells can hold them: thin, sharp lids would come out
+// of the grid as torn slivers.
 const Vec3f kEyeCentre(3.15f, 1.3f, 6.65f);  // right eye mirrored; pupils 6.3 cm apart
 constexpr float kEyeRadius = 1.15f;
 
 float eye_and_lids(const Vec3f& m) {
     const Vec3f q = m - kEyeCentre;
     const float r = q.norm();
-    // The lids: shells over the ball parted by an almond 2.8 cm wide and 1.05 cm tall whose
-    // edges are arcs through the corners (the outer corner a little higher). Each lid thickens
-    // away from its edge, the upper to 0.3 cm, the lower to 0.2 cm.
+    // The opening: an almond 2.8 cm wide and 1.05 cm tall whose edges are arcs through the
+    // corners (the outer corner a little higher).
     const float x = q.x(), y = q.y() - 0.06f * q.x();
     constexpr float kHalfWidth = 1.4f, kTop = 0.5f, kBottom = 0.55f;
     auto arc = [](float half_width, float height) {  // radius of the arc through the corners
@@ -181,11 +185,12 @@ float eye_and_lids(const Vec3f& m) {
     // > 0 inside the almond's upper arc (under the upper lid's edge), likewise the lower.
     const float under_upper = ru - std::hypot(x, y - (kTop - ru));
     const float over_lower = rl - std::hypot(x, y + (kBottom - rl));
-    const float upper =
-        std::max(r - kEyeRadius - 0.06f - 0.24f * smoothstep(0.f, 0.6f, -under_upper), under_upper);
-    const float lower =
-        std::max(r - kEyeRadius - 0.05f - 0.15f * smoothstep(0.f, 0.5f, -over_lower), over_lower);
-    return smin(r - kEyeRadius, std::min(upper, lower), 0.08f);
+    // The upper lid stands 0.32 cm off the ball, the lower 0.22 cm, each reached 0.4 cm from
+    // the edge; a fold runs along the upper lid 0.7 cm above its edge.
+    const float upper = 0.32f * smoothstep(-0.05f, 0.4f, -under_upper) -
+                        0.07f * std::exp(-(under_upper + 0.75f) * (under_upper + 0.75f) / 0.06f);
+    const float lower = 0.22f * smoothstep(-0.05f, 0.4f, -over_lower);
+    return r - kEyeRadius - std::max(upper, lower);
 }
 
 // ---- The whole figure, in head space: origin between the ears at ear-canal height, Y up, +Z
@@ -280,12 +285,13 @@ float head_field(const Vec3f& p) {
     b.add_capsule(m, {4.9f, -6.8f, -0.3f}, {5.4f, -2.0f, -0.6f}, 0.95f, 0.95f, 1.5f);
     b.add_capsule(m, {4.9f, -6.9f, -0.3f}, {1.9f, -9.1f, 6.4f}, 0.9f, 0.85f, 1.8f);
     b.add_ellipsoid(p, {0.f, -8.3f, 7.6f}, {2.2f, 1.6f, 1.5f}, 1.5f);
+    b.add_ellipsoid(m, {4.4f, -3.6f, 3.6f}, {2.0f, 3.4f, 3.4f}, 2.5f);
     b.add_ellipsoid(p, {0.f, -4.7f, 5.5f}, {3.6f, 2.6f, 3.5f}, 1.5f);
     b.add_ellipsoid(m, {2.6f, 3.3f, 7.7f}, {2.4f, 0.9f, 1.4f}, 1.2f);
 
     // -- Eye sockets, then the eyes in them.
-    b.carve_ellipsoid(m, {3.2f, 1.5f, 8.4f}, {1.7f, 1.2f, 1.3f}, 1.5f);
-    b.add(m, kEyeCentre, kEyeRadius + 0.5f, 0.2f, [&] { return eye_and_lids(m); });
+    b.carve_ellipsoid(m, {3.2f, 1.6f, 8.3f}, {1.6f, 1.0f, 1.0f}, 1.2f);
+    b.add(m, kEyeCentre, kEyeRadius + 0.7f, 0.3f, [&] { return eye_and_lids(m); });
 
     // -- Nose: bridge from the root between the eyes to the tip, its sides, the wings of the
     // nostrils and the column under the tip.
@@ -296,7 +302,7 @@ float head_field(const Vec3f& p) {
     b.add_capsule(p, {0.f, -2.1f, 10.6f}, {0.f, -2.75f, 9.65f}, 0.35f, 0.35f, 0.4f);
 
     // -- Mouth.
-    b.add(p, {0.f, -5.1f, 8.8f}, 3.4f, 0.35f, [&] { return lips(p); });
+    b.add(p, kMouthCentre, 3.4f, 0.35f, [&] { return lips(p); });
 
     // -- Ears.
     b.add(m, kEarCentre, kEarRadius, 0.9f, [&] { return ear(m); });
@@ -816,8 +822,8 @@ void collapse_short_edges(Mesh& mesh, MaxLength&& max_length, int passes) {
 // normal) and a Newton step takes it onto the zero set. Evens out the triangles of marching
 // tetrahedra without changing the connectivity; moving only along the surface keeps vertices
 // from being pulled across creases (the lips, the lids) and projected onto the wrong side.
-template <typename Field>
-void relax(Mesh& mesh, const Field& field, int iterations) {
+template <typename Field, typename Moves>
+void relax(Mesh& mesh, const Field& field, int iterations, Moves&& moves) {
     const size_t nv = mesh.vertices.size();
     // Vertex neighbours in CSR form from the (directed) triangle edges; each undirected edge
     // appears once per direction in a closed manifold, so neighbours are listed once.
@@ -825,13 +831,32 @@ void relax(Mesh& mesh, const Field& field, int iterations) {
     const std::vector<uint32_t>& start = neighbours.first;
     const std::vector<uint32_t>& adj = neighbours.items;
 
+    // Which vertices move is decided once, from where they start. A vertex that stays and has
+    // no neighbour that moves only sits in triangles that stay as they are: it needs no field.
+    std::vector<uint8_t> moving(nv), touched(nv);
+    parallel_for(
+        nv, [&](size_t v) { moving[v] = moves(mesh.vertices[v]) ? 1 : 0; }, 1024);
+    parallel_for(
+        nv,
+        [&](size_t v) {
+            bool t = moving[v] != 0;
+            for (uint32_t a = start[v]; a < start[v + 1] && !t; ++a)
+                t = moving[adj[a]] != 0;
+            touched[v] = t ? 1 : 0;
+        },
+        1024);
+
     // The gradient is taken once: the later steps are short, and it changes little over them.
-    std::vector<Vec3f> next(nv), gradient(nv), normal(nv);
+    std::vector<Vec3f> next(nv), gradient(nv, Vec3f::Zero()), normal(nv, Vec3f::Zero());
     for (int it = 0; it < iterations; ++it) {
         parallel_for(
             nv,
             [&](size_t v) {
                 const Vec3f x = mesh.vertices[v];
+                if (!touched[v]) {
+                    next[v] = x;
+                    return;
+                }
                 Vec3f c = Vec3f::Zero();
                 for (uint32_t a = start[v]; a < start[v + 1]; ++a)
                     c += mesh.vertices[adj[a]];
@@ -844,7 +869,7 @@ void relax(Mesh& mesh, const Field& field, int iterations) {
                 }
                 const Vec3f& g = gradient[v];
                 const float g2 = g.squaredNorm();
-                if (n == 0 || g2 < 1e-8f) {
+                if (n == 0 || g2 < 1e-8f || !moving[v]) {
                     next[v] = x;
                     return;
                 }
@@ -873,6 +898,110 @@ void relax(Mesh& mesh, const Field& field, int iterations) {
         }
         mesh.vertices.swap(next);
     }
+}
+
+// Splits every edge longer than max_length(midpoint) at its midpoint, pulled onto the
+// implicit surface by Newton steps along the field's gradient, and each triangle into two,
+// three or four to match its split edges (conforming: a split edge is split in both of its
+// triangles), `passes` times. Marching on a 0.35 cm grid cannot hold forms a few cells across
+// (the lids, the nostrils); the refined patch can, and only it pays for the extra triangles.
+// Keeps the mesh closed, oriented and of the same genus. Deterministic: edges are numbered in
+// face order.
+template <typename Field, typename MaxLength>
+void refine(Mesh& mesh, const Field& field, MaxLength&& max_length, int passes) {
+    for (int pass = 0; pass < passes; ++pass) {
+        const size_t nf = mesh.faces.size();
+        // The midpoint vertex of each split edge, keyed by its endpoints (lower index first).
+        std::vector<std::array<int32_t, 3>> splits;  // a, b, new vertex
+        auto find = [&](int32_t a, int32_t b) {
+            if (a > b) std::swap(a, b);
+            const auto it =
+                std::lower_bound(splits.begin(), splits.end(), std::array<int32_t, 3>{a, b, -1},
+                                 [](const auto& x, const auto& y) {
+                                     return x[0] != y[0] ? x[0] < y[0] : x[1] < y[1];
+                                 });
+            return it != splits.end() && (*it)[0] == a && (*it)[1] == b ? (*it)[2] : -1;
+        };
+        for (size_t f = 0; f < nf; ++f)
+            for (int e = 0; e < 3; ++e) {
+                const int32_t a = mesh.faces[f][e], b = mesh.faces[f][(e + 1) % 3];
+                const Vec3f pa = mesh.vertices[a], pb = mesh.vertices[b];
+                const float limit = max_length(0.5f * (pa + pb));
+                if ((pb - pa).squaredNorm() > limit * limit)
+                    splits.push_back({std::min(a, b), std::max(a, b), -1});
+            }
+        if (splits.empty()) return;
+        std::sort(splits.begin(), splits.end());
+        splits.erase(std::unique(splits.begin(), splits.end()), splits.end());
+        const size_t nv = mesh.vertices.size();
+        mesh.vertices.resize(nv + splits.size());
+        parallel_for(
+            splits.size(),
+            [&](size_t i) {
+                auto& s = splits[i];
+                Vec3f x = 0.5f * (mesh.vertices[s[0]] + mesh.vertices[s[1]]);
+                const float reach = 0.5f * (mesh.vertices[s[1]] - mesh.vertices[s[0]]).norm();
+                const Vec3f start = x;
+                for (int it = 0; it < 4; ++it) {
+                    const float f = field(x);
+                    const Vec3f g = field_gradient(field, x, f);
+                    const float g2 = g.squaredNorm();
+                    if (g2 < 1e-8f) break;
+                    x -= (f / g2) * g;
+                }
+                // A step that leaves the edge's neighbourhood found another sheet: keep the
+                // midpoint.
+                if ((x - start).norm() > reach) x = start;
+                s[2] = static_cast<int32_t>(nv + i);
+                mesh.vertices[nv + i] = x;
+            },
+            64);
+        std::vector<Vec3i> faces;
+        faces.reserve(nf * 2);
+        for (size_t f = 0; f < nf; ++f) {
+            const Vec3i t = mesh.faces[f];
+            int32_t m[3];
+            int count = 0;
+            for (int e = 0; e < 3; ++e)
+                count += (m[e] = find(t[e], t[(e + 1) % 3])) >= 0;
+            if (count == 0) {
+                faces.push_back(t);
+                continue;
+            }
+            // Rotate so that the first split edge follows a run of split edges from corner 0:
+            // edge e joins corners e and e + 1, its midpoint m[e].
+            int r = 0;
+            while (m[r] < 0 || (count < 3 && m[(r + 2) % 3] >= 0))
+                ++r;
+            const int32_t c0 = t[r], c1 = t[(r + 1) % 3], c2 = t[(r + 2) % 3];
+            const int32_t m0 = m[r], m1 = m[(r + 1) % 3], m2 = m[(r + 2) % 3];
+            if (count == 1) {
+                faces.emplace_back(c0, m0, c2);
+                faces.emplace_back(m0, c1, c2);
+            } else if (count == 2) {
+                faces.emplace_back(c0, m0, c2);
+                faces.emplace_back(m0, c1, m1);
+                faces.emplace_back(m0, m1, c2);
+            } else {
+                faces.emplace_back(c0, m0, m2);
+                faces.emplace_back(m0, c1, m1);
+                faces.emplace_back(m2, m1, c2);
+                faces.emplace_back(m0, m1, m2);
+            }
+        }
+        mesh.faces.swap(faces);
+    }
+}
+
+bool everywhere(const Vec3f&) {
+    return true;
+}
+// The eyes, the nose's tip and wings and the lips: forms a few millimetres across, which the
+// mesh is refined for and only there relaxed again, so the rest of the figure stays as it was.
+bool near_face_detail(const Vec3f& p) {
+    const Vec3f m(std::abs(p.x()), p.y(), p.z());
+    return (m - kEyeCentre).norm() < kEyeRadius + 1.f || (p - kMouthCentre).norm() < 3.f ||
+           (p - kNoseTip).norm() < 2.f;
 }
 
 // The hairline of the built-in head: the height (y, cm) of the hairline at azimuth phi around
@@ -921,7 +1050,7 @@ Mesh builtin_torso_mesh(float neck_top, float neck_radius) {
     Mesh mesh = march(g, field);
     collapse_short_edges(
         mesh, [](const Vec3f&) { return 0.7f; }, 2);
-    relax(mesh, field, 2);
+    relax(mesh, field, 2, everywhere);
     return mesh;
 }
 
@@ -930,7 +1059,17 @@ Mesh builtin_head_mesh() {
     // Slivers everywhere; on the bust, whose forms are broad, edges up to 0.7 cm.
     collapse_short_edges(
         mesh, [](const Vec3f& p) { return 0.2f + 0.5f * smoothstep(-10.f, -14.f, p.y()); }, 2);
-    relax(mesh, head_field, 2);
+    relax(mesh, head_field, 2, everywhere);
+    // The eyes and their lids on edges of 2 mm at most, the lips and nostrils on 2.5 mm.
+    refine(
+        mesh, head_field,
+        [](const Vec3f& p) {
+            const Vec3f m(std::abs(p.x()), p.y(), p.z());
+            if ((m - kEyeCentre).norm() < kEyeRadius + 0.8f) return 0.2f;
+            return near_face_detail(p) ? 0.25f : 1e3f;
+        },
+        3);
+    relax(mesh, head_field, 2, near_face_detail);
 
     // Groups: the scalp is above the hairline and off the ears.
     mesh.group_names = {"scalp", "body"};

@@ -9,18 +9,19 @@
 
 namespace wisp {
 
-// Builds the built-in mesh: a closed, manifold, genus-0 triangle mesh (~18k vertices, ~36k
+// Builds the built-in mesh: a closed, manifold, genus-0 triangle mesh (~25k vertices, ~50k
 // triangles, counter-clockwise seen from outside) with face groups "scalp" (the hair-bearing
 // cap above a hairline: 6.3 cm below the crown at the forehead, receding at the temples,
 // sideburns in front of the ears down to about the ear canal, around and above the ears,
 // never on them, down to the nape 18 cm below the crown) and "body" for the rest, and UVs (the
 // polar map about the cranium centre (0, 3, -0.7): crown at (0.5, 0.5), +Z toward v = 1, +X
-// toward u = 1, radius = polar angle / 2π). Deterministic; about 100 ms on two cores.
+// toward u = 1, radius = polar angle / 2π). Deterministic; about 110 ms on two cores.
 //
 // It is the zero set of a signed distance field (a smooth union of ellipsoids, capsules and a
 // few shaped parts), polygonized by marching tetrahedra on a 0.35 cm grid over the head and a
 // 0.8 cm grid over the bust, joined under the chin, then thinned of short edges where the
-// surface is flat and relaxed onto the field.
+// surface is flat and relaxed onto the field; around the eyes, the nose's tip and the lips,
+// whose forms are finer than that grid, edges are split down to 2–2.5 mm onto the field.
 //
 // Head space, centimetres, Y up, facing +Z (the nose points along +Z), symmetric in x. The
 // origin is the centre of the head between the ears at ear-canal height. Landmarks, measured:

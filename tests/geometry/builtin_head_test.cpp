@@ -258,7 +258,36 @@ TEST(BuiltinHead, EyesSitInTheirSockets) {
         // ...and it is a ball: between the lids, the surface falls away to either side.
         for (float dx : {-0.7f, 0.7f})
             EXPECT_LT(front_z(m, x + dx, y), eye - 0.1f) << "side " << side << " offset " << dx;
+        // The lids lie over the ball above and below the opening: there the surface stands
+        // in front of the ball the opening shows (the sphere through `eye`, 1.15 cm across).
+        const float centre_z = eye - 1.15f;
+        for (float dy : {0.8f, -0.85f}) {
+            const float ball = centre_z + std::sqrt(1.15f * 1.15f - dy * dy);
+            EXPECT_GT(front_z(m, x, y + dy), ball + 0.15f) << "side " << side << " lid " << dy;
+        }
     }
+}
+
+// The eyes and lids are a few millimetres across, finer than the marching grid: the mesh is
+// refined there, so that they come out whole instead of as torn slivers.
+TEST(BuiltinHead, EyesAreMeshedFinely) {
+    const Mesh& m = head();
+    float longest = 0.f;
+    size_t near = 0;
+    for (const Vec3i& t : m.faces)
+        for (int k = 0; k < 3; ++k) {
+            const Vec3f &a = m.vertices[t[k]], &b = m.vertices[t[(k + 1) % 3]];
+            const Vec3f mid = 0.5f * (a + b);
+            if ((Vec3f(std::abs(mid.x()), mid.y(), mid.z()) - Vec3f(3.15f, 1.3f, 7.3f)).norm() >
+                1.2f)
+                continue;
+            longest = std::max(longest, (b - a).norm());
+            ++near;
+        }
+    // 2 mm edges, give or take what relaxing the refined patch stretches them by (the marching
+    // grid alone leaves edges of 5 mm and more there).
+    EXPECT_GT(near, 1500u);
+    EXPECT_LT(longest, 0.26f);
 }
 
 TEST(BuiltinHead, ScalpGroupIsAPlausibleCap) {
