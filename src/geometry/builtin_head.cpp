@@ -285,7 +285,7 @@ float head_field(const Vec3f& p) {
     b.add_capsule(m, {4.9f, -6.8f, -0.3f}, {5.4f, -2.0f, -0.6f}, 0.95f, 0.95f, 1.5f);
     b.add_capsule(m, {4.9f, -6.9f, -0.3f}, {1.9f, -9.1f, 6.4f}, 0.9f, 0.85f, 1.8f);
     b.add_ellipsoid(p, {0.f, -8.3f, 7.6f}, {2.2f, 1.6f, 1.5f}, 1.5f);
-    b.add_ellipsoid(m, {4.4f, -3.6f, 3.6f}, {2.0f, 3.4f, 3.4f}, 2.5f);
+    b.add_ellipsoid(m, {4.2f, -3.6f, 3.6f}, {1.9f, 3.2f, 3.2f}, 2.2f);
     b.add_ellipsoid(p, {0.f, -4.7f, 5.5f}, {3.6f, 2.6f, 3.5f}, 1.5f);
     b.add_ellipsoid(m, {2.6f, 3.3f, 7.7f}, {2.4f, 0.9f, 1.4f}, 1.2f);
 
