@@ -161,7 +161,7 @@ float lips(const Vec3f& p) {
     };
     const float upper = lip(top, mouth, 0.4f, -0.25f - 0.25f * w2);
     const float lower = lip(mouth, bottom, 0.45f, -0.35f - 0.3f * w2);
-    return smin(upper, lower, 0.2f);
+    return smin(upper, lower, 0.35f);
 }
 
 // ---- The eyes: a ball in each socket, the lids a layer over it that leaves an almond-shaped
