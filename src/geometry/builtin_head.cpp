@@ -168,7 +168,7 @@ float lips(const Vec3f& p) {
 // opening. The lids are a height over the ball (no overhang), rising smoothly from the
 // opening's edge, so the mesh's 0.35 cm cells can hold them: thin, sharp lids would come out
 // of the grid as torn slivers.
-const Vec3f kEyeCentre(3.15f, 1.3f, 6.65f);  // right eye mirrored; pupils 6.3 cm apart
+const Vec3f kEyeCentre(3.15f, 1.3f, 6.8f);  // right eye mirrored; pupils 6.3 cm apart
 constexpr float kEyeRadius = 1.15f;
 
 float eye_and_lids(const Vec3f& m) {

@@ -28,7 +28,7 @@ namespace wisp {
 //   crown (top of the head)      y = 12.5          chin (lowest point)   y = -10.3
 //   brow (glabella)              (0, 3.2, 9.1)     back of the head      z = -10.1
 //     (19.2 cm from brow to back; 14.9 cm wide above the ears)
-//   eyes, 6.3 cm apart           centres (±3.15, 1.3, 6.65), fronts at z ≈ 7.8
+//   eyes, 6.3 cm apart           centres (±3.15, 1.3, 6.8), fronts at z ≈ 7.95
 //   nose tip                     (0, -1.45, 11.45) mouth line           y ≈ -4.95, z ≈ 9.4
 //   ears, 6.1 cm tall            y = -2.5 … 3.5, out to |x| = 9.0, z ≈ -3.3 … 0
 //   neck, 11.2 cm wide           y ≈ -10 … -17     shoulders, 41 cm wide y ≈ -19 … -28
