@@ -279,8 +279,8 @@ float head_field(const Vec3f& p) {
 
     add_torso(b, p, m);
 
-    // -- The forms of the face: cheekbones, the jaw (ramus, body, chin), the muzzle around the
-    // mouth, brow ridges.
+    // -- The forms of the face: cheekbones, the jaw (ramus, body, chin), the cheeks filling the
+    // hollow between them, the muzzle around the mouth, brow ridges.
     b.add_ellipsoid(m, {4.7f, -0.3f, 5.2f}, {1.9f, 1.3f, 2.0f}, 1.5f);
     b.add_capsule(m, {4.9f, -6.8f, -0.3f}, {5.4f, -2.0f, -0.6f}, 0.95f, 0.95f, 1.5f);
     b.add_capsule(m, {4.9f, -6.9f, -0.3f}, {1.9f, -9.1f, 6.4f}, 0.9f, 0.85f, 1.8f);
