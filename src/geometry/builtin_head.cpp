@@ -1039,6 +1039,45 @@ float torso_field(const Vec3f& p, float neck_top, float neck_radius) {
     return b.d;
 }
 
+// The albedo at a vertex of the face: the skin's, except on the eyes (white, an iris and a
+// pupil looking straight ahead, a dark lash line along the upper lid) and the lips. Shape
+// alone cannot make a face read at a glance: eyes the colour of skin look blind.
+Vec3f lerp(const Vec3f& a, const Vec3f& b, float t) {
+    return a + t * (b - a);
+}
+
+Vec3f face_color(const Vec3f& p) {
+    const Vec3f m(std::abs(p.x()), p.y(), p.z());
+    Vec3f c = kSkinAlbedo;
+    const Vec3f q = m - kEyeCentre;
+    const float r = q.norm();
+    if (r < kEyeRadius + 0.6f && q.z() > 0.f) {
+        const float angle = std::acos(std::clamp(q.z() / r, -1.f, 1.f));  // from the gaze
+        const Vec3f sclera(0.52f, 0.47f, 0.43f), iris(0.09f, 0.045f, 0.022f),
+            limbus(0.03f, 0.018f, 0.012f), pupil(0.008f, 0.008f, 0.008f);
+        Vec3f eye = lerp(limbus, sclera, smoothstep(0.5f, 0.58f, angle));
+        eye = lerp(iris, eye, smoothstep(0.4f, 0.5f, angle));
+        eye = lerp(pupil, eye, smoothstep(0.16f, 0.22f, angle));
+        const float height = r - kEyeRadius;  // off the ball: 0 in the opening, the lids above
+        // The lash line: the first 1.5 mm of the upper lid's rise off the ball.
+        const float lash =
+            (1.f - smoothstep(0.06f, 0.22f, height)) * smoothstep(0.f, 0.3f, q.y() - 0.06f * q.x());
+        c = lerp(c, Vec3f(0.08f, 0.05f, 0.035f), 0.6f * lash);
+        c = lerp(c, eye, 1.f - smoothstep(0.04f, 0.1f, height));
+    }
+    const float lip = lips(p);
+    if (lip < 0.3f)
+        c = lerp(c, Vec3f(0.46f, 0.22f, 0.19f), 0.7f * (1.f - smoothstep(0.02f, 0.2f, lip)));
+    return c;
+}
+
+std::vector<Vec3f> face_colors(const Mesh& mesh) {
+    std::vector<Vec3f> colors(mesh.vertices.size());
+    parallel_for(
+        mesh.vertices.size(), [&](size_t v) { colors[v] = face_color(mesh.vertices[v]); }, 4096);
+    return colors;
+}
+
 }  // namespace
 
 Mesh builtin_torso_mesh(float neck_top, float neck_radius) {
@@ -1070,6 +1109,8 @@ Mesh builtin_head_mesh() {
         },
         3);
     relax(mesh, head_field, 2, near_face_detail);
+
+    mesh.colors = face_colors(mesh);
 
     // Groups: the scalp is above the hairline and off the ears.
     mesh.group_names = {"scalp", "body"};

@@ -373,6 +373,13 @@ void close_holes(const Mesh& mesh, Mesh* closed, Mesh* caps) {
 void append_mesh(Mesh& mesh, const Mesh& piece, const std::string& group) {
     const int32_t first_vertex = static_cast<int32_t>(mesh.vertices.size());
     const size_t first_face = mesh.faces.size();
+    if (!mesh.colors.empty() || !piece.colors.empty()) {
+        mesh.colors.resize(mesh.vertices.size(), kSkinAlbedo);
+        if (piece.colors.empty())
+            mesh.colors.resize(mesh.vertices.size() + piece.vertices.size(), kSkinAlbedo);
+        else
+            mesh.colors.insert(mesh.colors.end(), piece.colors.begin(), piece.colors.end());
+    }
     mesh.vertices.insert(mesh.vertices.end(), piece.vertices.begin(), piece.vertices.end());
     for (const Vec3i& f : piece.faces)
         mesh.faces.push_back(f + Vec3i::Constant(first_vertex));

@@ -10,6 +10,9 @@
 
 namespace wisp {
 
+// The albedo of skin where a mesh gives none (linear RGB).
+inline const Vec3f kSkinAlbedo(0.62f, 0.42f, 0.32f);
+
 struct Mesh {
     std::vector<Vec3f> vertices;      // #V positions, cm
     std::vector<Vec3i> faces;         // #F triangles, indices into vertices, counter-clockwise
@@ -20,6 +23,9 @@ struct Mesh {
     std::vector<std::string> group_names;
     std::vector<int32_t> face_material;  // #F index into material_names (-1 none), or empty
     std::vector<std::string> material_names;
+    // #V linear RGB albedo per vertex (the eyes, lips and brows of the built-in face), or empty:
+    // the renderer's skin albedo everywhere.
+    std::vector<Vec3f> colors;
 
     Box3 bounds() const;
     Vec3f face_normal(size_t f) const;  // unit, zero for degenerate faces
@@ -38,7 +44,8 @@ void write_obj_mesh(const std::filesystem::path& path, const Mesh& mesh);
 
 // Appends `piece` to `mesh`: its vertices, its faces (renumbered), its groups by name (faces
 // without a group get `group` when it is not empty) and its UVs, so a mesh with UVs keeps one
-// per corner (a piece without UVs gets the UV (0, 0)); materials likewise.
+// per corner (a piece without UVs gets the UV (0, 0)); materials likewise; vertex colours
+// likewise (kSkinAlbedo for a piece without them).
 void append_mesh(Mesh& mesh, const Mesh& piece, const std::string& group = {});
 
 // Per-vertex lists in CSR form: vertex v's entries are items[first[v]] … items[first[v+1]−1].

@@ -337,6 +337,9 @@ Vec3f shade_head(const Scene& scene, const HeadGeometry& g, uint32_t face, float
     Vec3f light = l.ambient + lit(l.key_dir, scene.key_shadow) * l.key_color +
                   lambert(normal, l.fill_dir) * l.fill_color;
     if (l.rim) light += lit(l.rim_dir, scene.rim_shadow) * l.rim_color;
+    if (mesh.colors.size() == mesh.vertices.size())
+        return light.cwiseProduct(wa * mesh.colors[t[0]] + wb * mesh.colors[t[1]] +
+                                  wc * mesh.colors[t[2]]);
     return light.cwiseProduct(scene.options->skin_color);
 }
 

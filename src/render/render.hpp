@@ -87,7 +87,7 @@ struct RenderOptions {
     float strand_brightness = 0.3f;
     float strand_width = 0.5f;
 
-    Vec3f skin_color = Vec3f(0.62f, 0.42f, 0.32f);  // linear RGB albedo of the head
+    Vec3f skin_color = kSkinAlbedo;  // linear RGB albedo of a head without vertex colours
 
     // Shadows from the key and the rim light (the fill is soft and casts none).
     bool shadows = true;

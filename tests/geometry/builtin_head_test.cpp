@@ -268,6 +268,41 @@ TEST(BuiltinHead, EyesSitInTheirSockets) {
     }
 }
 
+// The face is coloured where shape alone cannot make it read: seen from the front, each eye
+// shows a dark pupil at its centre, a darker iris round it and white to either side; the lips
+// are redder than the skin; the cranium and the body keep the skin's albedo.
+TEST(BuiltinHead, EyesAndLipsAreColoured) {
+    const Mesh& m = head();
+    ASSERT_EQ(m.colors.size(), m.vertices.size());
+    // The colour of the vertex nearest p.
+    const auto at = [&](const Vec3f& p) {
+        size_t best = 0;
+        for (size_t v = 1; v < m.vertices.size(); ++v)
+            if ((m.vertices[v] - p).squaredNorm() < (m.vertices[best] - p).squaredNorm()) best = v;
+        return m.colors[best];
+    };
+    const auto luminance = [](const Vec3f& c) {
+        return 0.2126f * c.x() + 0.7152f * c.y() + 0.0722f * c.z();
+    };
+    const float skin = luminance(kSkinAlbedo);
+    for (float side : {-1.f, 1.f}) {
+        const float x = side * 3.15f, y = 1.3f;
+        const float front = front_z(m, x, y);
+        const float pupil = luminance(at({x, y, front}));
+        const float iris = luminance(at({x + 0.4f, y, front_z(m, x + 0.4f, y)}));
+        EXPECT_LT(pupil, 0.1f * skin) << "side " << side;
+        EXPECT_LT(iris, 0.3f * skin) << "side " << side;
+        EXPECT_GT(iris, pupil) << "side " << side;
+        for (float dx : {-0.85f, 0.85f})
+            EXPECT_GT(luminance(at({x + dx, y, front_z(m, x + dx, y)})), 0.85f * skin)
+                << "side " << side << " white at " << dx;
+    }
+    const Vec3f lip = at({0.f, -5.5f, front_z(m, 0.f, -5.5f)});
+    EXPECT_GT(lip.x() / lip.y(), 1.2f * kSkinAlbedo.x() / kSkinAlbedo.y());
+    for (const Vec3f& p : {Vec3f(0.f, 12.f, 0.f), Vec3f(0.f, -25.f, 8.f), Vec3f(0.f, 0.f, -10.f)})
+        EXPECT_EQ(at(p), kSkinAlbedo) << p.transpose();
+}
+
 // The eyes and lids are a few millimetres across, finer than the marching grid: the mesh is
 // refined there, so that they come out whole instead of as torn slivers.
 TEST(BuiltinHead, EyesAreMeshedFinely) {
