@@ -1039,13 +1039,13 @@ float torso_field(const Vec3f& p, float neck_top, float neck_radius) {
     return b.d;
 }
 
-// The albedo at a vertex of the face: the skin's, except on the eyes (white, an iris and a
-// pupil looking straight ahead, a dark lash line along the upper lid) and the lips. Shape
-// alone cannot make a face read at a glance: eyes the colour of skin look blind.
 Vec3f lerp(const Vec3f& a, const Vec3f& b, float t) {
     return a + t * (b - a);
 }
 
+// The albedo at a vertex of the face: the skin's, except on the eyes (white, an iris and a
+// pupil looking straight ahead, a dark lash line along the upper lid) and the lips. Shape
+// alone cannot make a face read at a glance: eyes the colour of skin look blind.
 Vec3f face_color(const Vec3f& p) {
     const Vec3f m(std::abs(p.x()), p.y(), p.z());
     Vec3f c = kSkinAlbedo;

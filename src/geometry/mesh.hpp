@@ -23,7 +23,7 @@ struct Mesh {
     std::vector<std::string> group_names;
     std::vector<int32_t> face_material;  // #F index into material_names (-1 none), or empty
     std::vector<std::string> material_names;
-    // #V linear RGB albedo per vertex (the eyes, lips and brows of the built-in face), or empty:
+    // #V linear RGB albedo per vertex (the eyes and lips of the built-in face), or empty:
     // the renderer's skin albedo everywhere.
     std::vector<Vec3f> colors;
 
