@@ -224,30 +224,43 @@ inline void push_points(std::span<Vec3f> s, const HeadField& head, float clearan
         // every point between is off it, which the cell test shows for most segments.)
         const float half = 0.5f * (s[k] - s[k - 1]).norm();
         const bool clear = head.beyond(s[k], half) && head.beyond(s[k - 1], half);
-        for (int it = 0; it < 6 && !clear; ++it) {
-            float deepest = 0.f, at = 0.f;
-            Vec3f g = Vec3f::Zero();
+        // The deepest of the three samples of the segment from s[k − 1] to b: its distance
+        // (0 when none is inside), where (t) and the gradient there.
+        const auto deepest_on = [&](const Vec3f& b, float& at, Vec3f& g) {
+            float deepest = 0.f;
             for (const float t : {0.25f, 0.5f, 0.75f}) {
-                const Vec3f q = s[k - 1] + t * (s[k] - s[k - 1]);
+                const Vec3f q = s[k - 1] + t * (b - s[k - 1]);
                 if (head.beyond(q, 0.f)) continue;
                 Vec3f gq;
                 const float d = head.sdf(q, &gq);
                 if (d < deepest) deepest = d, at = t, g = gq;
             }
-            if (!(deepest < 0.f) || !(g.norm() > 1e-6f)) break;
+            return deepest;
+        };
+        bool cut = false;
+        for (int it = 0; !clear; ++it) {  // 6 steps, then a last look
+            float at = 0.f;
+            Vec3f g = Vec3f::Zero();
+            const float deepest = deepest_on(s[k], at, g);
+            cut = deepest < 0.f;
+            if (!cut || it == 6 || !(g.norm() > 1e-6f)) break;
             s[k] += (clearance - deepest) / at * g.normalized();
             pushed = true;
             push_point(s[k], head, clearance, in);
         }
         // Caught where the field's gradient leads nowhere (the crease where a bust's cut edge
-        // meets the body under it): the point goes back along its segment toward the previous
-        // one, which is clear, until it is clear too.
-        if (in && head.sdf(s[k - 1]) >= 0.f)
+        // meets the body under it, a thin ear the grid barely resolves): the point goes back
+        // along its segment toward the previous one, which is clear, until it and the segment
+        // are clear too.
+        if ((in || cut) && head.sdf(s[k - 1]) >= 0.f)
             for (const float t : {0.75f, 0.5f, 0.25f, 0.f}) {
                 const Vec3f q = s[k - 1] + t * (s[k] - s[k - 1]);
-                if (head.sdf(q) >= 0.f) {
+                float at = 0.f;
+                Vec3f g;
+                if (head.sdf(q) >= 0.f && deepest_on(q, at, g) >= 0.f) {
                     s[k] = q;
                     in = false;
+                    pushed = true;
                     break;
                 }
             }
