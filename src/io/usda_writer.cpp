@@ -473,6 +473,17 @@ void head_prim(Out& o, const Mesh& mesh, std::span<const uint32_t> scalp, bool z
     vec_array("]\n    point3f[] points = [", mesh.vertices);
     vec_array("\n    normal3f[] normals = [", normals);
     out += " (\n        interpolation = \"vertex\"\n    )\n";
+    if (!mesh.colors.empty()) {
+        // The face's albedo (the built-in head's eyes and lips), linear RGB as USD's colours
+        // are: Blender's importer makes it a colour attribute, usdview shows it.
+        out += "    color3f[] primvars:displayColor = [";
+        for (size_t i = 0; i < mesh.colors.size(); ++i) {
+            if (i) out += ", ";
+            append_vec(out, mesh.colors[i]);
+            if ((i & 65535) == 65535) o.flush();
+        }
+        out += "] (\n        interpolation = \"vertex\"\n    )\n";
+    }
     if (!scalp.empty()) {
         out +=
             "\n    def GeomSubset \"scalp\"\n    {\n        uniform token elementType = "
@@ -540,6 +551,11 @@ void check_options(const Hair& hair, const UsdaWriteOptions& options, const std:
                          m->vertices.size());
         for (const Vec3f& v : m->vertices)
             if (!v.allFinite()) fail(name, ": the head has a vertex that is not finite");
+        if (!m->colors.empty() && m->colors.size() != m->vertices.size())
+            fail(name, ": the head has ", m->colors.size(), " vertex colours for ",
+                 m->vertices.size(), " vertices");
+        for (const Vec3f& c : m->colors)
+            if (!c.allFinite()) fail(name, ": the head has a vertex colour that is not finite");
         for (uint32_t f : options.head_scalp)
             if (f >= m->faces.size())
                 fail(name, ": scalp face ", f, " of ", m->faces.size(), " head faces");

@@ -179,6 +179,7 @@ TEST(UsdaExport, HeadMeshBesideTheHair) {
         EXPECT_EQ(d.at("points").values, 4u);
         EXPECT_EQ(d.at("normals").type, "normal3f[]");
         EXPECT_EQ(d.at("normals").interpolation, "vertex");
+        EXPECT_EQ(d.count("primvars:displayColor"), 0u);  // no colours, none written
         EXPECT_NE(mesh.find("def GeomSubset \"scalp\""), std::string::npos);
         EXPECT_NE(mesh.find("uniform token elementType = \"face\""), std::string::npos);
         EXPECT_NE(mesh.find("int[] indices = [1, 3]"), std::string::npos);
@@ -190,10 +191,27 @@ TEST(UsdaExport, HeadMeshBesideTheHair) {
         const Hair r = hair_from_usda(parse_usda(text, "h.usda"), "h.usda");
         test::expect_same_geometry(g.hair, r);
     }
+    // A face's colours (the built-in head's eyes and lips) go with it, as they are: colours
+    // do not turn with the up axis.
+    Mesh coloured = head;
+    coloured.colors = {{0.5f, 0.25f, 0.125f}, {1, 1, 1}, {0, 0, 0}, {0.75f, 0, 0}};
+    for (bool z_up : {false, true}) {
+        const std::string text =
+            encode_usda(g.hair, "c.usda", UsdaWriteOptions{.z_up = z_up, .head = &coloured});
+        const auto d = declarations(text.substr(text.find("\ndef Mesh \"head\"")));
+        EXPECT_EQ(d.at("primvars:displayColor").type, "color3f[]");
+        EXPECT_EQ(d.at("primvars:displayColor").values, 4u);
+        EXPECT_EQ(d.at("primvars:displayColor").interpolation, "vertex");
+        EXPECT_NE(text.find("[(0.5, 0.25, 0.125), (1, 1, 1), (0, 0, 0), (0.75, 0, 0)]"),
+                  std::string::npos);
+    }
     Mesh broken = head;
     broken.faces[2][1] = 9;
     test::expect_error([&] { encode_usda(g.hair, "m.usda", UsdaWriteOptions{.head = &broken}); },
                        "m.usda: head face 2 has vertex 9 of 4");
+    coloured.colors.pop_back();
+    test::expect_error([&] { encode_usda(g.hair, "m.usda", UsdaWriteOptions{.head = &coloured}); },
+                       "m.usda: the head has 3 vertex colours for 4 vertices");
 }
 
 TEST(UsdaExport, SameBytesAtAnyThreadCount) {
