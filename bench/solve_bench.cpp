@@ -10,7 +10,7 @@ namespace wisp {
 namespace {
 
 const HeadField& builtin_field() {
-    static const HeadField field(*bench_head().mesh, head_field_cell(SolveSpec{}));
+    static const HeadField field = build_head_field(bench_style(), bench_head());
     return field;
 }
 
@@ -39,7 +39,7 @@ void BM_Solve2000Wisps(benchmark::State& state) {
         Grid3<float> density(phi.grid().origin(), phi.grid().cell(), phi.grid().dims());
         SolveInput in;
         in.field = &phi;
-        in.head = &field;
+        in.head = &field.bridged();
         for (size_t w = 0; w < m.count(); ++w)
             in.wisp_strands.push_back(
                 static_cast<int>(roots.wisp_offsets[w + 1] - roots.wisp_offsets[w]));
@@ -75,7 +75,7 @@ BENCHMARK(BM_GenerateSolved100k)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)-
 void BM_HeadField(benchmark::State& state) {
     const ThreadLimit limit(2);
     for (auto _ : state) {
-        HeadField f(*bench_head().mesh, head_field_cell(SolveSpec{}));
+        const HeadField f = build_head_field(bench_style(), bench_head());
         benchmark::DoNotOptimize(f.grid().data().data());
     }
 }

@@ -82,11 +82,12 @@ void StageCache::set_style(Style style) {
 
 const HeadField& StageCache::head_field() {
     // The solve and the push out of the head need the head field; its cell follows
-    // solve.cell, so it is rebuilt when that moves it.
-    const float cell = head_field_cell(style_.solve);
-    if (!head_field_ || cell != head_field_cell_) {
+    // solve.cell and its bridged field solve.bridge, so it is rebuilt when they move.
+    const float cell = head_field_cell(style_.solve), bridge = style_.solve.bridge;
+    if (!head_field_ || cell != head_field_cell_ || bridge != head_field_bridge_) {
         head_field_ = build_head_field(style_, head_);
         head_field_cell_ = cell;
+        head_field_bridge_ = bridge;
         ++head_field_runs_;
     }
     return *head_field_;

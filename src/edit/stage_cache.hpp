@@ -171,7 +171,7 @@ class StageCache {
     // The roots' map-independent draws for this head, seed and counts (6 MB for 100,000
     // strands): a map stroke only accepts or rejects them.
     std::optional<RootProposals> root_proposals_;
-    float head_field_cell_ = 0.f;
+    float head_field_cell_ = 0.f, head_field_bridge_ = 0.f;
     Roots roots_;
     Masters masters_;         // as synthesized
     GroupSelection groups_;   // the constraint groups' wisps (the solve stage)

@@ -612,6 +612,16 @@ const std::vector<StyleField>& fields() {
          .doc = "μ of hair on the skin: hair lying on the shoulders, chest or back slides down "
                 "them only where the slope pulls harder than μ times it presses",
          .ref = WISP_REF(solve.friction)},
+        {.path = "solve.bridge",
+         .type = T::kNumber,
+         .stage = S::kSolve,
+         .panel = "solver",
+         .unit = "cm",
+         .lo = 0,
+         .hi = 5,
+         .doc = "hair lies over creases of the head narrower than twice this (behind the ears) "
+                "instead of following the skin into them; 0 follows every crease",
+         .ref = WISP_REF(solve.bridge)},
         {.path = "solve.field",
          .type = T::kFieldTerms,
          .stage = S::kSolve,

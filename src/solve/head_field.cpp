@@ -128,7 +128,7 @@ double HeadField::node_count(const Box3& mesh_bounds, float cell) {
     return grid_nodes(mesh_bounds.size() + Vec3f::Constant(2.f * kPadCells * cell), cell);
 }
 
-HeadField::HeadField(const Mesh& open_mesh, float cell, size_t first_body_face) {
+HeadField::HeadField(const Mesh& open_mesh, float cell, size_t first_body_face, float bridge) {
     // A head cut open at the neck or chest (most head meshes) encloses its inside only once
     // closed: otherwise the inside far from the skin is one region with the outside, through
     // the cut, and takes its sign, so hair that crossed the skin's band could pass through
@@ -168,7 +168,42 @@ HeadField::HeadField(const Mesh& open_mesh, float cell, size_t first_body_face) 
         for (size_t i = 0; i < d.size(); ++i)
             d[i] = std::min(d[i], e[i]);
     }
-    // 3. The smallest distance at each cell's nodes, for beyond().
+    find_cell_minima();
+    if (bridge > 0.f) {
+        // The closing, node by node: the ball of the bridge radius that touches the skin at
+        // a node's nearest skin point from outside (its centre o a bridge radius out along the
+        // normal) reaches into skin beyond by bridge − sdf(o) where the skin folds back within
+        // its diameter; the node is that much deeper in the closed head. On open skin the ball
+        // is free and the distance stays; inside the head nothing changes.
+        auto closed = std::make_shared<HeadField>();
+        closed->grid_ = grid_;
+        closed->box_ = box_;
+        std::vector<float>& out = closed->grid_.data();
+        parallel_for(
+            static_cast<size_t>(dims.z()),
+            [&](size_t zi) {
+                const int z = static_cast<int>(zi);
+                for (int y = 0; y < dims.y(); ++y)
+                    for (int x = 0; x < dims.x(); ++x) {
+                        const float d = grid_.at(x, y, z);
+                        if (!(d >= 0.f && d < bridge)) continue;
+                        const Vec3f p = grid_.node(x, y, z);
+                        const Vec3f g = gradient(p);
+                        const float gn = g.norm();
+                        if (!(gn > 1e-6f)) continue;
+                        const float reach = bridge - sdf(p + (bridge - d) / gn * g);
+                        if (reach > 0.f) out[grid_.index(x, y, z)] = d - reach;
+                    }
+            },
+            1);
+        closed->find_cell_minima();
+        bridged_ = std::move(closed);
+    }
+}
+
+void HeadField::find_cell_minima() {
+    // The smallest distance at each cell's nodes, for beyond().
+    const Vec3i dims = grid_.dims();
     const Vec3i cells = dims - Vec3i::Ones();
     cell_min_.resize(static_cast<size_t>(cells.x()) * cells.y() * cells.z());
     parallel_for(

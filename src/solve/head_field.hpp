@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "core/grid.hpp"
@@ -24,7 +25,10 @@ class HeadField {
     // face count, the faces from it on are a second piece (a body under the head, Head::body)
     // that may overlap the first: each is closed and measured alone and the field is their
     // union.
-    HeadField(const Mesh& mesh, float cell, size_t first_body_face = SIZE_MAX);
+    //
+    // With `bridge` > 0 it also builds bridged(): the same field with the head's creases
+    // narrower than 2 × bridge cm closed over.
+    HeadField(const Mesh& mesh, float cell, size_t first_body_face = SIZE_MAX, float bridge = 0.f);
     // The node count of the grid the constructor builds for a mesh with these bounds (cm), to
     // check against kMaxGridNodes before building it.
     static double node_count(const Box3& mesh_bounds, float cell);
@@ -72,6 +76,14 @@ class HeadField {
     }
     const Grid3<float>& grid() const { return grid_; }
     bool empty() const { return grid_.size() == 0; }
+    // The head as a wisp feels it: a wisp is a bundle of hundreds of strands, too stiff and
+    // too wide to follow the skin into a crease a few millimetres across, so it lies over the
+    // crease behind an ear, and the ear, as hair lies over a finger. This field is a
+    // morphological closing of the head by a ball of the bridge radius: the ball, rolled over
+    // the skin from outside, cannot enter a crease narrower than its diameter, and the crease
+    // counts as inside. The solver routes master strands on it; the members' push out of the
+    // head stays on the skin itself. Without a bridge radius it is this field.
+    const HeadField& bridged() const { return bridged_ ? *bridged_ : *this; }
 
   private:
     // cm: more than the rounding of a trilinear lookup of distances of up to a few metres.
@@ -86,8 +98,11 @@ class HeadField {
             if (p[a] < box_.lo[a] || p[a] > box_.hi[a]) return false;
         return true;
     }
+    // Fills cell_min_ from grid_.
+    void find_cell_minima();
     Grid3<float> grid_;
     Box3 box_;
+    std::shared_ptr<const HeadField> bridged_;
     std::vector<float> cell_min_;  // #cells (dims − 1 per axis, x fastest): the smallest
                                    // distance at each cell's 8 nodes, cm
 };

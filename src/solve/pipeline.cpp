@@ -326,7 +326,7 @@ HeadField build_head_field(const Style& style, const Head& head) {
              " nodes (the head spans ", span.maxCoeff(), " cm, its cell is ", cell,
              " cm from solve.cell = ", style.solve.cell, "), more than ", kMaxGridNodes,
              "; raise solve.cell or check head.scale");
-    return HeadField(*head.mesh, cell, head.first_body_face);
+    return HeadField(*head.mesh, cell, head.first_body_face, style.solve.bridge);
 }
 
 GroupSelection select_groups(const Style& style, const Head& head, const Roots& roots) {
@@ -385,7 +385,7 @@ SolveStats solve_stage(const Style& style, const Head& head, const HeadField& he
 
     SolveInput in;
     in.field = &field;
-    in.head = &head_field;
+    in.head = &head_field.bridged();
     for (size_t gi = 0; gi < style.groups.size(); ++gi) {
         const GroupSpec& g = style.groups[gi];
         SolverGroup sg;

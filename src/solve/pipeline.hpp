@@ -56,7 +56,8 @@ size_t push_out_of_head(Hair& hair, const HeadField& head, float clearance,
 // editor's stage cache, edit/stage_cache.hpp, keeps those and re-runs from a change on).
 // Each appends its sub-stages' times to `times` when given.
 
-// The head's distance field at head_field_cell(style.solve); throws wisp::Error naming the
+// The head's distance field at head_field_cell(style.solve), bridged by style.solve.bridge;
+// throws wisp::Error naming the
 // head if its grid would be too large.
 HeadField build_head_field(const Style& style, const Head& head);
 

@@ -597,6 +597,49 @@ TEST(HeadField, AHeadAndABodyAreTheirUnion) {
     EXPECT_GT(two.sdf(Vec3f(0, -14, 12)), 3.f);  // under the chin, in front of the neck
 }
 
+// A closed box, its faces counter-clockwise seen from outside, appended to `mesh`.
+static void add_box(Mesh& mesh, const Vec3f& lo, const Vec3f& hi) {
+    const int base = static_cast<int>(mesh.vertices.size());
+    for (int c = 0; c < 8; ++c)
+        mesh.vertices.emplace_back(c & 1 ? hi.x() : lo.x(), c & 2 ? hi.y() : lo.y(),
+                                   c & 4 ? hi.z() : lo.z());
+    // Two triangles per side, as corner bit patterns.
+    const int quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                             {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+    for (const auto& q : quads) {
+        mesh.faces.emplace_back(base + q[0], base + q[1], base + q[2]);
+        mesh.faces.emplace_back(base + q[0], base + q[2], base + q[3]);
+    }
+}
+
+// A wisp lies over a crease narrower than its diameter (the one behind an ear) instead of
+// following the skin into it: the bridged field counts such a crease as inside, leaves a
+// wider one open and the open skin where it was, and never moves the skin outward.
+TEST(HeadField, TheBridgedFieldClosesNarrowCreasesOnly) {
+    Mesh mesh;
+    add_box(mesh, Vec3f(-10, -10, -10), Vec3f(10, 10, 10));   // a skull
+    add_box(mesh, Vec3f(10.8f, -3, -2), Vec3f(11.3f, 3, 2));  // an ear 0.8 cm off it
+    add_box(mesh, Vec3f(-13.5f, -3, -2), Vec3f(-13, 3, 2));   // a fin 3 cm off it
+    const HeadField field(mesh, 0.25f, SIZE_MAX, 1.f);
+    const HeadField& bridged = field.bridged();
+    ASSERT_NE(&bridged, &field);
+    const Vec3f in_crease(10.4f, 0, 0), in_gap(-11.5f, 0, 0), open_skin(0, 0, 10.5f);
+    EXPECT_GT(field.sdf(in_crease), 0.2f);  // outside the skin (0.4 cm from both walls)
+    EXPECT_LT(bridged.sdf(in_crease), 0.f);
+    EXPECT_NEAR(bridged.sdf(in_gap), field.sdf(in_gap), 0.05f);
+    EXPECT_GT(bridged.sdf(in_gap), 1.f);
+    EXPECT_NEAR(bridged.sdf(open_skin), field.sdf(open_skin), 0.02f);
+    // Closing only adds to the head: nowhere is the bridged distance larger.
+    Rng rng(7);
+    for (int i = 0; i < 20000; ++i) {
+        const Vec3f p(rng.uniform(-14.f, 12.f), rng.uniform(-11.f, 11.f), rng.uniform(-11.f, 11.f));
+        ASSERT_LE(bridged.sdf(p), field.sdf(p) + 1e-4f) << p.transpose();
+    }
+    // Without a bridge radius the bridged field is the field itself.
+    const HeadField plain(mesh, 0.5f);
+    EXPECT_EQ(&plain.bridged(), &plain);
+}
+
 TEST(HeadField, BeyondNeverClaimsAPointCloserThanItsDistance) {
     // beyond(p, d) spares the lookup only where the lookup would give ≥ d: over random points
     // around the head at the distances the solver (head margin) and the push out of the head
