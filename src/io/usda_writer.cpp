@@ -461,11 +461,12 @@ void head_prim(Out& o, const Mesh& mesh, std::span<const uint32_t> scalp, bool z
             if (f || k) out += ", ";
             append_number(out, mesh.faces[f][k]);
         }
-    const auto vec_array = [&](const char* decl, const std::vector<Vec3f>& v) {
+    // Positions and normals turn with the up axis; colours (`turn` false) do not.
+    const auto vec_array = [&](const char* decl, const std::vector<Vec3f>& v, bool turn = true) {
         out += decl;
         for (size_t i = 0; i < v.size(); ++i) {
             if (i) out += ", ";
-            append_vec(out, to_layer(v[i], z_up));
+            append_vec(out, turn ? to_layer(v[i], z_up) : v[i]);
             if ((i & 65535) == 65535) o.flush();
         }
         out += ']';
@@ -476,13 +477,8 @@ void head_prim(Out& o, const Mesh& mesh, std::span<const uint32_t> scalp, bool z
     if (!mesh.colors.empty()) {
         // The face's albedo (the built-in head's eyes and lips), linear RGB as USD's colours
         // are: Blender's importer makes it a colour attribute, usdview shows it.
-        out += "    color3f[] primvars:displayColor = [";
-        for (size_t i = 0; i < mesh.colors.size(); ++i) {
-            if (i) out += ", ";
-            append_vec(out, mesh.colors[i]);
-            if ((i & 65535) == 65535) o.flush();
-        }
-        out += "] (\n        interpolation = \"vertex\"\n    )\n";
+        vec_array("    color3f[] primvars:displayColor = [", mesh.colors, false);
+        out += " (\n        interpolation = \"vertex\"\n    )\n";
     }
     if (!scalp.empty()) {
         out +=

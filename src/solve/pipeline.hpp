@@ -57,8 +57,7 @@ size_t push_out_of_head(Hair& hair, const HeadField& head, float clearance,
 // Each appends its sub-stages' times to `times` when given.
 
 // The head's distance field at head_field_cell(style.solve), bridged by style.solve.bridge;
-// throws wisp::Error naming the
-// head if its grid would be too large.
+// throws wisp::Error naming the head if its grid would be too large.
 HeadField build_head_field(const Style& style, const Head& head);
 
 // The wisps of each constraint group (selected: #groups lists of wisp ids) and the group of
