@@ -15,6 +15,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -88,6 +89,16 @@ class Scalp {
     // center() it inverts uv_of on directions (the editor paints maps through it).
     float max_polar_angle() const { return max_polar_angle_; }
 
+    // The ears as the head's landmarks place them (find_landmarks), so that maps can shape hair
+    // around them on any head: their outermost points and the head's height, chin to crown.
+    struct Ears {
+        Vec3f left = Vec3f::Zero(), right = Vec3f::Zero();
+        float head_height = 0.f;
+    };
+    void set_ears(const Ears& ears) { ears_ = ears; }
+    // Empty when the head's landmarks were not found.
+    const std::optional<Ears>& ears() const { return ears_; }
+
   private:
     const Mesh* mesh_;
     std::vector<uint32_t> faces_;
@@ -97,6 +108,7 @@ class Scalp {
     float area_ = 0.f;
     Vec3f crown_ = Vec3f::Zero(), center_ = Vec3f::Zero();
     float max_polar_angle_ = 1.f;
+    std::optional<Ears> ears_;
 };
 
 }  // namespace wisp

@@ -80,6 +80,10 @@ void find_head_landmarks(Head& head) {
 Head load_head(const HeadSpec& spec) {
     Head head = load_head_mesh(spec);
     head.scalp = std::make_unique<Scalp>(*head.mesh, spec.scalp, head.source, head.first_body_face);
+    if (head.landmarks) {
+        const Landmarks& l = *head.landmarks;
+        head.scalp->set_ears({l.ear_left, l.ear_right, l.height});
+    }
     return head;
 }
 

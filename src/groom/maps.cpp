@@ -12,8 +12,9 @@ namespace {
 // A procedural map from the scalp's polar UV: r in [0,1] from crown to hairline, (x, z) the
 // unit direction on the map (x toward the character's left, z toward the front). Maps that
 // follow the growth directions' regions take the point's direction from the scalp's centre
-// (`dir`) instead, so that they cover the same roots.
-float procedural(int which, const Vec2f& uv, const Vec3f& dir) {
+// (`dir`) instead, so that they cover the same roots; maps shaped around the ears take how near
+// the point lies to one (`ear`, from ear_nearness).
+float procedural(int which, const Vec2f& uv, const Vec3f& dir, float ear) {
     const float du = uv.x() - 0.5f, dv = uv.y() - 0.5f;
     const float r = std::min(1.f, 2.f * std::sqrt(du * du + dv * dv));
     const float len = std::sqrt(du * du + dv * dv);
@@ -54,8 +55,27 @@ float procedural(int which, const Vec2f& uv, const Vec3f& dir) {
             return smoothstep(0.55f, 0.85f, r) * smoothstep(0.55f, 0.85f, std::abs(x));
         case 12:  // fringe: 0 over the sector that grows a fringe (groom/growth.hpp), 1 elsewhere
             return 1.f - fringe_sector(dir);
+        case 13: {  // tapered: as nape-short, and falling to 0 around the ears
+            const float back = smoothstep(-0.3f, 0.6f, -z);
+            const float nape = smoothstep(0.45f, 0.95f, r) * (0.35f + 0.65f * back);
+            // Without landmarks the ears are taken to be under the sides of the map.
+            const float ears =
+                ear >= 0.f ? ear
+                           : smoothstep(0.55f, 0.85f, r) * smoothstep(0.55f, 0.85f, std::abs(x));
+            return 1.f - std::max(0.65f * nape, ears);
+        }
     }
     return 1.f;
+}
+
+// How near a scalp point lies to the nearer ear: 1 within 0.2 head heights of the ear's
+// outermost point (the roots just above, behind and in front of it), falling to 0 at 0.38 (short
+// of the crown and the temples); -1 when the head's ears are not known.
+float ear_nearness(const Scalp& scalp, const Vec3f& p) {
+    const auto& ears = scalp.ears();
+    if (!ears || !(ears->head_height > 0.f)) return -1.f;
+    const float d = std::min((p - ears->left).norm(), (p - ears->right).norm());
+    return 1.f - smoothstep(0.18f * ears->head_height, 0.42f * ears->head_height, d);
 }
 
 }  // namespace
@@ -63,8 +83,8 @@ float procedural(int which, const Vec2f& uv, const Vec3f& dir) {
 const std::vector<std::string>& procedural_map_names() {
     // New names go at the end: the index is the case in procedural().
     static const std::vector<std::string> names = {
-        "uniform",   "bangs", "nape-short", "crown", "hairline", "front", "back",
-        "side-part", "left",  "right",      "nape",  "sides",    "fringe"};
+        "uniform",   "bangs", "nape-short", "crown", "hairline", "front",  "back",
+        "side-part", "left",  "right",      "nape",  "sides",    "fringe", "tapered"};
     return names;
 }
 
@@ -87,11 +107,12 @@ float MapSampler::operator()(const SurfacePoint& p) const {
         case ScalarMap::Kind::kImage:
             return map_.low + (map_.high - map_.low) * image_->sample(p.uv.x(), p.uv.y());
         case ScalarMap::Kind::kProcedural: {
-            // Only the fringe map needs the direction (a normalisation per lookup; the roots
-            // look up the density at every rejection-sampling try).
+            // Only the fringe map needs the direction and only the tapered map the ears (the
+            // roots look up the density at every rejection-sampling try).
             const Vec3f dir =
                 procedural_ == 12 ? scalp_direction(*scalp_, p.position) : Vec3f::UnitY();
-            return map_.low + (map_.high - map_.low) * procedural(procedural_, p.uv, dir);
+            const float ear = procedural_ == 13 ? ear_nearness(*scalp_, p.position) : -1.f;
+            return map_.low + (map_.high - map_.low) * procedural(procedural_, p.uv, dir, ear);
         }
     }
     return map_.value;

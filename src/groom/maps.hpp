@@ -25,6 +25,9 @@ namespace wisp {
 //   right       its mirror: above 0.5 on the right half
 //   nape        1 along the nape hairline, 0 on top and at the front (the low back)
 //   sides       1 above and behind the ears, 0 on top, at the front and at the nape
+//   tapered     a crop: nape-short's fall toward the nape (to 0.35), and 0 around the ears
+//               (within about a fifth of the head's height of them, rising to 1 by two fifths;
+//               the ears where the head's landmarks place them, else under the map's sides)
 // Constraint groups select a named region's roots where its map is above 0.5.
 const std::vector<std::string>& procedural_map_names();
 

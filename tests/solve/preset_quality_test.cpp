@@ -275,6 +275,44 @@ void expect_combed_back(const Head& head) {
         << head.source << ": the back is gathered into a tail";
 }
 
+// The fraction of an ear's outer face that hair lies on: of the skin faces within 0.13 head
+// heights of the ear's outermost point, within 0.03 of its lateral extent (the part that stands
+// off the head) and facing out, those with a hair point within 0.6 cm of their centre.
+float ear_covered(const Hair& hair, const Head& head, const Vec3f& ear) {
+    const Landmarks& l = *head.landmarks;
+    const float reach = 0.13f * l.height, near = 0.6f;
+    const Vec3f out = (ear - l.center).normalized();
+    const float extent = (ear - l.center).dot(out) - 0.03f * l.height;
+    std::vector<Vec3f> hair_near;
+    for (const Vec3f& p : hair.points)
+        if ((p - ear).norm() < reach + near) hair_near.push_back(p);
+    const Mesh& mesh = *head.mesh;
+    size_t skin = 0, covered = 0;
+    for (size_t f = 0; f < mesh.faces.size(); ++f) {
+        const Vec3i& t = mesh.faces[f];
+        const Vec3f x = (mesh.vertices[t[0]] + mesh.vertices[t[1]] + mesh.vertices[t[2]]) / 3.f;
+        if ((x - ear).norm() > reach || (x - l.center).dot(out) < extent ||
+            mesh.face_normal(f).dot(out) < 0.3f)
+            continue;
+        ++skin;
+        covered += std::any_of(hair_near.begin(), hair_near.end(),
+                               [&](const Vec3f& p) { return (p - x).norm() < near; });
+    }
+    return skin ? float(covered) / float(skin) : 1.f;
+}
+
+// A crop is cut short around the ears: their outer faces stay mostly clear on any head (hair
+// that hung over them from above lay on all of the built-in head's). Hair may still pass where
+// the ear's front meets the head.
+TEST(Ears, ACropLeavesThemClear) {
+    for (const Head* head : {&builtin(), &makehuman()}) {
+        const HairstyleResult r = generate_hairstyle(reduced("short"), *head);
+        for (const Vec3f& ear : {head->landmarks->ear_left, head->landmarks->ear_right})
+            EXPECT_LT(ear_covered(r.hair, *head, ear), 0.3f)
+                << "short on " << head->source << ", the ear at " << ear.transpose();
+    }
+}
+
 TEST(CombedBack, SidesGoBehindTheEarsAndTheBackFallsAsACurtain) {
     expect_combed_back(builtin());
     expect_combed_back(makehuman());
