@@ -9,6 +9,18 @@
 namespace wisp {
 namespace {
 
+// How far the nape-short and tapered maps fall toward the nape, at most `depth`: 0 on top,
+// rising toward the hairline, most at the back.
+float nape_fall(float r, float z, float depth) {
+    const float back = smoothstep(-0.3f, 0.6f, -z);
+    return depth * smoothstep(0.45f, 0.95f, r) * (0.35f + 0.65f * back);
+}
+
+// The sides map: above and behind the ears, judged from the map alone.
+float sides_region(float r, float x) {
+    return smoothstep(0.55f, 0.85f, r) * smoothstep(0.55f, 0.85f, std::abs(x));
+}
+
 // A procedural map from the scalp's polar UV: r in [0,1] from crown to hairline, (x, z) the
 // unit direction on the map (x toward the character's left, z toward the front). Maps that
 // follow the growth directions' regions take the point's direction from the scalp's centre
@@ -27,10 +39,8 @@ float procedural(int which, const Vec2f& uv, const Vec3f& dir, float ear) {
             const float front = smoothstep(0.55f, 0.8f, z);
             return 1.f - 0.65f * front * smoothstep(0.45f, 0.75f, r);
         }
-        case 2: {  // nape-short
-            const float back = smoothstep(-0.3f, 0.6f, -z);
-            return 1.f - 0.7f * smoothstep(0.45f, 0.95f, r) * (0.35f + 0.65f * back);
-        }
+        case 2:  // nape-short
+            return 1.f - nape_fall(r, z, 0.7f);
         case 3:  // crown
             return 1.f - r;
         case 4:  // hairline
@@ -52,24 +62,18 @@ float procedural(int which, const Vec2f& uv, const Vec3f& dir, float ear) {
         case 10:  // nape: the low back of the head, by the nape hairline
             return smoothstep(0.55f, 0.85f, r) * smoothstep(0.35f, 0.75f, -z);
         case 11:  // sides: above and behind the ears
-            return smoothstep(0.55f, 0.85f, r) * smoothstep(0.55f, 0.85f, std::abs(x));
+            return sides_region(r, x);
         case 12:  // fringe: 0 over the sector that grows a fringe (groom/growth.hpp), 1 elsewhere
             return 1.f - fringe_sector(dir);
-        case 13: {  // tapered: as nape-short, and falling to 0 around the ears
-            const float back = smoothstep(-0.3f, 0.6f, -z);
-            const float nape = smoothstep(0.45f, 0.95f, r) * (0.35f + 0.65f * back);
-            // Without landmarks the ears are taken to be under the sides of the map.
-            const float ears =
-                ear >= 0.f ? ear
-                           : smoothstep(0.55f, 0.85f, r) * smoothstep(0.55f, 0.85f, std::abs(x));
-            return 1.f - std::max(0.65f * nape, ears);
-        }
+        case 13:  // tapered: as nape-short, and falling to 0 around the ears (without
+                  // landmarks, taken to be under the sides of the map)
+            return 1.f - std::max(nape_fall(r, z, 0.65f), ear >= 0.f ? ear : sides_region(r, x));
     }
     return 1.f;
 }
 
-// How near a scalp point lies to the nearer ear: 1 within 0.2 head heights of the ear's
-// outermost point (the roots just above, behind and in front of it), falling to 0 at 0.38 (short
+// How near a scalp point lies to the nearer ear: 1 within 0.18 head heights of the ear's
+// outermost point (the roots just above, behind and in front of it), falling to 0 at 0.42 (short
 // of the crown and the temples); -1 when the head's ears are not known.
 float ear_nearness(const Scalp& scalp, const Vec3f& p) {
     const auto& ears = scalp.ears();
