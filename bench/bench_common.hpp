@@ -14,6 +14,9 @@ inline Style bench_style() {
     // Full-length members, so that every strand has exactly 32 control points.
     style.wisp.length = Distribution{Distribution::Kind::kConstant, 1.f};
     style.prototype.kind = PrototypeSpec::Kind::kWavy;
+    // Clumps as the default preset has them: every preset gathers its members.
+    style.clump.pull = 0.5f;
+    style.clump.sub_pull = 0.4f;
     return style;
 }
 

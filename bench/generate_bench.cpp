@@ -45,7 +45,8 @@ void BM_Stage(benchmark::State& state) {
                 benchmark::DoNotOptimize(synthesize_masters(style, head, roots).control.data());
                 break;
             case 2:
-                benchmark::DoNotOptimize(grow_members(style, masters, roots).points.data());
+                benchmark::DoNotOptimize(
+                    grow_members(style, *head.scalp, masters, roots).points.data());
                 break;
         }
     }

@@ -31,6 +31,7 @@ enum class Stream : uint64_t {
     kMemberRoot = 8,
     kRoll = 9,
     kCut = 10,
+    kClump = 11,
 };
 
 // xoshiro256** seeded through SplitMix64 from (seed, domain, id).

@@ -193,7 +193,8 @@ bool StageCache::run_until(Stage last, const CancelToken& cancel, const StagePro
                 if (preview_strands) order(all);  // made here: the task reads it
                 std::optional<MemberBands> bands;
                 if (solve && (whole || preview_strands) && MemberBands::banded(style_))
-                    bands.emplace(style_, *head_field_, roots_, groups_.wisp_group, masters_.points,
+                    bands.emplace(style_, *head_field_, *head_.scalp, roots_, groups_.wisp_group,
+                                  masters_.points,
                                   whole
                                       ? std::span<const uint32_t>()
                                       : std::span<const uint32_t>(order_.data(), preview_strands));

@@ -148,9 +148,16 @@ Masters synthesize_masters(const Style& style, const Head& head, const Roots& ro
     return m;
 }
 
-MemberGrowth::MemberGrowth(const Style& style, const Roots& roots, int points,
-                           std::span<const uint32_t> only)
-    : roots_(roots), only_(only.begin(), only.end()), n_(points), fuzziness_(style.wisp.fuzziness) {
+MemberGrowth::MemberGrowth(const Style& style, const Scalp& scalp, const Roots& roots, int points,
+                           std::span<const int32_t> wisp_group, std::span<const uint32_t> only)
+    : roots_(roots),
+      scalp_(scalp),
+      clump_(style.clump),
+      seed_(style.seed),
+      wisp_group_(wisp_group.begin(), wisp_group.end()),
+      only_(only.begin(), only.end()),
+      n_(points),
+      fuzziness_(style.wisp.fuzziness) {
     const size_t w_count = roots.masters.size();
     const size_t s_count = only.empty() ? roots.members.size() : only.size();
     const auto id = [&](size_t i) { return only.empty() ? static_cast<uint32_t>(i) : only[i]; };
@@ -196,6 +203,19 @@ MemberGrowth::MemberGrowth(const Style& style, const Roots& roots, int points,
     for (size_t w = 0; w < w_count; ++w)
         for (int k = 0; k < n; ++k)
             radius_[w * n + k] = roots.wisp_radius[w] * rel[k];
+    pull_ = clump_profile(clump_.pull, clump_.shape, n);
+    if (clump_.sub_count > 1 && clump_.sub_pull > 0.f) {
+        sub_pull_ = clump_profile(clump_.sub_pull, clump_.sub_shape, n);
+        sub_centre_.resize(s_count);
+        sub_share_.resize(s_count);
+        std::vector<uint32_t> ids(s_count);
+        for (size_t i = 0; i < s_count; ++i)
+            ids[i] = id(i);
+        sub_clump_centres(clump_, roots, ids, hair.wisp, sub_centre_);
+        for (size_t i = 0; i < s_count; ++i)
+            sub_share_[i] =
+                clump_share(style.seed, 2 * uint64_t{sub_centre_[i]} + 1, clump_.sub_variation);
+    }
     offset_.resize(s_count);
     rng_.assign(s_count, Rng(0));
     parallel_for(
@@ -214,6 +234,35 @@ MemberGrowth::MemberGrowth(const Style& style, const Roots& roots, int points,
 
 void MemberGrowth::grow(const Masters& masters, int k0, int k1, const CancelToken& cancel) {
     const size_t n = static_cast<size_t>(n_);
+    if (k0 <= 0 && guides_.guide.empty()) {
+        guides_ = clump_guides(clump_, scalp_, masters, wisp_group_);
+        clump_share_.resize(masters.count());
+        for (size_t w = 0; w < masters.count(); ++w)
+            clump_share_[w] = clump_share(seed_, 2 * uint64_t{w}, clump_.variation);
+    }
+    const bool clumps = !guides_.size.empty();
+    const bool subs = !sub_centre_.empty();
+    const int from = std::max(k0, 0), to = std::min(k1, n_);
+    if (clumps && from < to) {
+        // How far toward its guide a wisp's members go at each point of the band: the
+        // profile, the clump's share, less where the solve took the two masters apart.
+        weight_.resize(masters.count() * n);
+        parallel_for(
+            masters.count(),
+            [&](size_t w) {
+                const size_t g = static_cast<size_t>(guides_.guide[w]);
+                const float size = guides_.size[w];
+                const Vec3f* own = masters.control.data() + w * n;
+                const Vec3f* guide = masters.control.data() + g * n;
+                for (int k = from; k < to; ++k) {
+                    const size_t kk = static_cast<size_t>(k);
+                    const float apart = (guide[kk] - own[kk]).norm();
+                    weight_[w * n + kk] = pull_[kk] * clump_share_[g] *
+                                          (1.f - smoothstep(1.5f * size, 3.f * size, apart));
+                }
+            },
+            256);
+    }
     ProgressCounter progress(cancel, hair_.strand_count());
     parallel_for(
         hair_.strand_count(),
@@ -222,12 +271,40 @@ void MemberGrowth::grow(const Masters& masters, int k0, int k1, const CancelToke
             const size_t w = static_cast<size_t>(hair_.wisp[i]);
             const std::span<const Vec3f> master = masters.strand(w);
             const std::span<const Frame> frames(masters.frames.data() + w * n, n);
+            const std::span<const float> radius(radius_.data() + w * n, n);
             if (k0 <= 0) {
                 const uint32_t j = only_.empty() ? static_cast<uint32_t>(i) : only_[i];
                 offset_[i] = frames[0].to_local(roots_.members[j].position - master[0]);
             }
-            grow_member_points(master, frames, std::span<const float>(radius_.data() + w * n, n),
-                               u_[i], fuzziness_, k0, k1, offset_[i], rng_[i], hair_.strand(i));
+            if (!clumps && !subs) {
+                grow_member_points(master, frames, radius, u_[i], fuzziness_, k0, k1, offset_[i],
+                                   rng_[i], hair_.strand(i));
+            } else {
+                const Vec3f* guide =
+                    masters.control.data() + static_cast<size_t>(guides_.guide[w]) * n;
+                const float* weight = clumps ? weight_.data() + w * n : nullptr;
+                // The sub-clump: around the path its centre's root offset takes through the
+                // wisp's cylinder, carried by the clump as the member is.
+                const Vec3f centre =
+                    subs ? frames[0].to_local(roots_.members[sub_centre_[i]].position - master[0])
+                         : Vec3f::Zero();
+                const float inv_r0 = 1.f / radius[0];
+                const float sub_share = subs ? sub_share_[i] : 0.f;
+                grow_member_points(master, frames, radius, u_[i], fuzziness_, k0, k1, offset_[i],
+                                   rng_[i], hair_.strand(i), [&](int k, const Vec3f& p) {
+                                       const size_t kk = static_cast<size_t>(k);
+                                       const float a = clumps ? weight[kk] : 0.f;
+                                       Vec3f q = p + a * (guide[kk] - p);
+                                       if (subs) {
+                                           Vec3f c =
+                                               master[kk] +
+                                               frames[kk].to_world(centre * (radius[kk] * inv_r0));
+                                           c += a * (guide[kk] - c);
+                                           q += (sub_pull_[kk] * sub_share) * (c - q);
+                                       }
+                                       return q;
+                                   });
+            }
             progress.step();
         },
         64);
@@ -237,9 +314,10 @@ int MemberGrowth::settled(size_t i, int k1) const {
     return member_points_settled(n_, u_[i], static_cast<int>(hair_.strand(i).size()), k1);
 }
 
-Hair grow_members(const Style& style, const Masters& masters, const Roots& roots,
+Hair grow_members(const Style& style, const Scalp& scalp, const Masters& masters,
+                  const Roots& roots, std::span<const int32_t> wisp_group,
                   std::span<const uint32_t> only, const CancelToken& cancel) {
-    MemberGrowth growth(style, roots, masters.points, only);
+    MemberGrowth growth(style, scalp, roots, masters.points, wisp_group, only);
     growth.grow(masters, 0, masters.points, cancel);
     return std::move(growth.hair());
 }
@@ -272,7 +350,7 @@ GenerateResult generate(const Style& style, const Head& head) {
     result.masters = synthesize_masters(style, head, roots);
     result.times.emplace_back("masters", watch.ms());
     watch = Stopwatch();
-    result.hair = grow_members(style, result.masters, roots);
+    result.hair = grow_members(style, *head.scalp, result.masters, roots);
     result.times.emplace_back("members", watch.ms());
     watch = Stopwatch();
     result.hair.colors.resize(result.hair.strand_count());

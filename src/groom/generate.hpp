@@ -8,6 +8,7 @@
 #include "core/cancel.hpp"
 #include "core/hair.hpp"
 #include "core/timer.hpp"
+#include "groom/clumps.hpp"
 #include "groom/head.hpp"
 #include "groom/master.hpp"
 #include "groom/prototype.hpp"
@@ -48,12 +49,14 @@ void synthesize_master_details(const Style& style, const MasterPrototype& protot
                                Masters& masters, bool update_frames = true);
 
 // Stage 4 (§2.1): every member strand of every wisp, with widths, wisp ids and the scalp UV
-// and normal of its root (no colors, no groups).
+// and normal of its root (no colors, no groups), gathered into the style's clumps
+// (groom/clumps.hpp; a clump keeps to one group of wisp_group, #W or empty for one group).
 // With `only` (ids into roots.members), strand i is member only[i], the same strand the whole
 // hair has at index only[i] (the editor's preview of a subset). `cancel` is polled once per
 // wisp (or strand of `only`) and told the progress every 1/32 of them; a cancelled call
 // returns partial hair.
-Hair grow_members(const Style& style, const Masters& masters, const Roots& roots,
+Hair grow_members(const Style& style, const Scalp& scalp, const Masters& masters,
+                  const Roots& roots, std::span<const int32_t> wisp_group = {},
                   std::span<const uint32_t> only = {}, const CancelToken& cancel = {});
 
 // grow_members in bands of master points, so that the members can grow beside the solve as
@@ -64,9 +67,10 @@ Hair grow_members(const Style& style, const Masters& masters, const Roots& roots
 // where the band before left it. Any split into bands gives grow_members' hair to the bit.
 class MemberGrowth {
   public:
-    // `roots` must outlive the object; `only` as grow_members' (copied); `points`, the masters'.
-    MemberGrowth(const Style& style, const Roots& roots, int points,
-                 std::span<const uint32_t> only = {});
+    // `scalp` and `roots` must outlive the object; `wisp_group` and `only` as grow_members'
+    // (copied); `points`, the masters'.
+    MemberGrowth(const Style& style, const Scalp& scalp, const Roots& roots, int points,
+                 std::span<const int32_t> wisp_group = {}, std::span<const uint32_t> only = {});
     // Points k0 ≤ k < k1 of every strand, after those below k0 (parallel over strands; polls
     // `cancel` per strand and tells it the progress every 1/32 of them).
     void grow(const Masters& masters, int k0, int k1, const CancelToken& cancel = {});
@@ -77,9 +81,22 @@ class MemberGrowth {
 
   private:
     const Roots& roots_;
+    const Scalp& scalp_;
+    ClumpSpec clump_;
+    uint64_t seed_;
+    std::vector<int32_t> wisp_group_;  // #W or empty
     std::vector<uint32_t> only_;
     int n_;
     float fuzziness_;
+    // Clumps: each wisp's guide and clump size (set by the first band, which has the masters'
+    // directions), each strand's sub-clump centre (a member id), the pulls at each master
+    // point and each strand's share of its sub-clump's.
+    ClumpGuides guides_;
+    std::vector<uint32_t> sub_centre_;    // #strands, empty without sub-clumps
+    std::vector<float> pull_, sub_pull_;  // #n
+    std::vector<float> clump_share_;      // #W the share of the clump whose guide is w
+    std::vector<float> weight_;           // #W·n each wisp's pull toward its guide, band by band
+    std::vector<float> sub_share_;        // #strands
     Hair hair_;
     std::vector<float> u_;       // #strands relative length
     std::vector<float> radius_;  // #W·n deviation radius of each wisp at each master point

@@ -85,6 +85,25 @@ struct WispSpec {
     float fuzziness = 0.3f;                                // σ, ≥ 0
 };
 
+// Clumps at two scales above and below the wisp (docs/style.md [clump]): real hair gathers
+// into locks of 1–3 cm that pull together toward the tips, with smaller sub-locks inside them.
+// A clump is a few neighbouring wisps of one group that share a guide, one of their masters;
+// a sub-clump is a part of one wisp around one of its members' roots. At master point k
+// (s = k/(n−1)) a member moves the fraction pull·s^shape of the way to its clump's guide, then
+// sub_pull·s^sub_shape of the way to its sub-clump's centre; each clump and sub-clump takes
+// its own share of its pull, uniform in [1 − variation, 1].
+struct ClumpSpec {
+    ScalarMap size{ScalarMap::Kind::kConstant, 2.f};  // cm: how far apart clumps' guides
+                                                      // root, ≥ 0 (0: one wisp each)
+    float pull = 0.f;                                 // at the tip, in [0, 1] (0: no clumps)
+    float shape = 1.5f;          // > 0: how late along the strand the pull comes in
+    float variation = 0.4f;      // in [0, 1]
+    int sub_count = 3;           // sub-clumps per wisp, in [1, 16] (1: none)
+    float sub_pull = 0.f;        // in [0, 1]
+    float sub_shape = 1.f;       // > 0
+    float sub_variation = 0.4f;  // in [0, 1]
+};
+
 // Stochastic HSV color (§5, Fig. 12). Hue in degrees, saturation and value in [0,1].
 struct ColorSpec {
     Distribution hue{Distribution::Kind::kNormal, 0.f, 0.f, 360.f, 30.f, 2.f};
@@ -244,6 +263,7 @@ struct Style {
     float tip_width = 0.002f;   // cm, at the tip, > 0
     PrototypeSpec prototype;
     WispSpec wisp;
+    ClumpSpec clump;
     ColorSpec color;
     SolveSpec solve;
     std::vector<GroupSpec> groups;        // constraint groups, including those the hairdressing

@@ -418,10 +418,13 @@ bool MemberBands::banded(const Style& style) {
     return !(style.cut.enabled && style.cut.normal.norm() > 0.f);
 }
 
-MemberBands::MemberBands(const Style& style, const HeadField& head_field, const Roots& roots,
-                         std::span<const int32_t> wisp_group, int points,
+MemberBands::MemberBands(const Style& style, const HeadField& head_field, const Scalp& scalp,
+                         const Roots& roots, std::span<const int32_t> wisp_group, int points,
                          std::span<const uint32_t> only)
-    : style_(style), head_field_(head_field), roots_(roots), growth_(style, roots, points, only) {
+    : style_(style),
+      head_field_(head_field),
+      roots_(roots),
+      growth_(style, scalp, roots, points, wisp_group, only) {
     Hair& hair = growth_.hair();
     hair.group.resize(hair.strand_count());
     for (size_t j = 0; j < hair.strand_count(); ++j)
@@ -504,7 +507,7 @@ MembersResult members_stage(const Style& style, const Head& head, const HeadFiel
     const int n = masters.points;
     if (MemberBands::banded(style)) {
         // One band: all of the growth (about half of the stage), then the push out of the head.
-        MemberBands bands(style, head_field, roots, wisp_group, n, only);
+        MemberBands bands(style, head_field, *head.scalp, roots, wisp_group, n, only);
         bands.grow(masters, 0, n, cancel.part(0.f, 0.5f));
         if (cancel.cancelled()) return bands.finish();
         lap("members");
@@ -514,7 +517,8 @@ MembersResult members_stage(const Style& style, const Head& head, const HeadFiel
         return bands.finish();
     }
     MembersResult r;
-    r.hair = grow_members(style, masters, roots, only, cancel.part(0.f, 0.5f));
+    r.hair =
+        grow_members(style, *head.scalp, masters, roots, wisp_group, only, cancel.part(0.f, 0.5f));
     if (cancel.cancelled()) return r;
     r.hair.group.resize(r.hair.strand_count());
     for (size_t j = 0; j < r.hair.strand_count(); ++j)

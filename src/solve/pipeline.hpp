@@ -110,9 +110,9 @@ MembersResult members_stage(const Style& style, const Head& head, const HeadFiel
 class MemberBands {
   public:
     static bool banded(const Style& style);
-    // `style`, `head_field` and `roots` must outlive the object; the rest is copied.
-    MemberBands(const Style& style, const HeadField& head_field, const Roots& roots,
-                std::span<const int32_t> wisp_group, int points,
+    // `style`, `head_field`, `scalp` and `roots` must outlive the object; the rest is copied.
+    MemberBands(const Style& style, const HeadField& head_field, const Scalp& scalp,
+                const Roots& roots, std::span<const int32_t> wisp_group, int points,
                 std::span<const uint32_t> only = {});
     void grow(const Masters& masters, int k0, int k1, const CancelToken& cancel = {});
     void push(const Masters& masters, int k0, int k1);

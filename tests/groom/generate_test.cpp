@@ -111,7 +111,7 @@ TEST(Generate, EveryMemberPointIsWithinTheDeviationRadius) {
     const Head& head = builtin();
     const Roots roots = grow_roots(style, head);
     const Masters masters = synthesize_masters(style, head, roots);
-    const Hair hair = grow_members(style, masters, roots);
+    const Hair hair = grow_members(style, *head.scalp, masters, roots);
     const int n = masters.points;
     for (size_t w = 0; w < masters.count(); ++w) {
         const auto master = masters.strand(w);
@@ -140,7 +140,7 @@ TEST(Generate, MeasuredLengthsFollowTheLengthDistribution) {
     const Head& head = builtin();
     const Roots roots = grow_roots(style, head);
     const Masters masters = synthesize_masters(style, head, roots);
-    const Hair hair = grow_members(style, masters, roots);
+    const Hair hair = grow_members(style, *head.scalp, masters, roots);
     std::vector<double> u;
     for (size_t j = 0; j < hair.strand_count(); ++j) {
         const auto s = hair.strand(j);
@@ -244,6 +244,9 @@ TEST(Generate, MembersGrownInBandsAreTheWholeGrowthToTheBit) {
     Style style = small_style();
     style.prototype.kind = PrototypeSpec::Kind::kCurly;
     style.wisp.length = {Distribution::Kind::kUniform, 0.f, 0.3f, 1.f};
+    // With clumps: a member reads its guide's master as well as its own.
+    style.clump.pull = 0.7f;
+    style.clump.sub_pull = 0.5f;
     const Roots roots = grow_roots(style, builtin());
     const Masters masters = synthesize_masters(style, builtin(), roots);
     const int n = masters.points;
@@ -258,9 +261,9 @@ TEST(Generate, MembersGrownInBandsAreTheWholeGrowthToTheBit) {
         some.push_back(static_cast<uint32_t>(roots.members.size()) - 1 - j);
     for (const std::span<const uint32_t> only :
          {std::span<const uint32_t>(), std::span<const uint32_t>(some)}) {
-        const Hair whole = grow_members(style, masters, roots, only);
+        const Hair whole = grow_members(style, *builtin().scalp, masters, roots, {}, only);
         for (const int band : {1, 3, 5, n}) {
-            MemberGrowth growth(style, roots, n, only);
+            MemberGrowth growth(style, *builtin().scalp, roots, n, {}, only);
             for (int k0 = 0; k0 < n; k0 += band) {
                 const int k1 = std::min(n, k0 + band);
                 for (size_t w = 0; w < banded.count(); ++w)

@@ -296,7 +296,8 @@ TEST(Solver, MembersFollowingTheSolveGiveTheSameBytes) {
             const ThreadLimit limit(threads);
             Masters solved = start;
             std::atomic<int> joints{1};
-            MemberBands bands(style, builtin_field(), roots, groups.wisp_group, start.points, some);
+            MemberBands bands(style, builtin_field(), *head.scalp, roots, groups.wisp_group,
+                              start.points, some);
             bool followed = false;
             tbb::task_group tasks;
             tasks.run([&] { followed = follow_solve(solved, joints, &bands); });
