@@ -47,7 +47,6 @@ class Buckets {
                     for (const int32_t id : items_[index(Vec3i(x, y, z))])
                         f(id);
     }
-    float cell() const { return cell_; }
 
   private:
     size_t index(const Vec3i& c) const {
