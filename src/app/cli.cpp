@@ -330,7 +330,7 @@ void info(bool quiet, const std::string& line) {
 }
 
 // How much of the face the hair veils and how much scalp it leaves bare from the top, back
-// and sides (solve/coverage.hpp), the part line left out.
+// and sides (solve/coverage.hpp), the part line and the hairline's soft edge left out.
 nlohmann::json coverage_stats(const Hair& hair, const Head& head, const Style& style) {
     const FaceLandmarks face = face_landmarks(head);
     const HeadFrame frame = head_frame(*head.scalp);
@@ -341,7 +341,8 @@ nlohmann::json coverage_stats(const Hair& hair, const Head& head, const Style& s
         return on_part(style.growth, (p - frame.center).normalized(), 1.2f / frame.radius);
     };
     for (const char* view : {"top", "back", "left", "right"}) {
-        const Coverage c = scalp_coverage(hair, *head.scalp, ortho_view(view), parting);
+        const Coverage c =
+            scalp_coverage(hair, *head.scalp, ortho_view(view), parting, 1.f, style.hairline.width);
         j["scalp_bare"][view] = c.cells ? 1.f - c.fraction() : 0.f;
     }
     return j;

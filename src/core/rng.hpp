@@ -32,6 +32,9 @@ enum class Stream : uint64_t {
     kRoll = 9,
     kCut = 10,
     kClump = 11,
+    kWave = 12,
+    kHairline = 13,
+    kFlyaway = 14,
 };
 
 // xoshiro256** seeded through SplitMix64 from (seed, domain, id).

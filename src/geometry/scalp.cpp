@@ -2,12 +2,14 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
 #include <type_traits>
 
 #include "core/error.hpp"
 #include "core/image.hpp"
+#include "core/point_grid.hpp"
 #include "geometry/skin_normals.hpp"
 
 namespace wisp {
@@ -214,6 +216,70 @@ float ray_triangle(const Vec3f& o, const Vec3f& d, const Vec3f& a, const Vec3f& 
     return e2.dot(qv) / det;
 }
 
+// edge_distance at every vertex of `faces` (kNoEdge at the others): the distance to the
+// nearest of points spaced at most 0.2 cm along the scalp's edges.
+std::vector<float> scalp_edge_distance(const Mesh& mesh, const std::vector<uint32_t>& faces) {
+    // Vertices at one position are one: a seam in the mesh's UVs or normals is not an edge.
+    std::vector<uint32_t> weld(mesh.vertices.size());
+    {
+        std::vector<uint32_t> order(mesh.vertices.size());
+        for (uint32_t v = 0; v < order.size(); ++v)
+            order[v] = v;
+        const auto key = [&](uint32_t v) {
+            const Vec3f& p = mesh.vertices[v];
+            return std::array<float, 3>{p.x(), p.y(), p.z()};
+        };
+        std::stable_sort(order.begin(), order.end(),
+                         [&](uint32_t a, uint32_t b) { return key(a) < key(b); });
+        for (size_t i = 0; i < order.size(); ++i)
+            weld[order[i]] =
+                i > 0 && key(order[i]) == key(order[i - 1]) ? weld[order[i - 1]] : order[i];
+    }
+    // An edge of the scalp is one that a single scalp face has (counted over welded ends);
+    // edges shared with non-scalp faces count once here too.
+    std::vector<std::pair<uint64_t, uint32_t>> edges;  // (welded key, a vertex of the edge)
+    edges.reserve(faces.size() * 3);
+    for (uint32_t f : faces) {
+        const Vec3i& t = mesh.faces[f];
+        for (int k = 0; k < 3; ++k) {
+            uint32_t a = weld[static_cast<uint32_t>(t[k])];
+            uint32_t b = weld[static_cast<uint32_t>(t[(k + 1) % 3])];
+            if (a == b) continue;
+            if (a > b) std::swap(a, b);
+            edges.emplace_back(uint64_t{a} << 32 | b, 0u);
+        }
+    }
+    std::sort(edges.begin(), edges.end());
+    std::vector<Vec3f> samples;
+    for (size_t i = 0; i < edges.size();) {
+        size_t j = i;
+        while (j < edges.size() && edges[j].first == edges[i].first)
+            ++j;
+        if (j - i == 1) {
+            const Vec3f a = mesh.vertices[edges[i].first >> 32];
+            const Vec3f b = mesh.vertices[edges[i].first & 0xffffffffu];
+            const int pieces =
+                std::clamp(static_cast<int>(std::ceil((b - a).norm() / 0.2f)), 1, 1000);
+            for (int k = 0; k < pieces; ++k)
+                samples.push_back(a +
+                                  (static_cast<float>(k) / static_cast<float>(pieces)) * (b - a));
+            samples.push_back(b);
+        }
+        i = j;
+    }
+    std::vector<float> out(mesh.vertices.size(), Scalp::kNoEdge);
+    if (samples.empty()) return out;
+    const PointGrid grid(samples, 1.f);
+    for (uint32_t f : faces)
+        for (int k = 0; k < 3; ++k) {
+            const auto v = static_cast<size_t>(mesh.faces[f][k]);
+            if (out[v] != Scalp::kNoEdge) continue;
+            const int near = grid.nearest(mesh.vertices[v]);
+            out[v] = (mesh.vertices[v] - samples[static_cast<size_t>(near)]).norm();
+        }
+    return out;
+}
+
 }  // namespace
 
 Scalp::Scalp(const Mesh& mesh, const ScalpSpec& spec, const std::string& source, size_t head_faces)
@@ -262,6 +328,7 @@ Scalp::Scalp(const Mesh& mesh, const ScalpSpec& spec, const std::string& source,
     }
 
     vertex_normals_ = skin_normals(mesh);
+    edge_distance_ = scalp_edge_distance(mesh, faces_);
 
     double total = 0.0;
     cdf_.resize(faces_.size());
@@ -364,6 +431,31 @@ SurfacePoint Scalp::point_on(uint32_t face, const Vec2f& bary) const {
     if (sp.normal.isZero()) sp.normal = Vec3f::UnitY();
     sp.uv = uv_of(sp.position);
     return sp;
+}
+
+float Scalp::edge_distance(const SurfacePoint& p) const {
+    const Vec3i& t = mesh_->faces[p.face];
+    const float b0 = 1.f - p.bary.x() - p.bary.y();
+    return b0 * edge_distance_[t[0]] + p.bary.x() * edge_distance_[t[1]] +
+           p.bary.y() * edge_distance_[t[2]];
+}
+
+float Scalp::edge_distance(uint32_t face, const Vec3f& q) const {
+    const Vec3i& t = mesh_->faces[face];
+    const Vec3f a = mesh_->vertices[t[0]], e1 = mesh_->vertices[t[1]] - a,
+                e2 = mesh_->vertices[t[2]] - a, d = q - a;
+    const float d11 = e1.dot(e1), d12 = e1.dot(e2), d22 = e2.dot(e2);
+    const float det = d11 * d22 - d12 * d12;
+    SurfacePoint p;
+    p.face = face;
+    if (std::abs(det) > 0.f) {
+        const float b1 = std::clamp((d22 * d.dot(e1) - d12 * d.dot(e2)) / det, 0.f, 1.f);
+        const float b2 = std::clamp((d11 * d.dot(e2) - d12 * d.dot(e1)) / det, 0.f, 1.f - b1);
+        p.bary = Vec2f(b1, b2);
+    } else {
+        p.bary = Vec2f(1.f / 3, 1.f / 3);
+    }
+    return edge_distance(p);
 }
 
 Vec2f Scalp::uv_of(const Vec3f& p) const {

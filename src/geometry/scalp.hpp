@@ -89,6 +89,15 @@ class Scalp {
     // center() it inverts uv_of on directions (the editor paints maps through it).
     float max_polar_angle() const { return max_polar_angle_; }
 
+    // How far a point on the scalp lies from the scalp's edge, the hairline, in cm: its face's
+    // vertices' distances to the nearest edge (within 0.1 cm), interpolated. An edge is where a
+    // scalp face meets a face that is not scalp or none (vertices at one position are one, so
+    // UV seams are no edge); a scalp without one gives kNoEdge.
+    float edge_distance(const SurfacePoint& p) const;
+    // The same at point q on (or near) scalp face f.
+    float edge_distance(uint32_t face, const Vec3f& q) const;
+    static constexpr float kNoEdge = 1e6f;
+
     // The ears as the head's landmarks place them (find_landmarks), so that maps can shape hair
     // around them on any head: their outermost points and the head's height, chin to crown.
     struct Ears {
@@ -105,6 +114,7 @@ class Scalp {
     std::vector<float> cdf_;             // #faces cumulative area, for sampling
     std::vector<uint32_t> guide_;        // #faces+1: face_slot(b / #faces), where its search starts
     std::vector<Vec3f> vertex_normals_;  // #V smooth normals of the whole mesh
+    std::vector<float> edge_distance_;   // #V: edge_distance at the scalp's vertices
     float area_ = 0.f;
     Vec3f crown_ = Vec3f::Zero(), center_ = Vec3f::Zero();
     float max_polar_angle_ = 1.f;

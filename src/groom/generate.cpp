@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "core/error.hpp"
 #include "core/parallel.hpp"
@@ -12,6 +13,16 @@
 #include "groom/synthesis.hpp"
 
 namespace wisp {
+namespace {
+
+// A baby hair's or flyaway's way out of its clump: along the strand from `from` cm over
+// `span` cm, it moves by lift·t^power (t from 0 to 1 over the span) toward
+// cos(angle)·side·n + sin(angle)·(b turned away from the head), in the master's frame there.
+struct Turn {
+    float from = 0.f, span = 1.f, lift = 0.f, power = 1.f, side = 1.f, angle = 0.f;
+};
+
+}  // namespace
 
 float deviation_radius(const std::vector<float>& table, float s) {
     if (table.empty()) return 1.f;
@@ -32,7 +43,8 @@ RootParams root_params(const Style& style) {
 
 Roots grow_roots(const Style& style, const Head& head, const MeshDistance* scalp_surface,
                  const RootProposals* proposals) {
-    const MapSampler density(style.density, *head.scalp);
+    MapSampler density(style.density, *head.scalp);
+    density.set_edge_ramp(style.hairline.width);
     return place_roots(*head.scalp, density, root_params(style), scalp_surface, proposals);
 }
 
@@ -73,7 +85,13 @@ Masters master_outlines(const Style& style, const Head& head, const Roots& roots
         w_count,
         [&](size_t w) {
             const SurfacePoint& root = m.roots[w];
-            const float protrusion = protrusion_map(root);
+            // Roots at the hairline lie low along their growth direction.
+            const float lie =
+                style.hairline.width > 0.f
+                    ? style.hairline.lie * (1.f - smoothstep(0.f, 3.f * style.hairline.width,
+                                                             scalp.edge_distance(root)))
+                    : 0.f;
+            const float protrusion = protrusion_map(root) * (1.f - lie);
             const Vec3f growth = growth_field(scalp_direction(scalp, root.position));
             const Vec3f dir = protrusion_direction(root, growth, protrusion);
             m.direction[w] = dir;
@@ -98,6 +116,8 @@ MasterPrototype master_prototype(const Style& style, const Masters& masters) {
     float longest = 0.f;
     for (const float s : masters.segment)
         longest = std::max(longest, s);
+    // A master whose period is shorter walks the prototype in longer steps.
+    longest *= 1.f + style.prototype.period_variation;
     // Presets are generated long enough for any master; a user polyline must be long enough
     // to hold a window at the coarsest segment length.
     PrototypeSpec spec = style.prototype;
@@ -109,7 +129,8 @@ MasterPrototype master_prototype(const Style& style, const Masters& masters) {
         fail("prototype.points: the polyline's outline is ", p.curve.centre_arc.back(),
              " cm long, but a window of ", h, " needs at least ",
              static_cast<float>(h + 2) * longest,
-             " cm at the longest master's segment length (length / (points_per_strand-1))");
+             " cm at the longest master's segment length (length / (points_per_strand-1), times 1 "
+             "+ period_variation)");
     return p;
 }
 
@@ -120,15 +141,22 @@ void synthesize_master_details(const Style& style, const MasterPrototype& protot
     parallel_for(
         m.count(),
         [&](size_t w) {
+            // This master's waves: its own amplitude and period (the same draws whatever the
+            // variations, so changing one keeps the other's).
+            Rng wave(style.seed, Stream::kWave, w);
+            const float amplitude =
+                1.f + style.prototype.amplitude_variation * wave.uniform(-1.f, 1.f);
+            const float rate = 1.f + style.prototype.period_variation * wave.uniform(-1.f, 1.f);
             SynthesisParams sp;
             sp.window = h;
-            sp.substeps =
-                prototype.straight ? 1 : synthesis_substeps(m.segment[w], style.prototype.period);
+            sp.substeps = prototype.straight
+                              ? 1
+                              : synthesis_substeps(m.segment[w], style.prototype.period / rate);
             sp.temperature = style.prototype.temperature;
             // Fully rewritten by each call: reusing them per thread changes no result.
             static thread_local SynthesisScratch scratch;
             static thread_local std::vector<Vec3f> proto, work;
-            decompose(prototype.curve, m.segment[w] / sp.substeps, proto, work);
+            decompose(prototype.curve, rate * m.segment[w] / sp.substeps, proto, work);
             std::span<Vec3f> details(m.details.data() + w * n, static_cast<size_t>(n));
             sp.scale = synthesis_scale(proto, h);
             Rng srng(style.seed, Stream::kMaster, w);
@@ -136,7 +164,7 @@ void synthesize_master_details(const Style& style, const MasterPrototype& protot
             // The root stays on the scalp: details are relative to the first one.
             const Vec3f d0 = details[0];
             for (Vec3f& d : details)
-                d -= d0;
+                d = amplitude * (d - d0);
             if (update_frames) update_master(m, w);
         },
         8);
@@ -157,7 +185,13 @@ MemberGrowth::MemberGrowth(const Style& style, const Scalp& scalp, const Roots& 
       wisp_group_(wisp_group.begin(), wisp_group.end()),
       only_(only.begin(), only.end()),
       n_(points),
-      fuzziness_(style.wisp.fuzziness) {
+      fuzziness_(style.wisp.fuzziness),
+      root_width_(style.root_width),
+      tip_width_(style.tip_width),
+      taper_(style.taper),
+      hairline_(style.hairline),
+      flyaway_(style.flyaway),
+      centre_(scalp.center()) {
     const size_t w_count = roots.masters.size();
     const size_t s_count = only.empty() ? roots.members.size() : only.size();
     const auto id = [&](size_t i) { return only.empty() ? static_cast<uint32_t>(i) : only[i]; };
@@ -186,6 +220,31 @@ MemberGrowth::MemberGrowth(const Style& style, const Scalp& scalp, const Roots& 
                 hair.wisp[j] = static_cast<int32_t>(w);
     } else {
         member_wisps(roots, only, hair.wisp);
+    }
+    // Baby hairs near the scalp's edge (more of them the nearer), flyaways among the rest;
+    // each strand's draws come from its root's id, so a subset (`only`) gets the same.
+    kind_.assign(s_count, kOrdinary);
+    std::optional<MapSampler> length_map;
+    for (size_t i = 0; i < s_count; ++i) {
+        const uint32_t j = id(i);
+        if (hairline_.width > 0.f && hairline_.baby > 0.f) {
+            const float edge = scalp.edge_distance(roots.members[j]);
+            if (edge < hairline_.width) {
+                Rng rng(style.seed, Stream::kHairline, j);
+                if (rng.uniform() < hairline_.baby * (1.f - edge / hairline_.width)) {
+                    kind_[i] = kBaby;
+                    if (!length_map) length_map.emplace(style.length, scalp);
+                    const float master = (*length_map)(roots.masters[hair.wisp[i]]);
+                    const float length = hairline_.baby_length * rng.uniform(0.4f, 1.f);
+                    if (master > 0.f) u_[i] = std::min(u_[i], std::max(length / master, 1e-3f));
+                    continue;
+                }
+            }
+        }
+        if (flyaway_.fraction > 0.f) {
+            Rng rng(style.seed, Stream::kFlyaway, j);
+            if (rng.uniform() < flyaway_.fraction) kind_[i] = kFlyaway;
+        }
     }
     for (size_t i = 0; i < s_count; ++i)
         hair.offsets[i + 1] = hair.offsets[i] + member_point_count(n, u_[i]);
@@ -219,17 +278,7 @@ MemberGrowth::MemberGrowth(const Style& style, const Scalp& scalp, const Roots& 
     offset_.resize(s_count);
     rng_.assign(s_count, Rng(0));
     parallel_for(
-        s_count,
-        [&](size_t i) {
-            rng_[i] = Rng(style.seed, Stream::kMember, id(i));
-            const size_t count = hair.offsets[i + 1] - hair.offsets[i];
-            float* widths = hair.widths.data() + hair.offsets[i];
-            for (size_t k = 0; k < count; ++k) {
-                const float t = static_cast<float>(k) / static_cast<float>(count - 1);
-                widths[k] = style.root_width + (style.tip_width - style.root_width) * t;
-            }
-        },
-        1024);
+        s_count, [&](size_t i) { rng_[i] = Rng(style.seed, Stream::kMember, id(i)); }, 1024);
 }
 
 void MemberGrowth::grow(const Masters& masters, int k0, int k1, const CancelToken& cancel) {
@@ -272,16 +321,30 @@ void MemberGrowth::grow(const Masters& masters, int k0, int k1, const CancelToke
             const std::span<const Vec3f> master = masters.strand(w);
             const std::span<const Frame> frames(masters.frames.data() + w * n, n);
             const std::span<const float> radius(radius_.data() + w * n, n);
+            const uint32_t j = only_.empty() ? static_cast<uint32_t>(i) : only_[i];
+            const float segment = masters.segment[w];
+            const float k_end = std::clamp(u_[i], 0.f, 1.f) * static_cast<float>(n - 1);
             if (k0 <= 0) {
-                const uint32_t j = only_.empty() ? static_cast<uint32_t>(i) : only_[i];
                 offset_[i] = frames[0].to_local(roots_.members[j].position - master[0]);
+                // The last taper_ cm narrow to the tip; a strand shorter than that starts
+                // narrower (a baby hair is fine all along).
+                const std::span<float> widths(hair_.widths.data() + hair_.offsets[i],
+                                              hair_.offsets[i + 1] - hair_.offsets[i]);
+                const float length = k_end * segment;
+                for (size_t k = 0; k < widths.size(); ++k) {
+                    const float to_tip = length - std::min(static_cast<float>(k), k_end) * segment;
+                    const float t = taper_ > 0.f ? std::min(to_tip / taper_, 1.f) : 1.f;
+                    widths[k] = tip_width_ + (root_width_ - tip_width_) * t;
+                }
             }
-            if (!clumps && !subs) {
+            const uint8_t kind = kind_[i];
+            if (!clumps && !subs && kind == kOrdinary) {
                 grow_member_points(master, frames, radius, u_[i], fuzziness_, k0, k1, offset_[i],
                                    rng_[i], hair_.strand(i));
             } else {
                 const Vec3f* guide =
-                    masters.control.data() + static_cast<size_t>(guides_.guide[w]) * n;
+                    clumps ? masters.control.data() + static_cast<size_t>(guides_.guide[w]) * n
+                           : nullptr;
                 const float* weight = clumps ? weight_.data() + w * n : nullptr;
                 // The sub-clump: around the path its centre's root offset takes through the
                 // wisp's cylinder, carried by the clump as the member is.
@@ -290,20 +353,56 @@ void MemberGrowth::grow(const Masters& masters, int k0, int k1, const CancelToke
                          : Vec3f::Zero();
                 const float inv_r0 = 1.f / radius[0];
                 const float sub_share = subs ? sub_share_[i] : 0.f;
-                grow_member_points(master, frames, radius, u_[i], fuzziness_, k0, k1, offset_[i],
-                                   rng_[i], hair_.strand(i), [&](int k, const Vec3f& p) {
-                                       const size_t kk = static_cast<size_t>(k);
-                                       const float a = clumps ? weight[kk] : 0.f;
-                                       Vec3f q = p + a * (guide[kk] - p);
-                                       if (subs) {
-                                           Vec3f c =
-                                               master[kk] +
-                                               frames[kk].to_world(centre * (radius[kk] * inv_r0));
-                                           c += a * (guide[kk] - c);
-                                           q += (sub_pull_[kk] * sub_share) * (c - q);
-                                       }
-                                       return q;
-                                   });
+                // A baby hair leaves at an angle of its own from the root, a flyaway over its
+                // last stretch: toward one side, partly outward (never into the head), with
+                // its clump's pull let go. Their draws, a stream apart from the constructor's.
+                Turn turn;
+                if (kind != kOrdinary) {
+                    Rng r(seed_, kind == kBaby ? Stream::kHairline : Stream::kFlyaway,
+                          uint64_t{j} + (uint64_t{1} << 32));
+                    turn.side = r.uniform() < 0.5f ? -1.f : 1.f;
+                    turn.angle = r.uniform(0.f, 1.f);
+                    if (kind == kBaby) {
+                        turn.from = 0.f;
+                        turn.span = k_end * segment + 1e-3f;
+                        turn.lift = r.uniform(0.3f, 0.8f) * turn.span;
+                        turn.power = 1.f;
+                    } else {
+                        turn.span = flyaway_.length * r.uniform(0.5f, 1.f);
+                        turn.from = std::max(k_end * segment - turn.span, 0.f);
+                        turn.lift = flyaway_.lift * r.uniform(0.5f, 1.f);
+                        turn.power = 2.f;
+                    }
+                }
+                grow_member_points(
+                    master, frames, radius, u_[i], fuzziness_, k0, k1, offset_[i], rng_[i],
+                    hair_.strand(i), [&](int k, const Vec3f& p) {
+                        const size_t kk = static_cast<size_t>(k);
+                        float t = 0.f;  // how far along its turn
+                        if (kind != kOrdinary)
+                            t = std::clamp(
+                                (static_cast<float>(k) * segment - turn.from) / turn.span, 0.f,
+                                1.f);
+                        const float hold = kind == kOrdinary ? 1.f
+                                           : kind == kBaby   ? 0.f
+                                                             : 1.f - smoothstep(0.f, 1.f, t);
+                        const float a = clumps ? hold * weight[kk] : 0.f;
+                        Vec3f q = clumps ? Vec3f(p + a * (guide[kk] - p)) : p;
+                        if (subs) {
+                            Vec3f c =
+                                master[kk] + frames[kk].to_world(centre * (radius[kk] * inv_r0));
+                            if (clumps) c += a * (guide[kk] - c);
+                            q += (hold * sub_pull_[kk] * sub_share) * (c - q);
+                        }
+                        if (t > 0.f) {
+                            Vec3f out = frames[kk].b;
+                            if (out.dot(q - centre_) < 0.f) out = -out;
+                            const Vec3f dir = std::cos(turn.angle) * turn.side * frames[kk].n +
+                                              std::sin(turn.angle) * out;
+                            q += (turn.lift * std::pow(t, turn.power)) * dir;
+                        }
+                        return q;
+                    });
             }
             progress.step();
         },

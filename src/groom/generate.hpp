@@ -61,8 +61,9 @@ Hair grow_members(const Style& style, const Scalp& scalp, const Masters& masters
 
 // grow_members in bands of master points, so that the members can grow beside the solve as
 // its layers make the masters' joints final (the editor's preview): the constructor sets up
-// everything that needs no master (each strand's length, point count, widths, wisp, root and
-// random stream), and grow(masters, k0, k1) grows the points k0 ≤ k < k1 of every strand,
+// everything that needs no master (each strand's length, point count, kind, wisp, root and
+// random stream), the first band the widths, and grow(masters, k0, k1) grows the points
+// k0 ≤ k < k1 of every strand,
 // reading the masters' control points and frames below k1 only and carrying each strand on
 // where the band before left it. Any split into bands gives grow_members' hair to the bit.
 class MemberGrowth {
@@ -88,6 +89,14 @@ class MemberGrowth {
     std::vector<uint32_t> only_;
     int n_;
     float fuzziness_;
+    float root_width_, tip_width_, taper_;
+    HairlineSpec hairline_;
+    FlyawaySpec flyaway_;
+    Vec3f centre_;  // the scalp's centre: flyaways and baby hairs turn away from it
+    // Each strand's kind: an ordinary member, a baby hair at the hairline (short, unclumped,
+    // turned its own way) or a flyaway (leaving its clump near the tip).
+    enum Kind : uint8_t { kOrdinary, kBaby, kFlyaway };
+    std::vector<uint8_t> kind_;  // #strands
     // Clumps: each wisp's guide and clump size (set by the first band, which has the masters'
     // directions), each strand's sub-clump centre (a member id), the pulls at each master
     // point and each strand's share of its sub-clump's.

@@ -105,6 +105,11 @@ MapSampler::MapSampler(const ScalarMap& map, const Scalp& scalp) : map_(map), sc
 }
 
 float MapSampler::operator()(const SurfacePoint& p) const {
+    const float v = value(p);
+    return edge_ramp_ > 0.f ? v * smoothstep(0.f, edge_ramp_, scalp_->edge_distance(p)) : v;
+}
+
+float MapSampler::value(const SurfacePoint& p) const {
     switch (map_.kind) {
         case ScalarMap::Kind::kConstant:
             return map_.value;

@@ -38,12 +38,17 @@ class MapSampler {
     MapSampler(const ScalarMap& map, const Scalp& scalp);
     // The map's value (in its own units) at a scalp point.
     float operator()(const SurfacePoint& p) const;
+    // Multiplies the map by a smooth ramp from 0 at the scalp's edge to 1 at `width` cm from
+    // it (Scalp::edge_distance): the hairline's density. 0: no ramp.
+    void set_edge_ramp(float width) { edge_ramp_ = width; }
 
   private:
     ScalarMap map_;
     const Scalp* scalp_;
     std::shared_ptr<const GrayImage> image_;
     int procedural_ = -1;
+    float edge_ramp_ = 0.f;
+    float value(const SurfacePoint& p) const;
 };
 
 }  // namespace wisp

@@ -75,6 +75,12 @@ struct PrototypeSpec {
     float temperature = 0.03f;    // T of eq. (4), ≥ 0 (0 = argmin, eq. (3))
     float roll = 0.5f;            // radians: each master's details turn about its outline by
                                   // a uniform angle in [-roll, roll], ≥ 0
+    // Each master's waves or coils differ from its neighbours' as real locks do: its details
+    // are scaled by a factor uniform in [1 − amplitude_variation, 1 + amplitude_variation] and
+    // its period by one in [1 − period_variation, 1 + period_variation] (the clumps carry each
+    // guide's to its clump). Both in [0, 0.9].
+    float amplitude_variation = 0.f;
+    float period_variation = 0.f;
 };
 
 // The wisp parameters of §2.1.
@@ -102,6 +108,27 @@ struct ClumpSpec {
     float sub_pull = 0.f;        // in [0, 1]
     float sub_shape = 1.f;       // > 0
     float sub_variation = 0.4f;  // in [0, 1]
+};
+
+// The hairline (docs/style.md [hairline]): real hair does not stop at an edge. Root density
+// ramps up from the scalp's edge over `width`; there some strands are baby hairs, short and
+// fine, pointing their own way; and roots lie low along their growth direction.
+struct HairlineSpec {
+    float width = 0.6f;       // cm: density rises from 0 at the edge to full over this, ≥ 0
+                              // (0: a hard edge)
+    float baby = 0.3f;        // at the edge, the fraction of strands that are baby hairs, falling
+                              // to 0 across the ramp, in [0, 1]
+    float baby_length = 2.f;  // cm: a baby hair's length is uniform in [0.4, 1]·this, > 0
+    float lie = 0.7f;         // within three ramp widths of the edge, masters' protrusion is
+                              // scaled down toward (1 − lie) at the edge, in [0, 1]
+};
+
+// Flyaways: strands that leave their clump along a short arc near their tips, as real heads
+// have 1–3% of, never long strays.
+struct FlyawaySpec {
+    float fraction = 0.01f;  // of strands, in [0, 0.2]
+    float length = 4.f;      // cm: each one's last [0.5, 1]·length leaves the clump, > 0
+    float lift = 1.f;        // cm: its tip leaves its place by up to this, sideways and out, ≥ 0
 };
 
 // Stochastic HSV color (§5, Fig. 12). Hue in degrees, saturation and value in [0,1].
@@ -258,12 +285,20 @@ struct Style {
     ScalarMap length{ScalarMap::Kind::kConstant, 25.f};       // master length in cm, > 0
     ScalarMap protrusion{ScalarMap::Kind::kConstant, 0.25f};  // 0 = along the scalp, 1 = along
                                                               // the normal
+    // Root lift, cm: how far hair rises off the scalp before it falls, as blow-dried hair
+    // stands at the crown and the part (the solve holds each master's first joints on the
+    // direction it leaves the scalp until they reach this height), ≥ 0.
+    ScalarMap lift{ScalarMap::Kind::kConstant, 0.f};
     GrowthSpec growth;          // the direction hair leaves the scalp: whorl, part, front hairline
     float root_width = 0.008f;  // cm, strand diameter at the root, > 0
     float tip_width = 0.002f;   // cm, at the tip, > 0
+    float taper = 4.f;          // cm: the last `taper` of a strand narrows from root_width to
+                                // tip_width, ≥ 0 (0: one width, a blunt cut)
     PrototypeSpec prototype;
     WispSpec wisp;
     ClumpSpec clump;
+    HairlineSpec hairline;
+    FlyawaySpec flyaway;
     ColorSpec color;
     SolveSpec solve;
     std::vector<GroupSpec> groups;        // constraint groups, including those the hairdressing

@@ -162,7 +162,8 @@ Coverage face_coverage(const Hair& hair, const Mesh& head, float eye_y, float ch
 }
 
 Coverage scalp_coverage(const Hair& hair, const Scalp& scalp, const OrthoView& view,
-                        const std::function<bool(const Vec3f&)>& exclude, float width_scale) {
+                        const std::function<bool(const Vec3f&)>& exclude, float width_scale,
+                        float hairline) {
     const Mesh& mesh = scalp.mesh();
     std::vector<uint8_t> is_scalp(mesh.faces.size(), 0);
     for (uint32_t f : scalp.faces())
@@ -175,6 +176,9 @@ Coverage scalp_coverage(const Hair& hair, const Scalp& scalp, const OrthoView& v
         const int32_t f = grid.face(i);
         if (f < 0 || !is_scalp[f]) continue;
         if (exclude && exclude(grid.point(i))) continue;
+        if (hairline > 0.f &&
+            scalp.edge_distance(static_cast<uint32_t>(f), grid.point(i)) < hairline)
+            continue;
         ++c.cells;
         c.covered += covered[i];
     }

@@ -45,11 +45,12 @@ Coverage face_coverage(const Hair& hair, const Mesh& head, float eye_y, float ch
                        float half_width = 4.5f, float cell = 0.5f, float width_scale = 1.f);
 
 // The scalp seen along `view`: cells whose nearest surface is a scalp face (and whose scalp
-// point `exclude` does not reject, such as points along a parting), and of those the ones
-// hair covers. bare = cells − covered.
+// point `exclude` does not reject, such as points along a parting, and that lies at least
+// `hairline` cm from the scalp's edge: a soft hairline thins out there by design, [hairline]
+// width), and of those the ones hair covers. bare = cells − covered.
 Coverage scalp_coverage(const Hair& hair, const Scalp& scalp, const OrthoView& view,
                         const std::function<bool(const Vec3f&)>& exclude = {},
-                        float width_scale = 1.f);
+                        float width_scale = 1.f, float hairline = 0.f);
 
 // The face window's landmarks of a head facing +Z: the nose tip, the eye line and the chin,
 // as find_landmarks found them on the head's own mesh (Head::landmarks). Where it found none,

@@ -12,6 +12,7 @@
 #include "core/rng.hpp"
 #include "groom/color.hpp"
 #include "groom/growth.hpp"
+#include "groom/maps.hpp"
 
 namespace wisp {
 namespace {
@@ -406,6 +407,17 @@ SolveStats solve_stage(const Style& style, const Head& head, const HeadField& he
     for (int k = 0; k < n; ++k)
         in.radius_profile[k] =
             deviation_radius(style.wisp.deviation_radius, static_cast<float>(k) / (n - 1)) / r0;
+    // Root lift: the hold that raises the hair `lift` cm at the angle it leaves the scalp
+    // (a nearly flat root would need a long one: at most half the hair).
+    if (style.lift.kind != ScalarMap::Kind::kConstant || style.lift.value > 0.f) {
+        const MapSampler lift(style.lift, *head.scalp);
+        in.root_hold.resize(w_count);
+        for (size_t w = 0; w < w_count; ++w) {
+            const float rise = std::max(masters.direction[w].dot(masters.roots[w].normal), 0.25f);
+            const float length = masters.segment[w] * static_cast<float>(n - 1);
+            in.root_hold[w] = std::min(std::max(lift(masters.roots[w]), 0.f) / rise, 0.5f * length);
+        }
+    }
     in.cancel = &cancel;
     in.update_frames = update_frames;
     in.joints_final = joints_final;

@@ -349,6 +349,11 @@ class Solver {
             ++counts.constrained;
         }
         Vec3f q = following ? followed : best_direction(phi, q0, spec_.stiffness);
+        if (!c && !in_.root_hold.empty()) {
+            const float hold = in_.root_hold[w];
+            const float h = 1.f - smoothstep(0.5f * hold, hold, static_cast<float>(j) * s);
+            if (h > 0.f) q = ((1.f - h) * q + h * q0).normalized();
+        }
         if (!following) {
             // On the skin, the segment slides along it instead of bending away by eq. (6)'s
             // steps, which crinkled hair lying on the shoulders into zigzags. A constraint's

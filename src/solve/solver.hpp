@@ -104,6 +104,10 @@ struct SolveInput {
     std::vector<int> wisp_strands;      // #W strands carried by each wisp
     std::vector<float> wisp_radius;     // #W root radius of each wisp, cm
     std::vector<float> radius_profile;  // #n r(s_j)/r(0) at each joint
+    // #W or empty: the arc length (cm) from each root over which the master keeps the
+    // direction it leaves the scalp, easing off over the second half (root lift); a
+    // constraint's pull takes over from it.
+    std::vector<float> root_hold;
     // Polled once per layer of joints (breadth-first) or per wisp (depth-first), and told the
     // progress after each layer (every 1/64 of the wisps depth-first); null: never.
     const CancelToken* cancel = nullptr;

@@ -33,6 +33,8 @@ Style plain_style() {
     s.wisp.length = Distribution{Distribution::Kind::kConstant, 1.f};
     s.clump.variation = 0.f;
     s.clump.sub_variation = 0.f;
+    s.hairline.baby = 0.f;
+    s.flyaway.fraction = 0.f;
     return s;
 }
 

@@ -20,6 +20,11 @@ Style small_style() {
     s.strands = 6000;
     s.points_per_strand = 16;
     s.seed = 17;
+    // The paper's model alone: no baby hairs, flyaways or roots laid down at the hairline
+    // (grooming_details_test.cpp checks those).
+    s.hairline.baby = 0.f;
+    s.hairline.lie = 0.f;
+    s.flyaway.fraction = 0.f;
     return s;
 }
 

@@ -756,7 +756,7 @@ TEST(StyleToml, UnknownKeysSuggestTheField) {
               "test.toml:1: unknown field 'rots' (did you mean 'roots'?)");
     const std::string none = error_of("[strand]\ncolour = 1");
     EXPECT_NE(none.find("test.toml:2: unknown field 'strand.colour' (expected one of: "
-                        "root_width, tip_width)"),
+                        "root_width, tip_width, taper)"),
               std::string::npos)
         << none;
     EXPECT_NE(error_of("[color]\nhue = { distribution = \"normal\", mean = 3, stdev = 1 }")

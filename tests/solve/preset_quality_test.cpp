@@ -105,8 +105,8 @@ Measured measure(const std::string& preset, const Head& head) {
         return on_part(style.growth, (p - frame.center).normalized(), 1.2f / frame.radius);
     };
     for (int v = 0; v < 4; ++v) {
-        const Coverage c =
-            scalp_coverage(r.hair, *head.scalp, ortho_view(kViews[v]), parting, widths);
+        const Coverage c = scalp_coverage(r.hair, *head.scalp, ortho_view(kViews[v]), parting,
+                                          widths, style.hairline.width);
         m.bare[v] = c.cells ? 1.f - c.fraction() : 0.f;
     }
     m.groups = r.solve.groups;

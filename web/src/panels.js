@@ -5,7 +5,7 @@
 const panelTitles = {
   style: "Style", head: "Head", counts: "Counts (§2.3)", maps: "Scalp maps (§2.3)",
   growth: "Growth", strand: "Strand", prototype: "Prototype (§2.2)", wisp: "Wisp l(u), r(s), σ (§2.1)",
-  clump: "Clumps",
+  clump: "Clumps", hairline: "Hairline", flyaway: "Flyaways",
   colour: "Colour (§5)", solver: "Solver κ, τ (§3)", "styling field": "Styling field Φ (§3.1)",
   cut: "Cut (§6.2)", constraints: "Constraints (§4)", dynamics: "Dynamics (AWT)",
 };

@@ -1,0 +1,259 @@
+// The grooming details beyond the wisps and clumps: tips that taper in width over their last
+// centimetres, a hairline whose density ramps up from the scalp's edge with baby hairs in it,
+// flyaways that leave their clump along short arcs, and waves that differ from wisp to wisp.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <vector>
+
+#include "core/rng.hpp"
+#include "groom/generate.hpp"
+#include "groom/maps.hpp"
+
+namespace wisp {
+namespace {
+
+const Head& builtin() {
+    static const Head head = load_head(HeadSpec{});
+    return head;
+}
+
+Style base_style() {
+    Style s;
+    s.wisps = 500;
+    s.strands = 20000;
+    s.points_per_strand = 24;
+    s.seed = 11;
+    s.length = ScalarMap{ScalarMap::Kind::kConstant, 30.f};
+    s.wisp.length = Distribution{Distribution::Kind::kConstant, 1.f};
+    s.clump.pull = 0.6f;
+    s.clump.sub_pull = 0.4f;
+    return s;
+}
+
+struct Grown {
+    Roots roots;
+    Masters masters;
+    Hair hair;
+};
+
+Grown grow(const Style& style) {
+    Grown g;
+    g.roots = grow_roots(style, builtin());
+    g.masters = synthesize_masters(style, builtin(), g.roots);
+    g.hair = grow_members(style, *builtin().scalp, g.masters, g.roots);
+    return g;
+}
+
+float arc_length(std::span<const Vec3f> s) {
+    float l = 0.f;
+    for (size_t k = 1; k < s.size(); ++k)
+        l += (s[k] - s[k - 1]).norm();
+    return l;
+}
+
+}  // namespace
+
+TEST(Taper, StrandsKeepTheirRootWidthUntilTheLastCentimetresThenNarrowToTheTip) {
+    Style style = base_style();
+    style.taper = 4.f;
+    style.hairline.baby = 0.f;
+    const Grown g = grow(style);
+    const float segment = 30.f / static_cast<float>(style.points_per_strand - 1);
+    size_t full = 0, narrowing = 0;
+    for (size_t i = 0; i < g.hair.strand_count(); ++i) {
+        const uint32_t o = g.hair.offsets[i], count = g.hair.offsets[i + 1] - o;
+        ASSERT_EQ(count, static_cast<uint32_t>(style.points_per_strand));
+        EXPECT_FLOAT_EQ(g.hair.widths[o + count - 1], style.tip_width);
+        for (uint32_t k = 0; k + 1 < count; ++k) {
+            const float w = g.hair.widths[o + k];
+            EXPECT_GE(w, g.hair.widths[o + k + 1]) << "strand " << i << " widens at " << k;
+            const float to_tip = static_cast<float>(count - 1 - k) * segment;
+            if (to_tip >= style.taper + 1e-3f) {
+                EXPECT_FLOAT_EQ(w, style.root_width);
+                ++full;
+            } else {
+                EXPECT_LT(w, style.root_width);
+                EXPECT_NEAR(
+                    w,
+                    style.tip_width + (style.root_width - style.tip_width) * to_tip / style.taper,
+                    1e-6f);
+                ++narrowing;
+            }
+        }
+    }
+    EXPECT_GT(full, 5 * narrowing) << "most of a 30 cm strand keeps its width";
+    EXPECT_GT(narrowing, 0u);
+
+    style.taper = 0.f;
+    const Grown blunt = grow(style);
+    for (const float w : blunt.hair.widths)
+        ASSERT_EQ(w, style.root_width) << "taper 0 is a blunt cut, one width all along";
+}
+
+// Roots per area, in bands of distance from the scalp's edge, relative to their density far
+// from it: the ramp's smoothstep, not a hard edge.
+TEST(Hairline, RootDensityRampsUpOverTheWidthFromTheScalpsEdge) {
+    const Scalp& scalp = *builtin().scalp;
+    const auto band_density = [&](float width) {
+        Style style = base_style();
+        style.wisps = 2000;
+        style.strands = 200000;
+        style.hairline.width = width;
+        const Roots roots = grow_roots(style, builtin());
+        // Area in each band, from an area-uniform sample of the scalp.
+        const float edges[] = {0.f, 0.2f, 0.4f, 0.6f, 1.2f, 3.f, 1e9f};
+        constexpr size_t kBands = 6;
+        std::vector<double> area(kBands, 0.0), count(kBands, 0.0);
+        const auto band = [&](float e) {
+            size_t b = 0;
+            while (b + 1 < kBands && e >= edges[b + 1])
+                ++b;
+            return b;
+        };
+        Rng rng(3);
+        for (int k = 0; k < 400000; ++k)
+            area[band(scalp.edge_distance(scalp.sample(rng)))] += 1.0;
+        for (const SurfacePoint& p : roots.members)
+            count[band(scalp.edge_distance(p))] += 1.0;
+        std::vector<double> density(kBands);
+        for (size_t b = 0; b < kBands; ++b)
+            density[b] =
+                (count[b] / static_cast<double>(roots.members.size())) / (area[b] / 400000.0);
+        const double far = density[kBands - 1];
+        for (double& d : density)
+            d /= far;
+        return density;
+    };
+    const std::vector<double> soft = band_density(0.6f);
+    // smoothstep(0, 0.6, e) averaged over [0, 0.2], [0.2, 0.4], [0.4, 0.6]: 0.07, 0.5, 0.93.
+    EXPECT_LT(soft[0], 0.2) << "roots thin out at the edge";
+    EXPECT_NEAR(soft[1], 0.5, 0.15);
+    EXPECT_GT(soft[2], 0.75);
+    EXPECT_NEAR(soft[3], 1.0, 0.12) << "full density past the ramp";
+    EXPECT_NEAR(soft[4], 1.0, 0.12);
+    const std::vector<double> hard = band_density(0.f);
+    EXPECT_GT(hard[0], 0.85) << "width 0 is a hard edge";
+}
+
+TEST(Hairline, BabyHairsAreShortAndOnlyAtTheEdge) {
+    Style style = base_style();
+    style.flyaway.fraction = 0.f;
+    style.hairline.width = 0.8f;
+    style.hairline.baby = 0.5f;
+    style.hairline.baby_length = 2.f;
+    const Grown g = grow(style);
+    const Scalp& scalp = *builtin().scalp;
+    size_t near = 0, near_short = 0;
+    for (size_t i = 0; i < g.hair.strand_count(); ++i) {
+        const float edge = scalp.edge_distance(g.roots.members[i]);
+        const float length = arc_length(g.hair.strand(i));
+        const bool baby = length < 5.f;  // the others are 30 cm
+        if (edge >= style.hairline.width) {
+            EXPECT_FALSE(baby) << "strand " << i << " is " << length << " cm, " << edge
+                               << " cm from the edge";
+            continue;
+        }
+        ++near;
+        if (!baby) continue;
+        ++near_short;
+        EXPECT_LE(length, 1.6f * style.hairline.baby_length) << "bent a little, not longer";
+        EXPECT_GE(length, 0.3f * style.hairline.baby_length);
+    }
+    ASSERT_GT(near, 200u);
+    // baby·(1 − e/width) over the ramp, whose roots sit mostly toward its inner side.
+    const double fraction = static_cast<double>(near_short) / static_cast<double>(near);
+    EXPECT_GT(fraction, 0.08);
+    EXPECT_LT(fraction, 0.3);
+}
+
+// Flyaways are the strands that change when the fraction is raised; each leaves its place
+// over no more than its last `length` cm, by no more than `lift`, and the rest of the hair
+// stays as it was.
+TEST(Flyaway, AFractionOfStrandsLeaveTheirClumpsAlongShortArcsNearTheTips) {
+    Style style = base_style();
+    style.hairline.baby = 0.f;
+    style.flyaway.fraction = 0.f;
+    const Grown before = grow(style);
+    style.flyaway.fraction = 0.03f;
+    style.flyaway.length = 5.f;
+    style.flyaway.lift = 1.5f;
+    const Grown after = grow(style);
+    ASSERT_EQ(before.hair.points.size(), after.hair.points.size());
+    const float segment = 30.f / static_cast<float>(style.points_per_strand - 1);
+    size_t changed = 0;
+    double lifted = 0.0;
+    for (size_t i = 0; i < after.hair.strand_count(); ++i) {
+        const auto a = before.hair.strand(i), b = after.hair.strand(i);
+        size_t first = a.size();
+        float most = 0.f;
+        for (size_t k = 0; k < a.size(); ++k) {
+            const float d = (a[k] - b[k]).norm();
+            if (d > 0.f && first == a.size()) first = k;
+            most = std::max(most, d);
+        }
+        if (first == a.size()) continue;
+        ++changed;
+        const float from_tip = static_cast<float>(a.size() - 1 - first) * segment;
+        EXPECT_LE(from_tip, style.flyaway.length + segment) << "strand " << i;
+        // The lift, and the clump it lets go of (its pull is at most 0.6 + 0.4 of the way).
+        EXPECT_LE(most, style.flyaway.lift + 6.f) << "strand " << i;
+        lifted += (a.back() - b.back()).norm();
+    }
+    const double n = static_cast<double>(after.hair.strand_count());
+    const double expected = 0.03 * n, sd = std::sqrt(n * 0.03 * 0.97);
+    EXPECT_NEAR(static_cast<double>(changed), expected, 4 * sd);
+    EXPECT_GT(lifted / static_cast<double>(changed), 0.5 * style.flyaway.lift)
+        << "flyaway tips leave their place";
+}
+
+// Each master's waves have their own amplitude (with the variation) and phase (always): the
+// detail offsets along the master's main detail axis, fitted with the prototype's period.
+TEST(Waves, EachWispWavesWithItsOwnPhaseAndAmplitude) {
+    Style style = base_style();
+    style.prototype.kind = PrototypeSpec::Kind::kWavy;
+    style.prototype.period = 4.f;
+    style.prototype.amplitude = 0.8f;
+    style.points_per_strand = 61;  // 0.5 cm segments: 8 a period
+    const auto measure = [&](float variation, double& spread, double& resultant) {
+        style.prototype.amplitude_variation = variation;
+        const Roots roots = grow_roots(style, builtin());
+        const Masters m = synthesize_masters(style, builtin(), roots);
+        const size_t n = static_cast<size_t>(m.points);
+        std::vector<double> amplitude;
+        std::complex<double> sum(0.0, 0.0);
+        for (size_t w = 0; w < m.count(); ++w) {
+            const Vec3f* d = m.details.data() + w * n;
+            // Details lie in the wave's plane: its axis is the largest of (n, b).
+            double nn = 0, bb = 0, nb = 0;
+            for (size_t k = 0; k < n; ++k)
+                nn += d[k].y() * d[k].y(), bb += d[k].z() * d[k].z(), nb += d[k].y() * d[k].z();
+            const double angle = 0.5 * std::atan2(2 * nb, nn - bb);
+            std::complex<double> fit(0.0, 0.0);
+            double rms = 0.0;
+            for (size_t k = 0; k < n; ++k) {
+                const double x = std::cos(angle) * d[k].y() + std::sin(angle) * d[k].z();
+                const double s = static_cast<double>(k) * m.segment[w];
+                fit += x * std::polar(1.0, 2.0 * 3.14159265 * s / style.prototype.period);
+                rms += x * x;
+            }
+            amplitude.push_back(std::sqrt(rms / static_cast<double>(n)));
+            // The axis's sign is arbitrary: the doubled phase is not.
+            sum += std::polar(1.0, 2.0 * std::arg(fit));
+        }
+        std::sort(amplitude.begin(), amplitude.end());
+        spread = amplitude[amplitude.size() * 9 / 10] / amplitude[amplitude.size() / 10];
+        resultant = std::abs(sum) / static_cast<double>(m.count());
+    };
+    double even_spread = 0, even_phase = 0, varied_spread = 0, varied_phase = 0;
+    measure(0.f, even_spread, even_phase);
+    measure(0.5f, varied_spread, varied_phase);
+    EXPECT_LT(even_phase, 0.15) << "phases spread around the circle, not in step";
+    EXPECT_LT(varied_phase, 0.15);
+    EXPECT_GT(varied_spread, even_spread + 0.5) << "amplitudes differ from wisp to wisp";
+    EXPECT_GT(varied_spread, 1.8);
+}
+
+}  // namespace wisp
