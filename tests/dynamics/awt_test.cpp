@@ -544,13 +544,15 @@ TEST(Awt, HairSettledOnAnAcceleratingHeadMergesBack) {
     constexpr double kAcceleration = 300;  // cm/s², forward (+z)
     const Motion motion = accelerating_head(kAcceleration);
     const AwtParams params = accelerating_head_params(s);
-    // Merging asks |a|·r under half the threshold: with the head's acceleration counted, no
-    // coarse node could ever merge.
-    float carried = INFINITY;  // the coarse nodes' smallest |a|·r, the head's acceleration
+    // Merging asks |a|·r under half the threshold: with the head's acceleration counted, most
+    // coarse nodes could never merge (all but the narrower sections of the small groups cut
+    // where neighbouring wisps part ways; 152 of 182 nodes are blocked).
+    size_t blocked = 0, coarse = 0;
     for (uint32_t g = 0; g < h.level_begin[1]; ++g)
-        for (int k = 1; k < h.sections; ++k)
-            carried = std::min(carried, static_cast<float>(kAcceleration) * h.radius[h.node(g, k)]);
-    ASSERT_GT(carried, 0.5f * params.split_threshold);
+        for (int k = 1; k < h.sections; ++k, ++coarse)
+            blocked += static_cast<float>(kAcceleration) * h.radius[h.node(g, k)] >
+                       0.5f * params.split_threshold;
+    ASSERT_GT(blocked, 3 * coarse / 4);
     AwtSimulation sim(h, s.spheres, motion, params);
     while (sim.time() < 3)  // (the keys end at 4 s, where the head stops dead)
         sim.step();
