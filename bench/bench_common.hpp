@@ -15,8 +15,9 @@ inline Style bench_style() {
     style.wisp.length = Distribution{Distribution::Kind::kConstant, 1.f};
     style.prototype.kind = PrototypeSpec::Kind::kWavy;
     // Clumps as the default preset has them: every preset gathers its members.
-    style.clump.pull = 0.5f;
-    style.clump.sub_pull = 0.4f;
+    style.clump.pull = 0.8f;
+    style.clump.shape = 1.2f;
+    style.clump.sub_pull = 0.6f;
     return style;
 }
 

@@ -100,6 +100,43 @@ std::vector<std::vector<uint32_t>> bisect(const std::vector<float>& features, si
     return clusters;
 }
 
+// A group whose wisps part ways, say over the two sides of a shoulder, is no cylinder: its
+// axis runs through the gap between its wisps and its radius spans them (20 cm and more at the
+// tips of long hair, against 5 to 8 cm for a group that hangs together). Such a node reads
+// any small acceleration as over the split threshold (|a|·r with r three times a group's), its
+// merge test (sub-nodes within its radius) passes for wisps far from where its rest shape
+// has them, and its cylinder touches most of the hair at once: settled hair split and merged
+// there over and over. A group is parted when, at some section, its wisps lie farther from
+// its centre than this many times their roots do (the roots taken as at least
+// kPartedRootSpread apart).
+constexpr float kPartedSpread = 3.f;
+constexpr float kPartedRootSpread = 1.f;  // cm
+
+// Whether the rows `members` of `features` (n points each, the root's coordinates times
+// `root_weight`) part ways, as above.
+bool parted(const std::vector<float>& features, size_t dim, int n, float root_weight,
+            const std::vector<uint32_t>& members) {
+    float root = 0, worst = 0;
+    for (int k = 0; k < n; ++k) {
+        const auto point = [&](uint32_t i) {
+            const float* f = features.data() + i * dim + 3 * static_cast<size_t>(k);
+            return Vec3f(f[0], f[1], f[2]);
+        };
+        Vec3f centre = Vec3f::Zero();
+        for (uint32_t i : members)
+            centre += point(i);
+        centre /= static_cast<float>(members.size());
+        float spread = 0;
+        for (uint32_t i : members)
+            spread = std::max(spread, (point(i) - centre).norm());
+        if (k == 0)
+            root = std::max(kPartedRootSpread, spread / root_weight);
+        else
+            worst = std::max(worst, spread);
+    }
+    return worst > kPartedSpread * root;
+}
+
 struct Cluster {
     uint32_t parent = 0;
     std::vector<uint32_t> strands;  // ascending
@@ -311,7 +348,17 @@ Hierarchy build_hierarchy(const Hair& hair, const HierarchyOptions& o) {
         for (std::vector<uint32_t>& all : classes) {
             if (all.empty()) continue;
             const size_t k = (all.size() + o.wisps_per_group - 1) / o.wisps_per_group;
-            for (auto& members : bisect(wf, dim, std::move(all), k)) {
+            std::vector<std::vector<uint32_t>> cut = bisect(wf, dim, std::move(all), k);
+            // Parted groups are cut again, until none is (at worst down to single wisps).
+            for (size_t c = 0; c < cut.size(); ++c)
+                while (cut[c].size() > 1 && parted(wf, dim, n, root_weight, cut[c])) {
+                    std::vector<std::vector<uint32_t>> two = bisect(wf, dim, cut[c], 2);
+                    cut[c] = std::move(two[0]);
+                    cut.push_back(std::move(two[1]));
+                }
+            std::sort(cut.begin(), cut.end(),
+                      [](const auto& a, const auto& b) { return a.front() < b.front(); });
+            for (auto& members : cut) {
                 Cluster g;
                 for (uint32_t w : members) {
                     wisps[w].parent = static_cast<uint32_t>(groups.size());

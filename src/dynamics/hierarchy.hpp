@@ -11,6 +11,10 @@
 // more than half that) by root position and shape. Every cluster below and above is made by
 // recursive bisection along the principal axis of the strands' (or wisps') resampled curves, so
 // clusters are neighbours in root position and alike in shape, and the result is deterministic.
+// Groups number ⌈wisps / wisps_per_group⌉, and more where a group's wisps part ways (at some
+// section they lie more than 3 times as far from its centre as their roots do, the roots
+// counted at least 1 cm apart): such a group is bisected again, so that no top-level GC spans
+// hair falling on both sides of a shoulder.
 //
 // Every GC has the same number of cross-sections, `sections` (§2.2: "the number of
 // cross-sections is the same at each hierarchy level"), so node k of a GC corresponds to node

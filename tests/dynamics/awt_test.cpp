@@ -316,9 +316,11 @@ TEST(Awt, TiedHairMovesWithTheHeadAndTheTailSwingsFromTheTie) {
 
 // Splits resolve motion, not one step's jolt: few merged nodes split again right away.
 // (With one step's Δv/dt, a merged node meeting the neighbours its wider radius touches
-// split again within 0.1 s most of the time, and the tree churned.)
+// split again within 0.1 s most of the time, and the tree churned.) Long hair, whose lean
+// splits the tree well over a hundred times: a crop clumped into locks splits a few times
+// only (|a|·r with the locks' narrow tips), too few to tell churn from chance.
 TEST(Awt, MergedNodesDoNotSplitRightAway) {
-    const Scene& s = scene("short");
+    const Scene& s = scene("long-straight");
     const Motion lean = motion_preset("lean", s.groomed.head);
     AwtSimulation sim(s.hierarchy, s.spheres, lean, params_of(s));
     std::vector<double> merged_at(s.hierarchy.node_count(), -1.0);
@@ -335,7 +337,7 @@ TEST(Awt, MergedNodesDoNotSplitRightAway) {
         }
     }
     ASSERT_GT(splits, 20u) << "the lean splits the wisps";
-    // Measured 17-21% on the mannequin head (70% with one step's Δv/dt).
+    // Measured 3% on the mannequin head.
     EXPECT_LT(static_cast<double>(quick), 0.3 * static_cast<double>(splits))
         << quick << " of " << splits << " splits within 0.1 s of a merge";
 }
@@ -544,13 +546,15 @@ TEST(Awt, HairSettledOnAnAcceleratingHeadMergesBack) {
     constexpr double kAcceleration = 300;  // cm/s², forward (+z)
     const Motion motion = accelerating_head(kAcceleration);
     const AwtParams params = accelerating_head_params(s);
-    // Merging asks |a|·r under half the threshold: with the head's acceleration counted, no
-    // coarse node could ever merge.
-    float carried = INFINITY;  // the coarse nodes' smallest |a|·r, the head's acceleration
+    // Merging asks |a|·r under half the threshold: with the head's acceleration counted, most
+    // coarse nodes could never merge (all but the narrower sections of the small groups cut
+    // where neighbouring wisps part ways; 152 of 182 nodes are blocked).
+    size_t blocked = 0, coarse = 0;
     for (uint32_t g = 0; g < h.level_begin[1]; ++g)
-        for (int k = 1; k < h.sections; ++k)
-            carried = std::min(carried, static_cast<float>(kAcceleration) * h.radius[h.node(g, k)]);
-    ASSERT_GT(carried, 0.5f * params.split_threshold);
+        for (int k = 1; k < h.sections; ++k, ++coarse)
+            blocked += static_cast<float>(kAcceleration) * h.radius[h.node(g, k)] >
+                       0.5f * params.split_threshold;
+    ASSERT_GT(blocked, 3 * coarse / 4);
     AwtSimulation sim(h, s.spheres, motion, params);
     while (sim.time() < 3)  // (the keys end at 4 s, where the head stops dead)
         sim.step();
