@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "core/parallel.hpp"
+#include "core/point_grid.hpp"
 
 namespace wisp {
 namespace {
@@ -15,6 +16,51 @@ namespace {
 // counts four times as much as the rest of the curve, so clusters are neighbours on the scalp
 // first and alike in shape second.
 constexpr float kRootWeight = 2.f;
+
+// Whose shape each strand is clustered by: its own, or for a strand under a quarter of the
+// median length (a baby hair at the hairline, a trimmed strand), that of the nearest strand
+// by root of at least that length. A short strand's cross-sections all lie by its root, so by
+// its own shape it is closer to short strands from across the head than to its neighbours:
+// it would make wisps of them, spanning the hairline. It moves with its neighbours instead.
+//   samples  #strands·n cross-sections;  lengths  #strands
+std::vector<uint32_t> shape_sources(const std::vector<Vec3f>& samples,
+                                    const std::vector<float>& lengths, int n) {
+    const size_t strands = lengths.size();
+    std::vector<uint32_t> source(strands);
+    for (size_t s = 0; s < strands; ++s)
+        source[s] = static_cast<uint32_t>(s);
+    if (strands < 2) return source;
+    std::vector<float> sorted = lengths;
+    std::nth_element(sorted.begin(), sorted.begin() + strands / 2, sorted.end());
+    const float shortest = 0.25f * sorted[strands / 2];
+    std::vector<Vec3f> roots;
+    std::vector<uint32_t> full;
+    Box3 box;
+    for (size_t s = 0; s < strands; ++s)
+        if (lengths[s] >= shortest && samples[s * static_cast<size_t>(n)].allFinite()) {
+            full.push_back(static_cast<uint32_t>(s));
+            roots.push_back(samples[s * static_cast<size_t>(n)]);
+            box.extend(roots.back());
+        }
+    if (full.empty() || full.size() == strands) return source;
+    // About the roots' spacing, for a grid of a few roots per cell.
+    const Vec3f extent = box.hi - box.lo;
+    const float cell =
+        std::max(extent.maxCoeff() / std::sqrt(static_cast<float>(full.size())), 1e-3f);
+    const PointGrid grid(roots, cell);
+    parallel_for(
+        strands,
+        [&](size_t s) {
+            // (A strand with a non-finite point keeps its own shape: it is refused elsewhere.)
+            if (lengths[s] >= shortest || !std::isfinite(lengths[s]) ||
+                !samples[s * static_cast<size_t>(n)].allFinite())
+                return;
+            const int j = grid.nearest(samples[s * static_cast<size_t>(n)]);
+            if (j >= 0) source[s] = full[static_cast<size_t>(j)];
+        },
+        256);
+    return source;
+}
 
 // Splits `items` (indices into rows of `features`, `dim` floats each) into at least `k`
 // clusters of at most `max_size` items: repeatedly the largest cluster is cut in two at the
@@ -277,12 +323,18 @@ Hierarchy build_hierarchy(const Hair& hair, const HierarchyOptions& o) {
         256);
     const size_t dim = 3 * static_cast<size_t>(n);
     const float root_weight = kRootWeight * std::sqrt(static_cast<float>(n - 1));
+    const std::vector<uint32_t> shape_of = shape_sources(samples, lengths, n);
     auto strand_features = [&]() {
         std::vector<float> f(strands * dim);
-        for (size_t s = 0; s < strands; ++s)
-            for (int k = 0; k < n; ++k)
+        for (size_t s = 0; s < strands; ++s) {
+            const size_t j = shape_of[s];
+            const Vec3f shift = samples[s * n] - samples[j * n];
+            for (int k = 0; k < n; ++k) {
+                const Vec3f p = k == 0 ? samples[s * n] : Vec3f(samples[j * n + k] + shift);
                 for (int c = 0; c < 3; ++c)
-                    f[s * dim + 3 * k + c] = samples[s * n + k][c] * (k == 0 ? root_weight : 1.f);
+                    f[s * dim + 3 * k + c] = p[c] * (k == 0 ? root_weight : 1.f);
+            }
+        }
         return f;
     }();
 
