@@ -10,6 +10,7 @@
 
 #include "core/error.hpp"
 #include "core/image.hpp"
+#include "core/rng.hpp"
 #include "geometry/builtin_head.hpp"
 #include "test_meshes.hpp"
 
@@ -288,4 +289,79 @@ TEST(Scalp, MakeHumanBodyGroupAndHairline) {
 }
 
 }  // namespace
+}  // namespace wisp
+
+namespace wisp {
+namespace {
+
+// A flat 10 × 10 cm square of 1 cm cells in the xz-plane, all of it group "scalp"; with
+// `seam`, the cells on either side of x = 5 have their own copies of the vertices there, as
+// a UV seam leaves them.
+Mesh square(bool seam) {
+    Mesh m;
+    // Vertex ids per (i, j, side): side 1 is the copy right of the seam.
+    std::vector<int> id(11 * 11 * 2, -1);
+    const auto at = [&](int i, int j, int side) {
+        if (!seam || i != 5) side = 0;
+        int& v = id[(i * 11 + j) * 2 + side];
+        if (v < 0) {
+            v = static_cast<int>(m.vertices.size());
+            m.vertices.emplace_back(static_cast<float>(i), 0.f, static_cast<float>(j));
+        }
+        return v;
+    };
+    m.group_names = {"scalp"};
+    for (int i = 0; i < 10; ++i)
+        for (int j = 0; j < 10; ++j) {
+            const int side = i >= 5 ? 1 : 0;
+            const int a = at(i, j, side), b = at(i + 1, j, side), c = at(i + 1, j + 1, side),
+                      d = at(i, j + 1, side);
+            m.faces.emplace_back(a, c, b);
+            m.faces.emplace_back(a, d, c);
+            m.face_group.push_back(0);
+            m.face_group.push_back(0);
+        }
+    return m;
+}
+
+}  // namespace
+
+TEST(ScalpEdge, DistanceGrowsFromTheBoundaryAndASeamIsNoEdge) {
+    for (bool seam : {false, true}) {
+        const Mesh m = square(seam);
+        const Scalp scalp(m, ScalpSpec{}, "square");
+        const auto at = [&](const Vec3f& q) {
+            for (uint32_t f : scalp.faces()) {
+                const Vec3i& t = m.faces[f];
+                const Vec3f a = m.vertices[t[0]], b = m.vertices[t[1]], c = m.vertices[t[2]];
+                const Vec3f n = (b - a).cross(c - a);
+                const auto inside = [&](const Vec3f& p, const Vec3f& e0, const Vec3f& e1) {
+                    return (e1 - e0).cross(p - e0).dot(n) >= -1e-6f;
+                };
+                if (inside(q, a, b) && inside(q, b, c) && inside(q, c, a))
+                    return scalp.edge_distance(f, q);
+            }
+            return -1.f;
+        };
+        EXPECT_NEAR(at(Vec3f(5.f, 0.f, 5.f)), 5.f, 0.15f) << "seam " << seam;
+        EXPECT_NEAR(at(Vec3f(5.f, 0.f, 1.f)), 1.f, 0.15f) << "seam " << seam;
+        EXPECT_NEAR(at(Vec3f(0.f, 0.f, 4.f)), 0.f, 1e-4f) << "seam " << seam;
+        EXPECT_NEAR(at(Vec3f(2.5f, 0.f, 5.f)), 2.5f, 0.2f) << "seam " << seam;
+    }
+}
+
+TEST(ScalpEdge, TheBuiltInHairlineIsNearAndTheCrownFar) {
+    const Scalp scalp(head(), ScalpSpec{}, "built-in");
+    Rng rng(4);
+    float least = 1e9f, most = 0.f;
+    for (int k = 0; k < 20000; ++k) {
+        const float e = scalp.edge_distance(scalp.sample(rng));
+        least = std::min(least, e);
+        most = std::max(most, e);
+    }
+    EXPECT_LT(least, 0.1f) << "roots reach the hairline";
+    EXPECT_GT(most, 6.f) << "the crown lies far from every edge";
+    EXPECT_LT(most, Scalp::kNoEdge);
+}
+
 }  // namespace wisp

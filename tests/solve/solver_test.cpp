@@ -90,6 +90,39 @@ TEST(Solver, StifferHairBendsLess) {
     EXPECT_GT(hair_radius(m_stiff), 1.03 * hair_radius(m_soft));  // measured: 6% further
 }
 
+TEST(Solver, RootLiftRaisesTheHairOffTheScalpAtItsRootsOnly) {
+    // maps.lift: on top of the head (crown map high), each master rises about `lift` off the
+    // scalp before it falls; low on the sides, where the map is near 0, it lies as without.
+    const HeadField& field = builtin_field();
+    const auto rise = [&](const Style& style, bool top) {
+        const Masters m = generate_hairstyle(style, builtin(), &field).masters;
+        const size_t n = static_cast<size_t>(m.points);
+        double sum = 0;
+        size_t count = 0;
+        for (size_t w = 0; w < m.count(); ++w) {
+            const float up = m.roots[w].normal.y();
+            if (top ? up < 0.9f : std::abs(up) > 0.3f) continue;
+            float most = 0.f;  // over the first 5 cm of hair
+            for (size_t k = 0; k < n && static_cast<float>(k) * m.segment[w] <= 5.f; ++k)
+                most = std::max(most, field.sdf(m.outline[w * n + k]));
+            sum += most;
+            ++count;
+        }
+        return sum / static_cast<double>(std::max<size_t>(count, 1));
+    };
+    Style flat = small_style(), lifted = small_style();
+    lifted.lift.kind = ScalarMap::Kind::kProcedural;
+    lifted.lift.procedural = "crown";
+    lifted.lift.low = 0.f;
+    lifted.lift.high = 2.f;
+    const double top_flat = rise(flat, true), top_lifted = rise(lifted, true);
+    std::printf("rise in the first 5 cm on top: %.2f cm flat, %.2f cm lifted\n", top_flat,
+                top_lifted);
+    EXPECT_GT(top_lifted, top_flat + 0.8);
+    EXPECT_LT(top_lifted, top_flat + 3.0) << "about the lift, not a spike";
+    EXPECT_NEAR(rise(lifted, false), rise(flat, false), 0.5) << "the sides, barely lifted";
+}
+
 TEST(Solver, LowerThresholdGivesMoreVolume) {
     // Fig. 9a/c: τ = 0.1 makes the hair occupy a larger volume than τ = 0.9.
     Style flat = small_style(), full = small_style();
