@@ -173,7 +173,8 @@ struct PaintMap {
     float low = 0, high = 1;
 };
 
-PaintMap paint_map(const ScalarMap& m, const StyleField& field, const Scalp& scalp) {
+PaintMap paint_map(const ScalarMap& m, const StyleField& field, const Scalp& scalp,
+                   const GrowthSpec& growth) {
     PaintMap out;
     out.t.width = out.t.height = kPaintSide;
     out.t.values.assign(size_t(kPaintSide) * kPaintSide, 0.f);
@@ -196,7 +197,7 @@ PaintMap paint_map(const ScalarMap& m, const StyleField& field, const Scalp& sca
     } else {
         out.kind = 2;
     }
-    const MapSampler sampler(m, scalp);
+    const MapSampler sampler(m, scalp, growth);
     const float theta_max = scalp.max_polar_angle();
     const float radius = (scalp.crown() - scalp.center()).norm();
     const int n = kPaintSide;
@@ -530,8 +531,8 @@ struct EditServer::Impl {
             try {
                 std::lock_guard lock(cache_mutex);
                 Style style = cache.style();
-                const PaintMap m =
-                    paint_map(*std::get<ScalarMap*>(f->ref(style)), *f, *cache.head().scalp);
+                const PaintMap m = paint_map(*std::get<ScalarMap*>(f->ref(style)), *f,
+                                             *cache.head().scalp, style.growth);
                 res.set_content(encode_map(m.t, m.kind, m.low, m.high), "application/octet-stream");
             } catch (const Error& e) {
                 send_error(res, 400, e.what(), path);

@@ -55,6 +55,15 @@ bool on_part(const GrowthSpec& spec, const Vec3f& r, float half_width) {
            std::abs(r.x() - part_x(spec)) < half_width;
 }
 
+float part_nearness(const GrowthSpec& spec, const Vec3f& r, float reach) {
+    if (spec.part == GrowthSpec::Part::kNone || !(reach > 0.f)) return 0.f;
+    const float a = over_the_top(r);
+    // Fades in over the front hairline's first few degrees and out where the part ends.
+    const float along = smoothstep(kPartStart - 0.15f, kPartStart + 0.05f, a) *
+                        (1.f - smoothstep(part_end(spec) - 0.1f, part_end(spec), a));
+    return along * (1.f - smoothstep(0.f, reach, std::abs(r.x() - part_x(spec))));
+}
+
 Vec3f growth_direction(const GrowthSpec& spec, const Vec3f& r) {
     const Vec3f w = unit_or(spec.whorl, Vec3f::UnitY());
     // Away from the whorl along great circles, turning about it near it (clockwise seen from

@@ -87,4 +87,8 @@ float part_x(const GrowthSpec& spec);
 // from the front hairline over the top (part_length). False when there is no part.
 bool on_part(const GrowthSpec& spec, const Vec3f& r, float half_width);
 
+// How near unit direction r lies to the part line, over the part's run: 1 on it, falling
+// smoothly to 0 at `reach` (head units) to either side. 0 everywhere when there is no part.
+float part_nearness(const GrowthSpec& spec, const Vec3f& r, float reach);
+
 }  // namespace wisp

@@ -25,8 +25,9 @@ float sides_region(float r, float x) {
 // unit direction on the map (x toward the character's left, z toward the front). Maps that
 // follow the growth directions' regions take the point's direction from the scalp's centre
 // (`dir`) instead, so that they cover the same roots; maps shaped around the ears take how near
-// the point lies to one (`ear`, from ear_nearness).
-float procedural(int which, const Vec2f& uv, const Vec3f& dir, float ear) {
+// the point lies to one (`ear`, from ear_nearness); the part maps how near it lies to the
+// style's part (`part`, from part_nearness).
+float procedural(int which, const Vec2f& uv, const Vec3f& dir, float ear, float part) {
     const float du = uv.x() - 0.5f, dv = uv.y() - 0.5f;
     const float r = std::min(1.f, 2.f * std::sqrt(du * du + dv * dv));
     const float len = std::sqrt(du * du + dv * dv);
@@ -68,6 +69,10 @@ float procedural(int which, const Vec2f& uv, const Vec3f& dir, float ear) {
         case 13:  // tapered: as nape-short, and falling to 0 around the ears (without
                   // landmarks, taken to be under the sides of the map)
             return 1.f - std::max(nape_fall(r, z, 0.65f), ear >= 0.f ? ear : sides_region(r, x));
+        case 14:  // part
+            return part;
+        case 15:  // crown-part
+            return std::max(1.f - r, part);
     }
     return 1.f;
 }
@@ -87,12 +92,17 @@ float ear_nearness(const Scalp& scalp, const Vec3f& p) {
 const std::vector<std::string>& procedural_map_names() {
     // New names go at the end: the index is the case in procedural().
     static const std::vector<std::string> names = {
-        "uniform",   "bangs", "nape-short", "crown", "hairline", "front",  "back",
-        "side-part", "left",  "right",      "nape",  "sides",    "fringe", "tapered"};
+        "uniform", "bangs", "nape-short", "crown", "hairline", "front",   "back", "side-part",
+        "left",    "right", "nape",       "sides", "fringe",   "tapered", "part", "crown-part"};
     return names;
 }
 
-MapSampler::MapSampler(const ScalarMap& map, const Scalp& scalp) : map_(map), scalp_(&scalp) {
+// How far either side of the part line the part maps reach, in head units (about 1.3 cm on
+// an adult head): the hair that stands up off a parting before it falls away from it.
+constexpr float kPartReach = 0.14f;
+
+MapSampler::MapSampler(const ScalarMap& map, const Scalp& scalp, const GrowthSpec& growth)
+    : map_(map), scalp_(&scalp), growth_(growth) {
     if (map.kind == ScalarMap::Kind::kImage) {
         image_ =
             map.pixels ? map.pixels : std::make_shared<const GrayImage>(read_gray_image(map.image));
@@ -104,9 +114,24 @@ MapSampler::MapSampler(const ScalarMap& map, const Scalp& scalp) : map_(map), sc
     }
 }
 
+// At the temples and down the sideburns (the sides of the head in front of the ears) the
+// hairline's ramp is this many times wider: the temples recede and sideburns thin to their
+// ends instead of stopping at a line.
+constexpr float kTempleRamp = 2.5f;
+
+float hairline_ramp(const Scalp& scalp, const Vec3f& p, float width) {
+    const Vec3f r = scalp_direction(scalp, p);
+    const float temple =
+        smoothstep(0.55f, 0.8f, std::abs(r.x())) * smoothstep(-0.25f, 0.05f, r.z());
+    return width * (1.f + (kTempleRamp - 1.f) * temple);
+}
+
 float MapSampler::operator()(const SurfacePoint& p) const {
     const float v = value(p);
-    return edge_ramp_ > 0.f ? v * smoothstep(0.f, edge_ramp_, scalp_->edge_distance(p)) : v;
+    if (!(edge_ramp_ > 0.f)) return v;
+    const float edge = scalp_->edge_distance(p);
+    if (edge >= kTempleRamp * edge_ramp_) return v;
+    return v * smoothstep(0.f, hairline_ramp(*scalp_, p.position, edge_ramp_), edge);
 }
 
 float MapSampler::value(const SurfacePoint& p) const {
@@ -116,12 +141,15 @@ float MapSampler::value(const SurfacePoint& p) const {
         case ScalarMap::Kind::kImage:
             return map_.low + (map_.high - map_.low) * image_->sample(p.uv.x(), p.uv.y());
         case ScalarMap::Kind::kProcedural: {
-            // Only the fringe map needs the direction and only the tapered map the ears (the
-            // roots look up the density at every rejection-sampling try).
-            const Vec3f dir =
-                procedural_ == 12 ? scalp_direction(*scalp_, p.position) : Vec3f::UnitY();
+            // Only the fringe and part maps need the direction and only the tapered map the
+            // ears (the roots look up the density at every rejection-sampling try).
+            const bool part_map = procedural_ == 14 || procedural_ == 15;
+            const Vec3f dir = procedural_ == 12 || part_map ? scalp_direction(*scalp_, p.position)
+                                                            : Vec3f::UnitY();
             const float ear = procedural_ == 13 ? ear_nearness(*scalp_, p.position) : -1.f;
-            return map_.low + (map_.high - map_.low) * procedural(procedural_, p.uv, dir, ear);
+            const float part = part_map ? part_nearness(growth_, dir, kPartReach) : 0.f;
+            return map_.low +
+                   (map_.high - map_.low) * procedural(procedural_, p.uv, dir, ear, part);
         }
     }
     return map_.value;

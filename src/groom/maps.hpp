@@ -25,26 +25,37 @@ namespace wisp {
 //   right       its mirror: above 0.5 on the right half
 //   nape        1 along the nape hairline, 0 on top and at the front (the low back)
 //   sides       1 above and behind the ears, 0 on top, at the front and at the nape
+//   part        1 along the style's parting ([growth] part), falling to 0 about 1 cm to
+//               either side of it; 0 everywhere with no part (the lift along the part)
+//   crown-part  the larger of crown and part: blow-dried lift at the crown and along the part
 //   tapered     a crop: nape-short's fall toward the nape (to 0.35), and 0 around the ears
 //               (within about a fifth of the head's height of them, rising to 1 by two fifths;
 //               the ears where the head's landmarks place them, else under the map's sides)
 // Constraint groups select a named region's roots where its map is above 0.5.
 const std::vector<std::string>& procedural_map_names();
 
+// How wide the hairline's density ramp is at scalp point p for a hairline of `width` cm
+// ([hairline] width): 2.5 times as wide at the temples and down the sideburns (the sides of
+// the head in front of the ears), so that the temples recede and sideburns thin to their
+// ends instead of stopping at a line.
+float hairline_ramp(const Scalp& scalp, const Vec3f& p, float width);
+
 // A map ready for lookups; image maps are loaded once.
 class MapSampler {
   public:
-    // Loads the image of an image map (throws wisp::Error naming it if unreadable).
-    MapSampler(const ScalarMap& map, const Scalp& scalp);
+    // Loads the image of an image map (throws wisp::Error naming it if unreadable). `growth`
+    // places the part of the part maps (the default's centre part without one).
+    MapSampler(const ScalarMap& map, const Scalp& scalp, const GrowthSpec& growth = {});
     // The map's value (in its own units) at a scalp point.
     float operator()(const SurfacePoint& p) const;
     // Multiplies the map by a smooth ramp from 0 at the scalp's edge to 1 at `width` cm from
-    // it (Scalp::edge_distance): the hairline's density. 0: no ramp.
+    // it (Scalp::edge_distance), hairline_ramp wide: the hairline's density. 0: no ramp.
     void set_edge_ramp(float width) { edge_ramp_ = width; }
 
   private:
     ScalarMap map_;
     const Scalp* scalp_;
+    GrowthSpec growth_;
     std::shared_ptr<const GrayImage> image_;
     int procedural_ = -1;
     float edge_ramp_ = 0.f;

@@ -158,7 +158,8 @@ bool constraint_met(const Constraint& c, const Vec3f& a, const Vec3f& x) {
 }
 
 std::vector<uint32_t> select_wisps(const Selection& sel, const std::vector<SurfacePoint>& roots,
-                                   const Scalp& scalp, const HeadFrame& head) {
+                                   const Scalp& scalp, const HeadFrame& head,
+                                   const GrowthSpec& growth) {
     std::vector<uint32_t> out;
     std::unique_ptr<MapSampler> region;
     std::unique_ptr<GrayImage> mask;
@@ -166,7 +167,7 @@ std::vector<uint32_t> select_wisps(const Selection& sel, const std::vector<Surfa
         ScalarMap map;
         map.kind = ScalarMap::Kind::kProcedural;
         map.procedural = sel.region;
-        region = std::make_unique<MapSampler>(map, scalp);
+        region = std::make_unique<MapSampler>(map, scalp, growth);
     } else if (sel.kind == Selection::Kind::kMask) {
         mask = std::make_unique<GrayImage>(sel.mask_pixels ? *sel.mask_pixels
                                                            : read_gray_image(sel.mask));

@@ -60,9 +60,10 @@ inline Vec3f constrained_field(const Vec3f& phi, const Vec3f& psi, float w) {
     return (1.f - w) * phi + w * psi;
 }
 
-// The wisps a selection holds, ascending. roots  #W master roots.
+// The wisps a selection holds, ascending. roots  #W master roots; `growth` places the part
+// of the part regions.
 std::vector<uint32_t> select_wisps(const Selection& selection,
                                    const std::vector<SurfacePoint>& roots, const Scalp& scalp,
-                                   const HeadFrame& head);
+                                   const HeadFrame& head, const GrowthSpec& growth = {});
 
 }  // namespace wisp

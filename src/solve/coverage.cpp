@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "core/error.hpp"
+#include "groom/maps.hpp"
 
 namespace wisp {
 namespace {
@@ -176,8 +177,8 @@ Coverage scalp_coverage(const Hair& hair, const Scalp& scalp, const OrthoView& v
         const int32_t f = grid.face(i);
         if (f < 0 || !is_scalp[f]) continue;
         if (exclude && exclude(grid.point(i))) continue;
-        if (hairline > 0.f &&
-            scalp.edge_distance(static_cast<uint32_t>(f), grid.point(i)) < hairline)
+        if (hairline > 0.f && scalp.edge_distance(static_cast<uint32_t>(f), grid.point(i)) <
+                                  hairline_ramp(scalp, grid.point(i), hairline))
             continue;
         ++c.cells;
         c.covered += covered[i];

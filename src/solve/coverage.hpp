@@ -45,9 +45,9 @@ Coverage face_coverage(const Hair& hair, const Mesh& head, float eye_y, float ch
                        float half_width = 4.5f, float cell = 0.5f, float width_scale = 1.f);
 
 // The scalp seen along `view`: cells whose nearest surface is a scalp face (and whose scalp
-// point `exclude` does not reject, such as points along a parting, and that lies at least
-// `hairline` cm from the scalp's edge: a soft hairline thins out there by design, [hairline]
-// width), and of those the ones hair covers. bare = cells − covered.
+// point `exclude` does not reject, such as points along a parting, and that lies beyond the
+// density ramp of a hairline `hairline` cm wide (hairline_ramp): a soft hairline thins out
+// there by design, [hairline] width), and of those the ones hair covers. bare = cells − covered.
 Coverage scalp_coverage(const Hair& hair, const Scalp& scalp, const OrthoView& view,
                         const std::function<bool(const Vec3f&)>& exclude = {},
                         float width_scale = 1.f, float hairline = 0.f);

@@ -336,8 +336,8 @@ GroupSelection select_groups(const Style& style, const Head& head, const Roots& 
     out.selected.resize(style.groups.size());
     out.wisp_group.assign(roots.masters.size(), 0);
     for (size_t g = style.groups.size(); g-- > 0;) {
-        out.selected[g] =
-            select_wisps(style.groups[g].selection, roots.masters, *head.scalp, frame);
+        out.selected[g] = select_wisps(style.groups[g].selection, roots.masters, *head.scalp, frame,
+                                       style.growth);
         for (uint32_t w : out.selected[g])
             out.wisp_group[w] = static_cast<int32_t>(g + 1);
     }
@@ -410,7 +410,7 @@ SolveStats solve_stage(const Style& style, const Head& head, const HeadField& he
     // Root lift: the hold that raises the hair `lift` cm at the angle it leaves the scalp
     // (a nearly flat root would need a long one: at most half the hair).
     if (style.lift.kind != ScalarMap::Kind::kConstant || style.lift.value > 0.f) {
-        const MapSampler lift(style.lift, *head.scalp);
+        const MapSampler lift(style.lift, *head.scalp, style.growth);
         in.root_hold.resize(w_count);
         for (size_t w = 0; w < w_count; ++w) {
             const float rise = std::max(masters.direction[w].dot(masters.roots[w].normal), 0.25f);

@@ -97,13 +97,20 @@ TEST(Taper, StrandsKeepTheirRootWidthUntilTheLastCentimetresThenNarrowToTheTip) 
 // from it: the ramp's smoothstep, not a hard edge.
 TEST(Hairline, RootDensityRampsUpOverTheWidthFromTheScalpsEdge) {
     const Scalp& scalp = *builtin().scalp;
-    const auto band_density = [&](float width) {
+    // Away from the temples (the ramp's own width) or at them (2.5 times as wide).
+    enum Where { kForehead, kTemples };
+    const auto in = [&](const Vec3f& p, Where where) {
+        const float ramp = hairline_ramp(scalp, p, 1.f);
+        return where == kForehead ? ramp < 1.001f : ramp > 2.2f;
+    };
+    const auto band_density = [&](float width, Where where) {
         Style style = base_style();
         style.wisps = 2000;
         style.strands = 200000;
         style.hairline.width = width;
         const Roots roots = grow_roots(style, builtin());
-        // Area in each band, from an area-uniform sample of the scalp.
+        // Area in each band, from an area-uniform sample of the scalp, against the density
+        // far from the edge, anywhere.
         const float edges[] = {0.f, 0.2f, 0.4f, 0.6f, 1.2f, 3.f, 1e9f};
         constexpr size_t kBands = 6;
         std::vector<double> area(kBands, 0.0), count(kBands, 0.0);
@@ -114,27 +121,37 @@ TEST(Hairline, RootDensityRampsUpOverTheWidthFromTheScalpsEdge) {
             return b;
         };
         Rng rng(3);
-        for (int k = 0; k < 400000; ++k)
-            area[band(scalp.edge_distance(scalp.sample(rng)))] += 1.0;
-        for (const SurfacePoint& p : roots.members)
-            count[band(scalp.edge_distance(p))] += 1.0;
+        for (int k = 0; k < 800000; ++k) {
+            const SurfacePoint p = scalp.sample(rng);
+            const size_t b = band(scalp.edge_distance(p));
+            if (b + 1 == kBands || in(p.position, where)) area[b] += 1.0;
+        }
+        for (const SurfacePoint& p : roots.members) {
+            const size_t b = band(scalp.edge_distance(p));
+            if (b + 1 == kBands || in(p.position, where)) count[b] += 1.0;
+        }
         std::vector<double> density(kBands);
         for (size_t b = 0; b < kBands; ++b)
-            density[b] =
-                (count[b] / static_cast<double>(roots.members.size())) / (area[b] / 400000.0);
+            density[b] = area[b] > 0.0 ? count[b] / area[b] : 0.0;
         const double far = density[kBands - 1];
         for (double& d : density)
             d /= far;
         return density;
     };
-    const std::vector<double> soft = band_density(0.6f);
+    const std::vector<double> soft = band_density(0.6f, kForehead);
     // smoothstep(0, 0.6, e) averaged over [0, 0.2], [0.2, 0.4], [0.4, 0.6]: 0.07, 0.5, 0.93.
     EXPECT_LT(soft[0], 0.2) << "roots thin out at the edge";
     EXPECT_NEAR(soft[1], 0.5, 0.15);
     EXPECT_GT(soft[2], 0.75);
     EXPECT_NEAR(soft[3], 1.0, 0.12) << "full density past the ramp";
     EXPECT_NEAR(soft[4], 1.0, 0.12);
-    const std::vector<double> hard = band_density(0.f);
+    // At the temples the ramp runs to 1.5 cm: smoothstep(0, 1.5, e) averaged over [0.4, 0.6]
+    // and [0.6, 1.2] is 0.26 and 0.6.
+    const std::vector<double> temples = band_density(0.6f, kTemples);
+    EXPECT_LT(temples[2], 0.45) << "the temples recede";
+    EXPECT_NEAR(temples[3], 0.6, 0.2);
+    EXPECT_NEAR(temples[4], 1.0, 0.15);
+    const std::vector<double> hard = band_density(0.f, kForehead);
     EXPECT_GT(hard[0], 0.85) << "width 0 is a hard edge";
 }
 

@@ -51,6 +51,23 @@ TEST(Growth, APartSplitsTheTopToEitherSide) {
     EXPECT_FALSE(on_part(spec, dir(0.f, 0.85f, 0.4f), 0.05f));
 }
 
+TEST(Growth, PartNearnessFollowsThePartAndFadesBesideIt) {
+    // The part maps' lift: full on the part line over the top, none a hand's width beside it
+    // or behind where the part ends, none at all without a part; a side part moves it.
+    GrowthSpec centre;
+    EXPECT_NEAR(part_nearness(centre, dir(0.f, 0.9f, 0.4f), 0.14f), 1.f, 1e-4f);
+    EXPECT_GT(part_nearness(centre, dir(0.05f, 0.9f, 0.4f), 0.14f), 0.5f);
+    EXPECT_EQ(part_nearness(centre, dir(0.3f, 0.9f, 0.4f), 0.14f), 0.f);
+    EXPECT_EQ(part_nearness(centre, dir(0.f, -0.3f, -0.95f), 0.14f), 0.f) << "the nape";
+    GrowthSpec none;
+    none.part = GrowthSpec::Part::kNone;
+    EXPECT_EQ(part_nearness(none, dir(0.f, 0.9f, 0.4f), 0.14f), 0.f);
+    GrowthSpec side;
+    side.part = GrowthSpec::Part::kSide;
+    EXPECT_EQ(part_nearness(side, dir(0.f, 0.9f, 0.4f), 0.14f), 0.f);
+    EXPECT_GT(part_nearness(side, Vec3f(side.part_offset, 0.9f, 0.3f).normalized(), 0.14f), 0.7f);
+}
+
 TEST(Growth, FrontHairlineHairGoesToTheSidesBackOrForward) {
     const Vec3f forehead_left = dir(0.15f, 0.45f, 0.88f);
     GrowthSpec spec;
