@@ -145,6 +145,21 @@ std::vector<float> clump_profile(float pull, float shape, int n) {
     return p;
 }
 
+Vec3f clump_point(const Masters& masters, size_t w, size_t g, size_t k, float a) {
+    const size_t n = static_cast<size_t>(masters.points);
+    const Vec3f& own = masters.outline[w * n + k];
+    const Vec3f& guide = masters.outline[g * n + k];
+    const Vec3f own_detail = masters.control[w * n + k] - own;
+    const Vec3f guide_detail = masters.control[g * n + k] - guide;
+    const Vec3f blend = (1.f - a) * own_detail + a * guide_detail;
+    const float size = (1.f - a) * own_detail.norm() + a * guide_detail.norm();
+    const float length = blend.norm();
+    // Where the two are nearly opposite the blend's direction is unsure: let the detail
+    // shrink there rather than turn sharply.
+    const float scale = length > 0.25f * size ? size / length : (length > 0.f ? 4.f : 0.f);
+    return own + a * (guide - own) + scale * blend;
+}
+
 float clump_share(uint64_t seed, uint64_t id, float variation) {
     Rng rng(seed, Stream::kClump, id);
     return 1.f - variation * rng.uniform();

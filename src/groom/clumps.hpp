@@ -37,6 +37,14 @@ void sub_clump_centres(const ClumpSpec& spec, const Roots& roots, std::span<cons
 // The pull at each master point k of n (s = k/(n−1)): pull·s^shape.
 std::vector<float> clump_profile(float pull, float shape, int n);
 
+// Where master w's point k goes when pulled by `a` toward guide g's: its outline (the curl's
+// axis) moves the pull's way, and its detail (the wave or curl about the axis) goes from its
+// own toward the guide's, keeping the blend of their sizes. A plain blend of the two points
+// would flatten curls whose phases differ (a quarter turn apart, to 0.71 of their size; half
+// a turn apart, they cancel): clumped ringlets would read as a narrow column of crimp. Near
+// half a turn apart the direction between them is unsure and the detail still shrinks.
+Vec3f clump_point(const Masters& masters, size_t w, size_t g, size_t k, float a);
+
 // A clump's or sub-clump's own share of its pull, uniform in [1 − variation, 1] from (seed,
 // id): the same for every member of it, whichever strands are grown.
 float clump_share(uint64_t seed, uint64_t id, float variation);

@@ -43,7 +43,7 @@ RootParams root_params(const Style& style) {
 
 Roots grow_roots(const Style& style, const Head& head, const MeshDistance* scalp_surface,
                  const RootProposals* proposals) {
-    MapSampler density(style.density, *head.scalp);
+    MapSampler density(style.density, *head.scalp, style.growth);
     density.set_edge_ramp(style.hairline.width);
     return place_roots(*head.scalp, density, root_params(style), scalp_surface, proposals);
 }
@@ -57,8 +57,8 @@ void member_wisps(const Roots& roots, std::span<const uint32_t> ids, std::span<i
 
 Masters master_outlines(const Style& style, const Head& head, const Roots& roots) {
     const Scalp& scalp = *head.scalp;
-    const MapSampler length_map(style.length, scalp);
-    const MapSampler protrusion_map(style.protrusion, scalp);
+    const MapSampler length_map(style.length, scalp, style.growth);
+    const MapSampler protrusion_map(style.protrusion, scalp, style.growth);
     const GrowthField growth_field(style.growth, scalp);
     const size_t w_count = roots.masters.size();
     const int n = style.points_per_strand;
@@ -233,7 +233,7 @@ MemberGrowth::MemberGrowth(const Style& style, const Scalp& scalp, const Roots& 
                 Rng rng(style.seed, Stream::kHairline, j);
                 if (rng.uniform() < hairline_.baby * (1.f - edge / hairline_.width)) {
                     kind_[i] = kBaby;
-                    if (!length_map) length_map.emplace(style.length, scalp);
+                    if (!length_map) length_map.emplace(style.length, scalp, style.growth);
                     const float master = (*length_map)(roots.masters[hair.wisp[i]]);
                     const float length = hairline_.baby_length * rng.uniform(0.4f, 1.f);
                     if (master > 0.f) u_[i] = std::min(u_[i], std::max(length / master, 1e-3f));
@@ -296,6 +296,7 @@ void MemberGrowth::grow(const Masters& masters, int k0, int k1, const CancelToke
         // How far toward its guide a wisp's members go at each point of the band: the
         // profile, the clump's share, less where the solve took the two masters apart.
         weight_.resize(masters.count() * n);
+        guide_at_.resize(masters.count() * n);
         parallel_for(
             masters.count(),
             [&](size_t w) {
@@ -306,8 +307,14 @@ void MemberGrowth::grow(const Masters& masters, int k0, int k1, const CancelToke
                 for (int k = from; k < to; ++k) {
                     const size_t kk = static_cast<size_t>(k);
                     const float apart = (guide[kk] - own[kk]).norm();
-                    weight_[w * n + kk] = pull_[kk] * clump_share_[g] *
-                                          (1.f - smoothstep(1.5f * size, 3.f * size, apart));
+                    const float a = pull_[kk] * clump_share_[g] *
+                                    (1.f - smoothstep(1.5f * size, 3.f * size, apart));
+                    weight_[w * n + kk] = a;
+                    // The point that a member pulled `a` of the way toward lands where
+                    // clump_point puts its master: a blend toward it is then the clump's pull.
+                    const Vec3f to = clump_point(masters, w, g, kk, a);
+                    guide_at_[w * n + kk] =
+                        a > 1e-6f ? Vec3f(own[kk] + (to - own[kk]) / a) : own[kk];
                 }
             },
             256);
@@ -342,10 +349,8 @@ void MemberGrowth::grow(const Masters& masters, int k0, int k1, const CancelToke
                 grow_member_points(master, frames, radius, u_[i], fuzziness_, k0, k1, offset_[i],
                                    rng_[i], hair_.strand(i));
             } else {
-                const Vec3f* guide =
-                    clumps ? masters.control.data() + static_cast<size_t>(guides_.guide[w]) * n
-                           : nullptr;
                 const float* weight = clumps ? weight_.data() + w * n : nullptr;
+                const Vec3f* guide = clumps ? guide_at_.data() + w * n : nullptr;
                 // The sub-clump: around the path its centre's root offset takes through the
                 // wisp's cylinder, carried by the clump as the member is.
                 const Vec3f centre =

@@ -105,7 +105,11 @@ class MemberGrowth {
     std::vector<float> pull_, sub_pull_;  // #n
     std::vector<float> clump_share_;      // #W the share of the clump whose guide is w
     std::vector<float> weight_;           // #W·n each wisp's pull toward its guide, band by band
-    std::vector<float> sub_share_;        // #strands
+    // #W·n the point each wisp's members are pulled toward, band by band: where a blend by the
+    // wisp's weight takes its master point to the clumped one (clump_point), which keeps the
+    // curl of two masters turning in different phases.
+    std::vector<Vec3f> guide_at_;
+    std::vector<float> sub_share_;  // #strands
     Hair hair_;
     std::vector<float> u_;       // #strands relative length
     std::vector<float> radius_;  // #W·n deviation radius of each wisp at each master point

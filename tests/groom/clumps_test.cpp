@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "groom/generate.hpp"
@@ -203,4 +204,45 @@ TEST(Clumps, NoPullLeavesTheMembersAsEquationOneGrowsThem) {
     EXPECT_TRUE(a.hair.points == b.hair.points);
 }
 
+}  // namespace wisp
+
+namespace wisp {
+namespace {
+
+// Two coils about parallel axes 2 cm apart, a quarter turn out of phase: a wisp pulled
+// halfway toward its guide lands on the axis halfway between and keeps the coil's size, its
+// phase between the two; a plain blend of the points would shrink it to 0.71 of that (and to
+// nothing half a turn apart). Pulled all the way, it is the guide's point.
+TEST(ClumpPoint, PullingACoilTowardItsGuideKeepsTheCoil) {
+    const int n = 24;
+    const float radius = 1.f, pitch = 2.5f;
+    Masters m;
+    m.points = n;
+    m.outline.resize(2 * n);
+    m.control.resize(2 * n);
+    for (int w = 0; w < 2; ++w)
+        for (int k = 0; k < n; ++k) {
+            const float y = -0.5f * static_cast<float>(k);
+            const float phase = 2.f * kPi * y / pitch + (w == 0 ? 0.f : 0.5f * kPi);
+            const size_t i = static_cast<size_t>(w * n + k);
+            m.outline[i] = Vec3f(2.f * static_cast<float>(w), y, 0.f);
+            m.control[i] = m.outline[i] + radius * Vec3f(std::cos(phase), 0.f, std::sin(phase));
+        }
+    m.roots.resize(2);
+    for (size_t k = 0; k < static_cast<size_t>(n); ++k) {
+        const Vec3f half = clump_point(m, 0, 1, k, 0.5f);
+        const Vec3f axis = 0.5f * (m.outline[k] + m.outline[n + k]);
+        EXPECT_NEAR((half - axis).norm(), radius, 1e-3f) << "point " << k;
+        EXPECT_NEAR(half.y(), axis.y(), 1e-4f);
+        // Its phase halfway: as near its own point as the guide's, once moved to the axis.
+        EXPECT_NEAR((half - axis - (m.control[k] - m.outline[k])).norm(),
+                    (half - axis - (m.control[n + k] - m.outline[n + k])).norm(), 1e-3f);
+        EXPECT_LT((clump_point(m, 0, 1, k, 1.f) - m.control[n + k]).norm(), 1e-4f);
+        EXPECT_LT((clump_point(m, 0, 1, k, 0.f) - m.control[k]).norm(), 1e-4f);
+        const Vec3f plain = 0.5f * (m.control[k] + m.control[n + k]);
+        EXPECT_NEAR((plain - axis).norm(), 0.7071f * radius, 1e-3f) << "the blend this replaces";
+    }
+}
+
+}  // namespace
 }  // namespace wisp

@@ -639,8 +639,8 @@ TEST(StyleToml, LoadStyleReadsFileAndNamesItFromTheStem) {
 TEST(StyleToml, EveryPresetParses) {
     const auto names = preset_names();
     EXPECT_TRUE(std::is_sorted(names.begin(), names.end()));
-    for (const char* required : {"default", "long-straight", "wavy-bob", "curly", "short", "bangs",
-                                 "ponytail", "braid", "updo", "combed-back", "side-swept"})
+    for (const char* required : {"default", "long-straight", "wavy-bob", "curly", "afro", "short",
+                                 "bangs", "ponytail", "braid", "updo", "combed-back", "side-swept"})
         EXPECT_NE(std::find(names.begin(), names.end(), required), names.end()) << required;
     for (const auto& name : names) {
         SCOPED_TRACE(name);
@@ -670,6 +670,12 @@ TEST(StyleToml, PresetsLookLikeTheirNames) {
     EXPECT_EQ(curly.prototype.kind, PrototypeSpec::Kind::kCurly);
     EXPECT_GE(curly.prototype.amplitude, 0.8f);
     EXPECT_LE(curly.prototype.period, 3.f);
+    // Afro-textured: tight coils standing off the scalp, held up rather than falling.
+    const Style afro = load_preset("afro");
+    EXPECT_EQ(afro.prototype.kind, PrototypeSpec::Kind::kKinky);
+    EXPECT_LE(afro.prototype.amplitude, 0.5f);
+    EXPECT_GE(afro.protrusion.value, 0.7f);
+    EXPECT_GT(afro.solve.stiffness, 1.f);
 }
 
 TEST(StyleToml, HairdressingPresetsShowTheirOperation) {

@@ -378,6 +378,87 @@ TEST(Braid, ThreeStrandsCrossDownAPlait) {
 
 // Fig. 15c: the updo's hair past the tie is wound round the bun's centre into a compact
 // mass, not hanging below it.
+// The curl presets' strands coil at the preset's radius and pitch once grown, clumped and
+// solved: members wound together around their wisp's helix, not a fuzz around it, and clumps
+// that keep their coils rather than averaging them flat. Each strand is measured around its
+// own axis, the moving average of its points over one nominal turn: the coil's radius is the
+// points' median distance from it, its pitch the axis's length over the turns the points wind
+// around it.
+struct Coil {
+    float radius = 0.f, pitch = 0.f;
+};
+
+float median(std::vector<float>& v) {
+    if (v.empty()) return 0.f;
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+}
+
+Coil measure_coil(const HairstyleResult& r, float turn) {
+    std::vector<float> radii, pitches, strand_radii;
+    std::vector<Vec3f> once, axis;
+    // The moving average over [k − h, k + h] of v's points from `from` to `to`.
+    const auto average = [](std::span<const Vec3f> v, int h, size_t from, size_t to,
+                            std::vector<Vec3f>& out) {
+        out.assign(v.size(), Vec3f::Zero());
+        for (size_t k = from; k < to; ++k) {
+            Vec3f sum = Vec3f::Zero();
+            for (int j = -h; j <= h; ++j)
+                sum += v[k + j];
+            out[k] = sum / static_cast<float>(2 * h + 1);
+        }
+    };
+    for (size_t i = 0; i < r.hair.strand_count(); i += 7) {
+        const auto s = r.hair.strand(i);
+        const size_t w = static_cast<size_t>(r.hair.wisp[i]);
+        const float segment = r.masters.segment[w];
+        const int h = std::max(1, static_cast<int>(std::lround(0.5f * turn / segment)));
+        const size_t margin = static_cast<size_t>(2 * h + 1);
+        if (s.size() < 4 * margin) continue;
+        // Averaged twice: a turn's average leaves a small wobble where the strand's own turn
+        // is a little longer or shorter than the preset's, the second removes it.
+        average(s, h, static_cast<size_t>(h), s.size() - h, once);
+        average(once, h, margin - 1, s.size() - margin + 1, axis);
+        float winding = 0.f, along = 0.f;
+        Vec3f before = Vec3f::Zero();
+        strand_radii.clear();
+        for (size_t k = margin; k + margin < s.size(); ++k) {
+            const Vec3f t = (axis[k + 1] - axis[k - 1]).normalized();
+            Vec3f d = s[k] - axis[k];
+            strand_radii.push_back(d.norm());
+            d -= d.dot(t) * t;
+            if (k > margin) {
+                winding += std::atan2(before.cross(d).dot(t), before.dot(d));
+                along += (axis[k] - axis[k - 1]).norm();
+            }
+            before = d;
+        }
+        const float turns = std::abs(winding) / (2.f * kPi);
+        if (turns < 2.f) continue;
+        radii.push_back(median(strand_radii));
+        pitches.push_back(along / turns);
+    }
+    return Coil{median(radii), median(pitches)};
+}
+
+class CoilPreset : public testing::TestWithParam<std::string> {};
+TEST_P(CoilPreset, StrandsCoilAtThePresetsRadiusAndPitch) {
+    const Style style = reduced(GetParam());
+    const HairstyleResult r = generate_hairstyle(style, builtin());
+    // The kinky prototype coils at half its period (groom/prototype.hpp).
+    const float pitch = style.prototype.kind == PrototypeSpec::Kind::kKinky
+                            ? 0.5f * style.prototype.period
+                            : style.prototype.period;
+    const Coil coil = measure_coil(r, pitch);
+    std::printf("%s: coil radius %.2f cm (preset %.2f), pitch %.2f cm (preset %.2f)\n",
+                GetParam().c_str(), coil.radius, style.prototype.amplitude, coil.pitch, pitch);
+    EXPECT_GT(coil.radius, 0.7f * style.prototype.amplitude);
+    EXPECT_LT(coil.radius, 1.3f * style.prototype.amplitude);
+    EXPECT_GT(coil.pitch, 0.8f * pitch);
+    EXPECT_LT(coil.pitch, 1.2f * pitch);
+}
+INSTANTIATE_TEST_SUITE_P(Presets, CoilPreset, testing::Values("curly", "afro"), test_name);
+
 TEST(Bun, HairIsWoundIntoACompactMass) {
     const Style style = reduced("updo");
     const HairstyleResult r = generate_hairstyle(style, builtin());
