@@ -274,10 +274,27 @@ inline void push_points(std::span<Vec3f> s, const HeadField& head, float clearan
 
 // near[w·n + k] for joints k0 ≤ k < k1 of every master: whether a member point of that
 // index can come within kClearance of the skin. A member point lies within its wisp's radius
-// of the master point of the same index, so only joints closer to the head than that radius
-// (plus slack for the grid) can bring members inside.
+// of the master point of the same index, moved by its clump at most `clumps[w]` (clump_reach),
+// so only joints closer to the head than that (plus slack for the grid) can bring members
+// inside.
+// How far clumps can take each wisp's members from their own master (#W, empty without
+// clumps): toward a guide whose pull fades out by 3 clump sizes away, with the curls or waves
+// of both, `pull` of the way at most.
+std::vector<float> clump_reach(const Style& style, const Scalp& scalp, const Roots& roots) {
+    std::vector<float> reach;
+    if (!(style.clump.pull > 0.f)) return reach;
+    const MapSampler size(style.clump.size, scalp, style.growth);
+    const float detail =
+        2.f * style.prototype.amplitude * (1.f + style.prototype.amplitude_variation);
+    reach.resize(roots.masters.size());
+    for (size_t w = 0; w < reach.size(); ++w)
+        reach[w] = style.clump.pull * (3.f * std::max(size(roots.masters[w]), 0.f) + detail);
+    return reach;
+}
+
 void near_head(const Style& style, const Roots& roots, const HeadField& head_field,
-               const Masters& masters, int k0, int k1, std::vector<uint8_t>& near) {
+               const Masters& masters, std::span<const float> clumps, int k0, int k1,
+               std::vector<uint8_t>& near) {
     const int n = masters.points;
     const float r0 = deviation_radius(style.wisp.deviation_radius, 0.f);
     near.resize(masters.count() * n);
@@ -289,7 +306,8 @@ void near_head(const Style& style, const Roots& roots, const HeadField& head_fie
                                         deviation_radius(style.wisp.deviation_radius,
                                                          static_cast<float>(k) / (n - 1)) /
                                         r0 +
-                                    kClearance + head_field.grid().cell();
+                                    kClearance + head_field.grid().cell() +
+                                    (clumps.empty() ? 0.f : clumps[w]);
                 near[w * n + k] = head_field.sdf(masters.control[w * n + k]) < reach;
             }
         },
@@ -436,7 +454,8 @@ MemberBands::MemberBands(const Style& style, const HeadField& head_field, const 
     : style_(style),
       head_field_(head_field),
       roots_(roots),
-      growth_(style, scalp, roots, points, wisp_group, only) {
+      growth_(style, scalp, roots, points, wisp_group, only),
+      clump_reach_(clump_reach(style, scalp, roots)) {
     Hair& hair = growth_.hair();
     hair.group.resize(hair.strand_count());
     for (size_t j = 0; j < hair.strand_count(); ++j)
@@ -448,7 +467,7 @@ void MemberBands::grow(const Masters& masters, int k0, int k1, const CancelToken
 }
 
 void MemberBands::push(const Masters& masters, int k0, int k1) {
-    near_head(style_, roots_, head_field_, masters, k0, k1, near_);
+    near_head(style_, roots_, head_field_, masters, clump_reach_, k0, k1, near_);
     Hair& hair = growth_.hair();
     const int n = masters.points;
     std::atomic<size_t> moved{0}, inside{0};
@@ -548,7 +567,8 @@ MembersResult members_stage(const Style& style, const Head& head, const HeadFiel
         cut_hair(r.hair, normal, offset, &r.strands_removed, offsets.empty() ? nullptr : &offsets);
     lap("cut");
     std::vector<uint8_t> near;
-    near_head(style, roots, head_field, masters, 0, n, near);
+    near_head(style, roots, head_field, masters, clump_reach(style, *head.scalp, roots), 0, n,
+              near);
     r.points_pushed =
         push_out_of_head(r.hair, head_field, kClearance, &near, n, &r.points_inside_head);
     lap("collide");

@@ -123,7 +123,8 @@ class MemberBands {
     const HeadField& head_field_;
     const Roots& roots_;
     MemberGrowth growth_;
-    std::vector<uint8_t> near_;  // #W·n near_head flags, filled band by band
+    std::vector<float> clump_reach_;  // #W how far clumps can move a wisp's members
+    std::vector<uint8_t> near_;       // #W·n near_head flags, filled band by band
     MembersResult result_;
 };
 
