@@ -25,7 +25,7 @@ namespace wisp {
 //   right       its mirror: above 0.5 on the right half
 //   nape        1 along the nape hairline, 0 on top and at the front (the low back)
 //   sides       1 above and behind the ears, 0 on top, at the front and at the nape
-//   part        1 along the style's parting ([growth] part), falling to 0 about 1 cm to
+//   part        1 along the style's parting ([growth] part), falling to 0 about 1.3 cm to
 //               either side of it; 0 everywhere with no part (the lift along the part)
 //   crown-part  the larger of crown and part: blow-dried lift at the crown and along the part
 //   tapered     a crop: nape-short's fall toward the nape (to 0.35), and 0 around the ears

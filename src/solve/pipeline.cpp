@@ -272,32 +272,36 @@ inline void push_points(std::span<Vec3f> s, const HeadField& head, float clearan
     }
 }
 
-// near[w·n + k] for joints k0 ≤ k < k1 of every master: whether a member point of that
-// index can come within kClearance of the skin. A member point lies within its wisp's radius
-// of the master point of the same index, moved by its clump at most `clumps[w]` (clump_reach),
-// so only joints closer to the head than that (plus slack for the grid) can bring members
-// inside.
-// How far clumps can take each wisp's members from their own master (#W, empty without
-// clumps): toward a guide whose pull fades out by 3 clump sizes away, with the curls or waves
-// of both, `pull` of the way at most.
+// How far a clump's pull toward its guide can take each wisp's outline (#W, empty without
+// clumps): the pull fades out by 3 clump sizes away, and reaches `pull` of the way at most.
 std::vector<float> clump_reach(const Style& style, const Scalp& scalp, const Roots& roots) {
     std::vector<float> reach;
     if (!(style.clump.pull > 0.f)) return reach;
     const MapSampler size(style.clump.size, scalp, style.growth);
-    const float detail =
-        2.f * style.prototype.amplitude * (1.f + style.prototype.amplitude_variation);
     reach.resize(roots.masters.size());
     for (size_t w = 0; w < reach.size(); ++w)
-        reach[w] = style.clump.pull * (3.f * std::max(size(roots.masters[w]), 0.f) + detail);
+        reach[w] = style.clump.pull * 3.f * std::max(size(roots.masters[w]), 0.f);
     return reach;
 }
 
+// near[w·n + k] for joints k0 ≤ k < k1 of every master: whether a member point of that
+// index can come within kClearance of the skin. A member point lies within its wisp's radius
+// of the master point of the same index, moved by its clump at most `clumps[w]` (clump_reach)
+// plus the change from its own curl or wave to its guide's (at most the two largest details
+// of the band), so only joints closer to the head than that (plus slack for the grid) can
+// bring members inside.
 void near_head(const Style& style, const Roots& roots, const HeadField& head_field,
                const Masters& masters, std::span<const float> clumps, int k0, int k1,
                std::vector<uint8_t>& near) {
     const int n = masters.points;
     const float r0 = deviation_radius(style.wisp.deviation_radius, 0.f);
     near.resize(masters.count() * n);
+    float detail = 0.f;
+    if (!clumps.empty())
+        for (size_t w = 0; w < masters.count(); ++w)
+            for (int k = k0; k < k1; ++k)
+                detail = std::max(detail, masters.details[w * n + k].norm());
+    const float turn = style.clump.pull * 2.f * detail;
     parallel_for(
         masters.count(),
         [&](size_t w) {
@@ -307,7 +311,7 @@ void near_head(const Style& style, const Roots& roots, const HeadField& head_fie
                                                          static_cast<float>(k) / (n - 1)) /
                                         r0 +
                                     kClearance + head_field.grid().cell() +
-                                    (clumps.empty() ? 0.f : clumps[w]);
+                                    (clumps.empty() ? 0.f : clumps[w] + turn);
                 near[w * n + k] = head_field.sdf(masters.control[w * n + k]) < reach;
             }
         },
