@@ -7,7 +7,6 @@
 #include <string>
 
 #include "core/error.hpp"
-#include "core/timer.hpp"
 #include "groom/hairdressing.hpp"
 #include "groom/maps.hpp"
 
@@ -798,7 +797,9 @@ TEST(StyleToml, UnknownKeysInTheNewSectionsSuggestTheField) {
 }
 
 // Keys and values quoted in messages are escaped and cut short, and a huge unknown key is
-// reported at once (the "did you mean" edit distance is quadratic in its length).
+// reported without a "did you mean" search: that edit distance is quadratic in the key's
+// length, so on this key it would run for hours and the test's timeout would fail it. (No
+// wall-clock bound here: timings belong to benchmarks, and one fails under load.)
 TEST(StyleToml, MessagesQuoteKeysAndValuesOnOneShortLine) {
     EXPECT_EQ(error_of("[roots]\n\"a\\nb\\u001b[2J\" = 1"),
               "test.toml:2: unknown field 'roots.a\\nb\\x1b[2J' (expected one of: wisps, "
@@ -810,9 +811,7 @@ TEST(StyleToml, MessagesQuoteKeysAndValuesOnOneShortLine) {
     EXPECT_NE(error_of("[growth]\npart = \"x\\u001b]0;t\\u0007\"").find("got \"x\\x1b]0;t\\x07\""),
               std::string::npos);
 
-    const Stopwatch timer;
     const std::string key = error_of(std::string(15'000'000, 'k') + " = 1");
-    EXPECT_LT(timer.ms(), 5000.0);
     EXPECT_LT(key.size(), 600u);
     EXPECT_EQ(key.rfind("test.toml:1: unknown field 'kkkk", 0), 0u) << key.substr(0, 100);
     EXPECT_NE(key.find("... (15000000 bytes)'"), std::string::npos);

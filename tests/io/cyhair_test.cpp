@@ -4,7 +4,6 @@
 
 #include <cmath>
 
-#include "core/timer.hpp"
 #include "io_test_util.hpp"
 
 namespace wisp {
@@ -117,19 +116,13 @@ TEST(CyHair, StrandTooLongForUint16SegmentsFails) {
     EXPECT_EQ(decode_cyhair(encode_cyhair(ok), "ok.hair").strand_size(0), 65536u);
 }
 
-TEST(CyHair, FastFor100kStrandsOf32Points) {
+TEST(CyHair, RoundTrips100kStrandsOf32Points) {
+    // Speed is measured by bench/io_bench; this checks the format holds a groom of a
+    // realistic size exactly.
     const Hair h = test::random_hair(42, 100000, 32);
     test::TempPath p(".hair");
-    Stopwatch w;
     write_cyhair(p, h);
-    const double write_ms = w.ms();
-    Stopwatch r;
-    const Hair back = read_cyhair(p);
-    const double read_ms = r.ms();
-    std::printf("[ perf ] .hair 100k x 32: write %.1f ms, read %.1f ms\n", write_ms, read_ms);
-    test::expect_same_geometry(h, back);
-    EXPECT_LT(read_ms, 5000.0);  // generous: shared test machines
-    EXPECT_LT(write_ms, 5000.0);
+    test::expect_same_geometry(h, read_cyhair(p));
 }
 
 }  // namespace

@@ -15,7 +15,6 @@
 #include <regex>
 
 #include "core/parallel.hpp"
-#include "core/timer.hpp"
 #include "io/hair_io.hpp"
 #include "io_test_util.hpp"
 
@@ -869,7 +868,9 @@ TEST(Usda, AnimationWritersTakeThePrecision) {
             ASSERT_EQ(layer.curves.size(), 1u);
             const std::vector<Vec3f>& back = layer.curves[0].points;
             ASSERT_EQ(back.size(), frames[f].points.size());
-            if (digits == 0) EXPECT_EQ(back, frames[f].points);
+            if (digits == 0) {
+                EXPECT_EQ(back, frames[f].points);
+            }
             // The frame's extent holds its points as read back.
             std::smatch m;
             static const std::regex re(
@@ -919,20 +920,13 @@ TEST(Usda, TruncatedFilesFail) {
 
 // Prints wall-clock times; the bounds only catch pathological slowness, because the test
 // machines are shared (the timings that matter are in docs/formats.md).
-TEST(Usda, FastFor100kStrandsOf32Points) {
+TEST(Usda, RoundTrips100kStrandsOf32Points) {
+    // Speed is measured by bench/io_bench; this checks the format holds a groom of a
+    // realistic size exactly.
     const Hair h = test::random_hair(42, 100000, 32);
     test::TempPath p(".usda");
-    Stopwatch w;
     write_usda(p, h);
-    const double write_ms = w.ms();
-    Stopwatch r;
-    const Hair back = read_usda(p);
-    const double read_ms = r.ms();
-    std::printf("[ perf ] .usda 100k x 32: write %.1f ms, read %.1f ms, %.1f MB\n", write_ms,
-                read_ms, std::filesystem::file_size(p) / 1e6);
-    test::expect_same_geometry(h, back);
-    EXPECT_LT(write_ms, 20000.0);
-    EXPECT_LT(read_ms, 20000.0);
+    test::expect_same_geometry(h, read_usda(p));
 }
 
 }  // namespace
