@@ -658,10 +658,14 @@ TEST(StyleToml, PresetsLookLikeTheirNames) {
     const Style short_ = load_preset("short");
     EXPECT_LE(short_.length.high, 7.5f);
     const Style bob = load_preset("wavy-bob");
+    // A bob is a cut: at the jaw (about 1.1 head units below the skull's centre), on a line
+    // that falls toward the face, the back shortest.
     EXPECT_EQ(bob.prototype.kind, PrototypeSpec::Kind::kWavy);
-    EXPECT_EQ(bob.length.procedural, "nape-short");
-    EXPECT_GE(bob.length.high, 18.f);
-    EXPECT_LE(bob.length.high, 22.f);
+    EXPECT_TRUE(bob.cut.enabled);
+    EXPECT_GE(bob.cut.offset, 0.9f);
+    EXPECT_LE(bob.cut.offset, 1.3f);
+    EXPECT_LT(bob.cut.normal.y(), 0.f);
+    EXPECT_LT(bob.cut.normal.z(), 0.f);
     const Style long_ = load_preset("long-straight");
     EXPECT_EQ(long_.prototype.kind, PrototypeSpec::Kind::kStraight);
     EXPECT_GE(long_.length.low, 40.f);

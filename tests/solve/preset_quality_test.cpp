@@ -318,6 +318,57 @@ TEST(CombedBack, SidesGoBehindTheEarsAndTheBackFallsAsACurtain) {
     expect_combed_back(makehuman());
 }
 
+// A bob reads by its line: the hair ends together at the jaw, above the shoulders, on a line
+// that falls toward the face, rather than layered down the back as long hair is.
+void expect_bob_line(const Head& head) {
+    const Style style = reduced("wavy-bob");
+    const HairstyleResult r = generate_hairstyle(style, head);
+    const HeadFrame frame = head_frame(*head.scalp);
+    const HeadFrame body = head_frame(head);
+    const FaceLandmarks face = face_landmarks(head);
+    const Vec3f normal = style.cut.normal.normalized();
+    // Strands rooted behind the ears: where a bob is shortest and its line shows most.
+    std::vector<float> past, back_tips, side_tips;
+    float lowest = INFINITY;
+    for (size_t i = 0; i < r.hair.strand_count(); ++i) {
+        const auto s = r.hair.strand(i);
+        for (const Vec3f& p : s)
+            lowest = std::min(lowest, p.y());
+        const Vec3f tip = (s.back() - frame.center) / frame.radius;
+        const Vec3f root = (s.front() - frame.center) / frame.radius;
+        past.push_back(frame.radius * (normal.dot(tip) - style.cut.offset));
+        if (root.y() < 0.3f && root.z() < -0.5f) back_tips.push_back(s.back().y());
+        if (root.y() < 0.3f && std::abs(root.x()) > 0.6f && root.z() > -0.2f)
+            side_tips.push_back(s.back().y());
+    }
+    const auto quantile = [](std::vector<float> v, float q) {
+        std::sort(v.begin(), v.end());
+        return v[static_cast<size_t>(q * static_cast<float>(v.size() - 1))];
+    };
+    const std::string on = "on " + head.source;
+    ASSERT_GT(back_tips.size(), 100u) << on;
+    ASSERT_GT(side_tips.size(), 100u) << on;
+    // Nothing hangs past the plane but the point-cut texture (up to 4/3 of it); a strand
+    // the jaw pushes down after the cut may, rarely.
+    EXPECT_LE(quantile(past, 0.99f), style.cut.texture * 4.f / 3.f + 0.05f) << on;
+    // Above the shoulders.
+    if (std::isfinite(body.shoulder_top)) EXPECT_GT(lowest, body.shoulder_top) << on;
+    // The back ends together: nine in ten of them within 4 cm of one another (the point-cut
+    // texture takes up to about 1.3 cm), near the level of the chin.
+    const float height = head.landmarks->height;
+    const float b10 = quantile(back_tips, 0.1f), b90 = quantile(back_tips, 0.9f);
+    EXPECT_LT(b90 - b10, 4.f) << on;
+    EXPECT_GT(b10, face.chin_y - 0.1f * height) << on;
+    EXPECT_LT(b90, face.chin_y + 0.25f * height) << on;
+    // ... and the sides, nearer the face, end lower than the back.
+    EXPECT_LT(quantile(side_tips, 0.5f), quantile(back_tips, 0.5f)) << on;
+}
+
+TEST(WavyBob, EndsOnALineAtTheJaw) {
+    expect_bob_line(builtin());
+    expect_bob_line(makehuman());
+}
+
 }  // namespace
 }  // namespace wisp
 
