@@ -66,9 +66,12 @@ float procedural(int which, const Vec2f& uv, const Vec3f& dir, float ear, float 
             return sides_region(r, x);
         case 12:  // fringe: 0 over the sector that grows a fringe (groom/growth.hpp), 1 elsewhere
             return 1.f - fringe_sector(dir);
-        case 13:  // tapered: as nape-short, and falling to 0 around the ears (without
-                  // landmarks, taken to be under the sides of the map)
-            return 1.f - std::max(nape_fall(r, z, 0.65f), ear >= 0.f ? ear : sides_region(r, x));
+        case 13:  // tapered: as nape-short, falling to 0 around the ears (without landmarks,
+                  // taken to be under the sides of the map) and by 0.6 down the sides, so the
+                  // top's length blends into the sides' without a step
+            return 1.f - std::max({nape_fall(r, z, 0.65f), ear >= 0.f ? ear : sides_region(r, x),
+                                   0.6f * smoothstep(0.45f, 0.9f, r) *
+                                       smoothstep(0.3f, 0.8f, std::abs(x))});
         case 14:  // part
             return part;
         case 15:  // crown-part
@@ -84,7 +87,7 @@ float ear_nearness(const Scalp& scalp, const Vec3f& p) {
     const auto& ears = scalp.ears();
     if (!ears || !(ears->head_height > 0.f)) return -1.f;
     const float d = std::min((p - ears->left).norm(), (p - ears->right).norm());
-    return 1.f - smoothstep(0.18f * ears->head_height, 0.42f * ears->head_height, d);
+    return 1.f - smoothstep(0.18f * ears->head_height, 0.5f * ears->head_height, d);
 }
 
 }  // namespace
