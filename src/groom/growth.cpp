@@ -92,7 +92,14 @@ Vec3f growth_direction(const GrowthSpec& spec, const Vec3f& r) {
     const Vec3f front = spec.front == GrowthSpec::Front::kBack
                             ? Vec3f(0.25f * std::clamp(r.x() / 0.2f, -1.f, 1.f), 0.f, -1.f)
                             : sides;
-    d = lerp(d, front, smoothstep(0.2f, 0.65f, r.z()));
+    // Hair combed back runs back over all of the top ahead of the whorl, or it would meet
+    // the whorl's forward growth in a seam that reads as a parting.
+    const float front_reach =
+        spec.front == GrowthSpec::Front::kBack
+            ? std::max(smoothstep(0.2f, 0.65f, r.z()),
+                       smoothstep(-0.3f, 0.1f, r.z()) * smoothstep(0.15f, 0.45f, from_whorl))
+            : smoothstep(0.2f, 0.65f, r.z());
+    d = lerp(d, front, front_reach);
     // A fringe grows forward over the forehead, fanning out a little toward the temples.
     if (spec.front == GrowthSpec::Front::kFringe)
         d = lerp(d, Vec3f(0.25f * r.x(), -0.8f, 0.8f), fringe_sector(r));

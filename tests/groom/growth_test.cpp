@@ -82,6 +82,26 @@ TEST(Growth, FrontHairlineHairGoesToTheSidesBackOrForward) {
     EXPECT_LT(fringe.y(), -0.5f);  // down over the forehead
 }
 
+// Combed back, all of the top ahead of the whorl runs back, and neighbours either side of the
+// midline run nearly alike: hair that grew forward from the whorl to meet hair combed back
+// from the hairline would part along the seam.
+TEST(Growth, CombedBackTheTopRunsBackWithoutASeam) {
+    GrowthSpec spec;
+    spec.part = GrowthSpec::Part::kNone;
+    spec.front = GrowthSpec::Front::kBack;
+    const Vec3f whorl = spec.whorl.normalized();
+    for (float z = 0.f; z <= 0.9f; z += 0.05f) {
+        const float y = std::sqrt(1.f - z * z);
+        const Vec3f mid = dir(0.f, y, z);
+        if (std::acos(mid.dot(whorl)) < 0.45f) continue;  // the whorl itself turns
+        const Vec3f left = growth_direction(spec, dir(0.04f, y, z));
+        const Vec3f right = growth_direction(spec, dir(-0.04f, y, z));
+        EXPECT_LT(left.z(), -0.5f) << "z " << z;
+        EXPECT_LT(right.z(), -0.5f) << "z " << z;
+        EXPECT_GT(left.dot(right), 0.95f) << "z " << z;
+    }
+}
+
 TEST(Growth, HairTurnsAboutTheWhorlInItsSense) {
     GrowthSpec spec;
     spec.part = GrowthSpec::Part::kNone;
