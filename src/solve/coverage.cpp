@@ -162,6 +162,22 @@ Coverage face_coverage(const Hair& hair, const Mesh& head, float eye_y, float ch
     return c;
 }
 
+Coverage profile_coverage(const Hair& hair, const Mesh& head, const std::string& side, float eye_y,
+                          float chin_y, float eye_z, float cell, float width_scale) {
+    const DepthGrid grid(head, ortho_view(side, cell));
+    std::vector<uint8_t> covered;
+    grid.mark_hair(hair, width_scale, covered);
+    Coverage c;
+    for (size_t i = 0; i < grid.size(); ++i) {
+        if (grid.face(i) < 0) continue;
+        const Vec3f p = grid.point(i);
+        if (p.z() < eye_z || p.y() > eye_y || p.y() < chin_y) continue;
+        ++c.cells;
+        c.covered += covered[i];
+    }
+    return c;
+}
+
 Coverage scalp_coverage(const Hair& hair, const Scalp& scalp, const OrthoView& view,
                         const std::function<bool(const Vec3f&)>& exclude, float width_scale,
                         float hairline) {
@@ -193,6 +209,7 @@ FaceLandmarks face_landmarks(const Head& found) {
         l.nose_tip = m.nose_tip;
         l.eye_y = 0.5f * (m.eye_left.y() + m.eye_right.y());
         l.chin_y = m.chin.y();
+        l.eye_z = 0.5f * (m.eye_left.z() + m.eye_right.z());
         return l;
     }
     const Mesh& head = *found.mesh;
@@ -211,10 +228,11 @@ FaceLandmarks face_landmarks(const Head& found) {
     if (!std::isfinite(best)) fail("face landmarks: no vertex where a nose would be");
     // Human proportions, as fractions of the nose tip's height h below the crown: the eye
     // line 0.24·h above the nose tip, the chin 0.53·h below it (11 cm and 22 cm below the
-    // crown for h = 14.5 cm).
+    // crown for h = 14.5 cm), the eyes 0.17·h behind it.
     const float h = crown - l.nose_tip.y();
     l.eye_y = l.nose_tip.y() + 0.24f * h;
     l.chin_y = l.nose_tip.y() - 0.53f * h;
+    l.eye_z = l.nose_tip.z() - 0.17f * h;  // the eyes 2.5 cm behind the nose tip
     return l;
 }
 

@@ -44,6 +44,12 @@ struct Coverage {
 Coverage face_coverage(const Hair& hair, const Mesh& head, float eye_y, float chin_y,
                        float half_width = 4.5f, float cell = 0.5f, float width_scale = 1.f);
 
+// The face's profile seen from one side (`side` "left" or "right"): the head's surface
+// between the chin and the eye line that lies forward of the eyes (z ≥ eye_z: eyes, nose,
+// lips, chin), which hair framing a face leaves clear.
+Coverage profile_coverage(const Hair& hair, const Mesh& head, const std::string& side, float eye_y,
+                          float chin_y, float eye_z, float cell = 0.5f, float width_scale = 1.f);
+
 // The scalp seen along `view`: cells whose nearest surface is a scalp face (and whose scalp
 // point `exclude` does not reject, such as points along a parting, and that lies beyond the
 // density ramp of a hairline `hairline` cm wide (hairline_ramp): a soft hairline thins out
@@ -59,6 +65,7 @@ Coverage scalp_coverage(const Hair& hair, const Scalp& scalp, const OrthoView& v
 struct FaceLandmarks {
     Vec3f nose_tip = Vec3f::Zero();
     float eye_y = 0.f, chin_y = 0.f;  // cm
+    float eye_z = 0.f;                // cm: how far forward the eyes lie
 };
 FaceLandmarks face_landmarks(const Head& head);
 

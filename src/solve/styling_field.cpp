@@ -94,6 +94,15 @@ Vec3f grown(const HeadFrame& head, const GrowthField& growth, const Vec3f& p) {
                            (1.f - smoothstep(0.55f, 0.9f, std::abs(q.x())));
         phi += (1.5f * face * std::clamp(x / 0.03f, -1.f, 1.f)) * Vec3f::UnitX();
     }
+    // Beside the face, from the temples to the jaw, hair that frames it lies back along the
+    // cheek rather than standing forward of it: carried back the further forward it is, so the
+    // face's profile stays clear of a full head of hair (curls, volume) seen from the side.
+    if (q.z() > 0.15f && q.y() < 0.3f && q.y() > -1.5f && std::abs(q.x()) > 0.5f) {
+        const float beside = smoothstep(0.15f, 0.6f, q.z()) * smoothstep(0.3f, 0.f, q.y()) *
+                             smoothstep(-1.5f, -1.1f, q.y()) *
+                             smoothstep(0.5f, 0.8f, std::abs(q.x()));
+        phi -= (0.8f * beside) * Vec3f::UnitZ();
+    }
     phi += shoulder_section(head, p);
     return phi;
 }

@@ -33,6 +33,7 @@ struct Measured {
     size_t inside = 0, non_finite = 0;
     size_t below_body = 0;     // points more than 1 cm below the lowest point of the body
     size_t ear_piercings = 0;  // segments near an ear that pass through it
+    float profile = 0.f;       // of the face's profile, seen from either side, the part hair hides
     // Of all points, those hanging beside the upper arms: below the shoulders' top by more
     // than a third of the head's height, further out than 2.5 neck radii from the neck and
     // within a neck radius of the plane hair divides at (not in front of the arms, on the
@@ -98,6 +99,10 @@ Measured measure(const std::string& preset, const Head& head) {
         m.over_arms = float(beside) / float(std::max<size_t>(r.hair.points.size(), 1));
     }
     const FaceLandmarks face = face_landmarks(head);
+    for (const char* side : {"left", "right"})
+        m.profile = std::max(m.profile, profile_coverage(r.hair, *head.mesh, side, face.eye_y,
+                                                         face.chin_y, face.eye_z, 0.5f, widths)
+                                            .fraction());
     m.face =
         face_coverage(r.hair, *head.mesh, face.eye_y, face.chin_y, 4.5f, 0.5f, widths).fraction();
     const HeadFrame frame = head_frame(*head.scalp);
@@ -119,6 +124,8 @@ Measured measure(const std::string& preset, const Head& head) {
 void expect_reads_as_hair(const std::string& preset, const Head& head) {
     const Measured m = measure(preset, head);
     EXPECT_LT(m.face, 0.10f) << preset << " on " << head.source << ": face covered";
+    // Hair frames the face: seen from the side, the eyes, nose, lips and chin show.
+    EXPECT_LT(m.profile, 0.3f) << preset << " on " << head.source << ": profile hidden";
     for (int v = 0; v < 4; ++v)
         EXPECT_LT(m.bare[v], 0.05f)
             << preset << " on " << head.source << ": bare scalp seen from the " << kViews[v];
@@ -204,6 +211,29 @@ TEST(Coverage, AVeilOverTheFaceCoversItsWindow) {
     for (Vec3f& p : veil.points)
         p.z() = -20.f;
     EXPECT_EQ(face_coverage(veil, *builtin().mesh, face.eye_y, face.chin_y).covered, 0u);
+}
+
+TEST(Coverage, ASheetBesideTheFaceHidesItsProfile) {
+    const FaceLandmarks face = face_landmarks(builtin());
+    EXPECT_LT(face.eye_z, face.nose_tip.z());
+    EXPECT_GT(face.eye_z, face.nose_tip.z() - 5.f);
+    // Vertical ribbons in a plane beside the face on its left (+X), from the ear forward past
+    // the nose: seen from the left, every cell of the profile is covered, from the right none.
+    Hair sheet;
+    sheet.default_width = 0.3f;
+    for (float z = -2.f; z <= 16.f; z += 0.25f) {
+        const std::vector<Vec3f> s = {{12.f, 8.f, z}, {12.f, -14.f, z}};
+        sheet.add_strand(s);
+    }
+    const Mesh& mesh = *builtin().mesh;
+    const Coverage left =
+        profile_coverage(sheet, mesh, "left", face.eye_y, face.chin_y, face.eye_z);
+    EXPECT_GT(left.cells, 40u);
+    EXPECT_EQ(left.covered, left.cells);
+    const Coverage right =
+        profile_coverage(sheet, mesh, "right", face.eye_y, face.chin_y, face.eye_z);
+    EXPECT_GT(right.cells, 40u);
+    EXPECT_EQ(right.covered, 0u);
 }
 
 // A fringe is cut along a natural line, not a ruler: the bangs preset's fringe ends lower
