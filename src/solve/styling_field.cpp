@@ -74,15 +74,16 @@ Vec3f grown(const HeadFrame& head, const GrowthField& growth, const Vec3f& p) {
         phi = (1.f - near) * down + near * growth(q / dist);
     }
     // Below the skull, hair leaving the head falls as a curtain about as wide as the head
-    // instead of closing in on the neck (a V-shaped tail): close to the head's vertical axis
-    // it is carried outward.
+    // instead of closing in on the neck (a V-shaped tail, or seen from behind a mullet's step
+    // in from the head's width): close to the head's vertical axis it is carried outward,
+    // sideways more than back, stronger than gravity where the neck is narrowest.
     const float axis2 = q.x() * q.x() + q.z() * q.z();
     if (q.y() < -0.2f && axis2 < 1.15f * 1.15f && axis2 > 1e-8f && dist2 > 1.15f * 1.15f) {
         const float axis = std::sqrt(axis2);
         const float off_head = smoothstep(1.15f, 1.6f, std::sqrt(dist2));
         const float curtain =
             off_head * smoothstep(-0.2f, -0.7f, q.y()) * (1.f - smoothstep(0.8f, 1.15f, axis));
-        phi += (0.6f * curtain / axis) * Vec3f(q.x(), 0.f, q.z());
+        phi += (1.5f * curtain / axis) * Vec3f(2.f * q.x(), 0.f, q.z());
     }
     // A fringe may reach the brows; other hair is cleared from the hairline down.
     const bool fringe = growth.spec().front == GrowthSpec::Front::kFringe;

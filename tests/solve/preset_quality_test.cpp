@@ -394,6 +394,35 @@ void expect_bob_line(const Head& head) {
     EXPECT_LT(quantile(side_tips, 0.5f), quantile(back_tips, 0.5f)) << on;
 }
 
+// Long hair seen from behind falls as a curtain about as wide as the head, not stepping in to
+// the neck's width below the skull (a mullet's outline): between the nape and the shoulders'
+// top, the hair behind the ears spans well over half of the head's width.
+float curtain_width(const std::string& preset, const Head& head) {
+    const HairstyleResult r = generate_hairstyle(reduced(preset), head);
+    const HeadFrame body = head_frame(head);
+    const HeadFrame frame = head_frame(*head.scalp);
+    const float level = 0.5f * (body.shoulder_top + (frame.center.y() - frame.radius));
+    std::vector<float> x;
+    for (const Vec3f& p : r.hair.points)
+        if (std::abs(p.y() - level) < 1.f &&
+            (p - body.neck).dot(body.forward) < body.split - body.neck_radius)
+            x.push_back(p.x());
+    if (x.size() < 100) return 0.f;
+    std::sort(x.begin(), x.end());
+    const float width = x[x.size() * 97 / 100] - x[x.size() * 3 / 100];
+    return width / (2.f * frame.radius);
+}
+
+TEST(LongHair, FallsBehindAsACurtainAboutAsWideAsTheHead) {
+    for (const Head* head : {&builtin(), &makehuman()})
+        for (const char* preset : {"default", "long-straight"}) {
+            const float w = curtain_width(preset, *head);
+            std::printf("%s on %s: curtain %.2f of the head's width\n", preset,
+                        head->source.c_str(), w);
+            EXPECT_GT(w, 0.6f) << preset << " on " << head->source;
+        }
+}
+
 TEST(WavyBob, EndsOnALineAtTheJaw) {
     expect_bob_line(builtin());
     expect_bob_line(makehuman());
