@@ -66,12 +66,15 @@ float procedural(int which, const Vec2f& uv, const Vec3f& dir, float ear, float 
             return sides_region(r, x);
         case 12:  // fringe: 0 over the sector that grows a fringe (groom/growth.hpp), 1 elsewhere
             return 1.f - fringe_sector(dir);
-        case 13:  // tapered: as nape-short, falling to 0 around the ears (without landmarks,
-                  // taken to be under the sides of the map) and by 0.6 down the sides, so the
-                  // top's length blends into the sides' without a step
-            return 1.f - std::max({nape_fall(r, z, 0.65f), ear >= 0.f ? ear : sides_region(r, x),
-                                   0.6f * smoothstep(0.45f, 0.9f, r) *
-                                       smoothstep(0.3f, 0.8f, std::abs(x))});
+        case 13: {  // tapered: a barber's taper: longest on top toward the front, falling
+                    // down the back (most) and the sides to 0 around the ears (without
+                    // landmarks, taken to be under the sides of the map), with no step
+            const float back = smoothstep(-0.3f, 0.6f, -z);
+            const float down = 0.85f * smoothstep(0.3f, 0.9f, r) * (0.2f + 0.8f * back);
+            const float sides =
+                0.75f * smoothstep(0.4f, 0.85f, r) * smoothstep(0.3f, 0.8f, std::abs(x));
+            return 1.f - std::max({down, sides, ear >= 0.f ? ear : sides_region(r, x)});
+        }
         case 14:  // part
             return part;
         case 15:  // crown-part
