@@ -382,7 +382,9 @@ void expect_bob_line(const Head& head) {
     // the jaw pushes down after the cut may, rarely.
     EXPECT_LE(quantile(past, 0.99f), style.cut.texture * 4.f / 3.f + 0.05f) << on;
     // Above the shoulders.
-    if (std::isfinite(body.shoulder_top)) EXPECT_GT(lowest, body.shoulder_top) << on;
+    if (std::isfinite(body.shoulder_top)) {
+        EXPECT_GT(lowest, body.shoulder_top) << on;
+    }
     // The back ends together: nine in ten of them within 4 cm of one another (the point-cut
     // texture takes up to about 1.3 cm), near the level of the chin.
     const float height = head.landmarks->height;
