@@ -272,10 +272,11 @@ TEST(ConstraintSections, FramesGiveEachSectionsUnitsSoItsHandlesSitOnItsPaths) {
                          first[k][2].get<float>());
         };
         EXPECT_NEAR((point(0) - cm).norm(), 0.f, 1e-3f) << i;
-        if (s["section"] == "updo")
+        if (s["section"] == "updo") {
             EXPECT_NEAR((point(first.size() - 1) - cm).norm(), scale * s.value("bun_radius", 0.3f),
                         1e-3f)
                 << i;
+        }
     }
     EXPECT_EQ(head_units_frame(head), frames[0]);
 }
