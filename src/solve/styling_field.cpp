@@ -85,9 +85,11 @@ Vec3f grown(const HeadFrame& head, const GrowthField& growth, const Vec3f& p) {
             off_head * smoothstep(-0.2f, -0.7f, q.y()) * (1.f - smoothstep(0.8f, 1.15f, axis));
         phi += (1.5f * curtain / axis) * Vec3f(2.f * q.x(), 0.f, q.z());
     }
-    // A fringe may reach the brows; other hair is cleared from the hairline down.
+    // A fringe may reach the brows; other hair is cleared from above the hairline down, so
+    // that hair leaving the front hairline sideways lies over it rather than across the
+    // forehead.
     const bool fringe = growth.spec().front == GrowthSpec::Front::kFringe;
-    const float top = fringe ? 0.1f : 0.55f, full = fringe ? -0.15f : 0.2f;
+    const float top = fringe ? 0.1f : 0.75f, full = fringe ? -0.15f : 0.45f;
     if (q.z() > 0.1f && q.y() < top && q.y() > -1.9f && std::abs(q.x()) < 0.9f) {
         const float x = q.x() - part_x(growth.spec());
         const float face = smoothstep(0.1f, 0.4f, q.z()) * smoothstep(top, full, q.y()) *
