@@ -232,6 +232,9 @@ struct CutSpec {
     // Point-cut texture, cm: each wisp's ends lie up to this far past the plane, and each
     // strand up to a third of it further, so the cut line is uneven as a scissor cut is.
     float texture = 0.f;
+    // Bevel, cm: the last this much of every strand the plane cut turns under, toward the
+    // neck, as a bob's ends are dried (0: they end straight).
+    float bevel = 0.f;
 };
 
 // Animation with the Adaptive Wisp Tree (Bertails et al. 2003); docs/animate.md.

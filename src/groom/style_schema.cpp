@@ -857,6 +857,16 @@ const std::vector<StyleField>& fields() {
          .doc = "point-cut texture: each wisp ends up to this far past the plane, each strand up "
                 "to a third of it further, for an uneven, natural cut line",
          .ref = WISP_REF(cut.texture)},
+        {.path = "cut.bevel",
+         .type = T::kNumber,
+         .stage = S::kMembers,
+         .panel = "cut",
+         .unit = "cm",
+         .lo = 0,
+         .hi = 20,
+         .doc = "the last this much of every strand the plane cut turns under, toward the neck, "
+                "its tip moving in by half as much, as a bob's ends are dried; 0: ends straight",
+         .ref = WISP_REF(cut.bevel)},
 
         // Constraint groups and hairdressing operations (§4, §6.2), read in file order.
         {.path = "group",

@@ -62,7 +62,7 @@ float head_field_cell(const SolveSpec& spec) {
 }
 
 size_t cut_hair(Hair& hair, const Vec3f& normal, float plane, size_t* removed,
-                const std::vector<float>* offsets) {
+                const std::vector<float>* offsets, std::vector<uint8_t>* was_cut) {
     const size_t s_count = hair.strand_count();
     std::vector<uint32_t> keep(s_count, 0);  // points kept per strand (0: removed)
     std::vector<uint8_t> cut(s_count, 0);
@@ -98,11 +98,13 @@ size_t cut_hair(Hair& hair, const Vec3f& normal, float plane, size_t* removed,
     out.default_width = hair.default_width;
     out.default_color = hair.default_color;
     size_t shortened = 0, gone = 0;
+    if (was_cut) was_cut->clear();
     for (size_t i = 0; i < s_count; ++i) {
         if (keep[i] == 0) {
             ++gone;
             continue;
         }
+        if (was_cut) was_cut->push_back(cut[i]);
         const size_t o = hair.offsets[i];
         const size_t n = keep[i];
         out.points.insert(out.points.end(), hair.points.begin() + o, hair.points.begin() + o + n);
@@ -124,6 +126,33 @@ size_t cut_hair(Hair& hair, const Vec3f& normal, float plane, size_t* removed,
     hair = std::move(out);
     if (removed) *removed = gone;
     return shortened;
+}
+
+void bevel_ends(Hair& hair, std::span<const uint8_t> turn, float bevel, const Vec3f& center) {
+    if (!(bevel > 0.f)) return;
+    parallel_for(
+        hair.strand_count(),
+        [&](size_t i) {
+            if (i >= turn.size() || !turn[i]) return;
+            const auto s = hair.strand(i);
+            if (s.size() < 2) return;
+            const Vec3f tip = s.back();
+            const Vec3f to_axis(center.x() - tip.x(), 0.f, center.z() - tip.z());
+            const float d = to_axis.norm();
+            if (!(d > 1e-4f)) return;
+            // Inward, and no further than the axis.
+            const Vec3f in = to_axis / d;
+            const float reach = std::min(bevel, 2.f * d);
+            // Arc length back from the tip to each point; the stretch is the last `reach` cm.
+            float from_tip = 0.f;
+            for (size_t k = s.size() - 1; k > 0; --k) {
+                const float t = 1.f - from_tip / reach;
+                if (t <= 0.f) break;
+                from_tip += (s[k] - s[k - 1]).norm();
+                s[k] += (0.5f * reach * t * t) * in;
+            }
+        },
+        1024);
 }
 
 namespace {
@@ -288,11 +317,11 @@ std::vector<float> clump_reach(const Style& style, const Scalp& scalp, const Roo
 // index can come within kClearance of the skin. A member point lies within its wisp's radius
 // of the master point of the same index, moved by its clump at most `clumps[w]` (clump_reach)
 // plus the change from its own curl or wave to its guide's (at most the two largest details
-// of the band), so only joints closer to the head than that (plus slack for the grid) can
-// bring members inside.
+// of the band) and `extra` (a bevel's turn), so only joints closer to the head than that (plus
+// slack for the grid) can bring members inside.
 void near_head(const Style& style, const Roots& roots, const HeadField& head_field,
                const Masters& masters, std::span<const float> clumps, int k0, int k1,
-               std::vector<uint8_t>& near) {
+               std::vector<uint8_t>& near, float extra = 0.f) {
     const int n = masters.points;
     const float r0 = deviation_radius(style.wisp.deviation_radius, 0.f);
     near.resize(masters.count() * n);
@@ -310,7 +339,7 @@ void near_head(const Style& style, const Roots& roots, const HeadField& head_fie
                                         deviation_radius(style.wisp.deviation_radius,
                                                          static_cast<float>(k) / (n - 1)) /
                                         r0 +
-                                    kClearance + head_field.grid().cell() +
+                                    kClearance + head_field.grid().cell() + extra +
                                     (clumps.empty() ? 0.f : clumps[w] + turn);
                 near[w * n + k] = head_field.sdf(masters.control[w * n + k]) < reach;
             }
@@ -567,12 +596,15 @@ MembersResult members_stage(const Style& style, const Head& head, const HeadFiel
     std::vector<float> offsets;  // per strand: where the plane cuts it (NaN: not at all)
     if (style.cut.region == CutSpec::Region::kFringe || style.cut.texture > 0.f)
         offsets = cut_offsets(style, *head.scalp, frame.radius, r.hair, offset);
-    r.strands_cut =
-        cut_hair(r.hair, normal, offset, &r.strands_removed, offsets.empty() ? nullptr : &offsets);
+    std::vector<uint8_t> was_cut;
+    r.strands_cut = cut_hair(r.hair, normal, offset, &r.strands_removed,
+                             offsets.empty() ? nullptr : &offsets, &was_cut);
+    bevel_ends(r.hair, was_cut, style.cut.bevel, frame.center);
     lap("cut");
     std::vector<uint8_t> near;
-    near_head(style, roots, head_field, masters, clump_reach(style, *head.scalp, roots), 0, n,
-              near);
+    // Bevelled ends move in by up to half the bevel.
+    near_head(style, roots, head_field, masters, clump_reach(style, *head.scalp, roots), 0, n, near,
+              0.5f * style.cut.bevel);
     r.points_pushed =
         push_out_of_head(r.hair, head_field, kClearance, &near, n, &r.points_inside_head);
     lap("collide");

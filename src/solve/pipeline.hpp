@@ -39,8 +39,15 @@ HeadFrame head_frame(const Head& head);
 // strand ends on the plane. Strands whose root is beyond are removed. Returns the number of
 // strands shortened; `removed` receives the number removed. With `offsets` (#strands), each
 // strand is cut at its own plane n·p = offsets[i] instead, or not at all where it is NaN.
+// `was_cut` receives, per strand of the result, whether the plane shortened it.
 size_t cut_hair(Hair& hair, const Vec3f& normal, float offset, size_t* removed,
-                const std::vector<float>* offsets = nullptr);
+                const std::vector<float>* offsets = nullptr,
+                std::vector<uint8_t>* was_cut = nullptr);
+
+// Turns the last `bevel` cm of each strand with `turn` set under, toward the vertical axis
+// through `center`: a point that far from the start of the stretch at fraction t of it moves
+// inward by bevel·t²/2, so the tip comes in by half the bevel and the turn starts tangent.
+void bevel_ends(Hair& hair, std::span<const uint8_t> turn, float bevel, const Vec3f& center);
 
 // Moves every non-root point whose head distance is below `clearance` cm out along the
 // head's gradient to that clearance. Returns the number of points moved. With `near`

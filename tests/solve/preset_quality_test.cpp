@@ -371,7 +371,8 @@ TEST(CombedBack, SidesGoBehindTheEarsAndTheBackFallsAsACurtain) {
 }
 
 // A bob reads by its line: the hair ends together at the jaw, above the shoulders, on a line
-// that falls toward the face, rather than layered down the back as long hair is.
+// that falls toward the face, rather than layered down the back as long hair is, and its ends
+// turn under toward the neck rather than standing off it as a shelf.
 void expect_bob_line(const Head& head) {
     const Style style = reduced("wavy-bob");
     const HairstyleResult r = generate_hairstyle(style, head);
@@ -380,7 +381,8 @@ void expect_bob_line(const Head& head) {
     const FaceLandmarks face = face_landmarks(head);
     const Vec3f normal = style.cut.normal.normalized();
     // Strands rooted behind the ears: where a bob is shortest and its line shows most.
-    std::vector<float> past, back_tips, side_tips;
+    std::vector<float> past, back_tips, side_tips, gap;
+    const HeadField field = build_head_field(style, head);
     float lowest = INFINITY;
     for (size_t i = 0; i < r.hair.strand_count(); ++i) {
         const auto s = r.hair.strand(i);
@@ -389,7 +391,10 @@ void expect_bob_line(const Head& head) {
         const Vec3f tip = (s.back() - frame.center) / frame.radius;
         const Vec3f root = (s.front() - frame.center) / frame.radius;
         past.push_back(frame.radius * (normal.dot(tip) - style.cut.offset));
-        if (root.y() < 0.3f && root.z() < -0.5f) back_tips.push_back(s.back().y());
+        if (root.y() < 0.3f && root.z() < -0.5f) {
+            back_tips.push_back(s.back().y());
+            gap.push_back(field.sdf(s.back()));
+        }
         if (root.y() < 0.3f && std::abs(root.x()) > 0.6f && root.z() > -0.2f)
             side_tips.push_back(s.back().y());
     }
@@ -400,9 +405,10 @@ void expect_bob_line(const Head& head) {
     const std::string on = "on " + head.source;
     ASSERT_GT(back_tips.size(), 100u) << on;
     ASSERT_GT(side_tips.size(), 100u) << on;
-    // Nothing hangs past the plane but the point-cut texture (up to 4/3 of it); a strand
-    // the jaw pushes down after the cut may, rarely.
-    EXPECT_LE(quantile(past, 0.99f), style.cut.texture * 4.f / 3.f + 0.05f) << on;
+    // Nothing hangs past the plane but the point-cut texture (up to 4/3 of it) and the bevel's
+    // turn (half the bevel, horizontal); a strand the jaw pushes down after the cut may, rarely.
+    const float turn = 0.5f * style.cut.bevel * std::hypot(normal.x(), normal.z());
+    EXPECT_LE(quantile(past, 0.99f), style.cut.texture * 4.f / 3.f + turn + 0.05f) << on;
     // Above the shoulders.
     if (std::isfinite(body.shoulder_top)) {
         EXPECT_GT(lowest, body.shoulder_top) << on;
@@ -414,6 +420,9 @@ void expect_bob_line(const Head& head) {
     EXPECT_LT(b90 - b10, 4.f) << on;
     EXPECT_GT(b10, face.chin_y - 0.1f * height) << on;
     EXPECT_LT(b90, face.chin_y + 0.25f * height) << on;
+    // The ends turn under to rest on the neck (the bevel): most tips at the back lie within
+    // half a centimetre of the skin, not a shelf standing off it.
+    EXPECT_LT(quantile(gap, 0.5f), 0.5f) << on;
     // ... and the sides, nearer the face, end lower than the back.
     EXPECT_LT(quantile(side_tips, 0.5f), quantile(back_tips, 0.5f)) << on;
 }

@@ -823,4 +823,33 @@ TEST(Cut, EachStrandAtItsOwnPlane) {
     EXPECT_EQ(hair.strand(2).size(), 2u);
 }
 
+// A bevel turns the cut ends under: the tip comes half the bevel in toward the axis, the turn
+// starts where the stretch does, and uncut strands keep their ends.
+TEST(Cut, BevelTurnsTheCutEndsTowardTheAxis) {
+    Hair hair;
+    std::vector<Vec3f> hanging;  // 5 cm behind the axis, from y = 0 down to y = -10, 0.5 cm steps
+    for (int k = 0; k <= 20; ++k)
+        hanging.push_back(Vec3f(0.f, -0.5f * float(k), -5.f));
+    hair.add_strand(hanging);
+    hair.add_strand(hanging);
+    std::vector<uint8_t> was_cut;
+    cut_hair(hair, Vec3f(0, -1, 0), 8.f, nullptr, nullptr, &was_cut);  // both end at y = -8
+    ASSERT_EQ(was_cut, (std::vector<uint8_t>{1, 1}));
+    was_cut[1] = 0;
+    const Hair before = hair;
+    bevel_ends(hair, was_cut, 3.f, Vec3f::Zero());
+    const auto s = hair.strand(0);
+    EXPECT_NEAR(s.back().z(), -5.f + 1.5f, 1e-4f);  // half the bevel, toward the axis
+    EXPECT_NEAR(s.back().x(), 0.f, 1e-6f);
+    EXPECT_NEAR(s.back().y(), -8.f, 1e-6f);
+    for (size_t k = 0; k < s.size(); ++k) {
+        if (s[k].y() > -8.f + 3.f) {
+            EXPECT_EQ(s[k], before.strand(0)[k]) << k;  // above the last 3 cm
+        }
+        EXPECT_LE(s[k].z(), s.back().z() + 1e-6f) << "the turn grows toward the tip";
+    }
+    for (size_t k = 0; k < hair.strand(1).size(); ++k)
+        EXPECT_EQ(hair.strand(1)[k], before.strand(1)[k]);
+}
+
 }  // namespace wisp
