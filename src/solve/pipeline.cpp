@@ -593,6 +593,14 @@ MembersResult members_stage(const Style& style, const Head& head, const HeadFiel
     const float offset = style.cut.head_relative
                              ? normal.dot(frame.center) + style.cut.offset * frame.radius
                              : style.cut.offset;
+    // Out of the head first, then the cut: cut first, a tip the plane leaves inside the jaw
+    // would be pushed down its underside, hanging below the cut line down the neck. The
+    // push's time counts toward the cut's.
+    std::vector<uint8_t> near;
+    // Bevelled ends move in by up to half the bevel.
+    near_head(style, roots, head_field, masters, clump_reach(style, *head.scalp, roots), 0, n, near,
+              0.5f * style.cut.bevel);
+    r.points_pushed = push_out_of_head(r.hair, head_field, kClearance, &near, n);
     std::vector<float> offsets;  // per strand: where the plane cuts it (NaN: not at all)
     if (style.cut.region == CutSpec::Region::kFringe || style.cut.texture > 0.f)
         offsets = cut_offsets(style, *head.scalp, frame.radius, r.hair, offset);
@@ -601,11 +609,8 @@ MembersResult members_stage(const Style& style, const Head& head, const HeadFiel
                              offsets.empty() ? nullptr : &offsets, &was_cut);
     bevel_ends(r.hair, was_cut, style.cut.bevel, frame.center);
     lap("cut");
-    std::vector<uint8_t> near;
-    // Bevelled ends move in by up to half the bevel.
-    near_head(style, roots, head_field, masters, clump_reach(style, *head.scalp, roots), 0, n, near,
-              0.5f * style.cut.bevel);
-    r.points_pushed =
+    // Again for the new tips and the bevelled ends.
+    r.points_pushed +=
         push_out_of_head(r.hair, head_field, kClearance, &near, n, &r.points_inside_head);
     lap("collide");
     cancel.progress(1, 1);

@@ -406,9 +406,13 @@ void expect_bob_line(const Head& head) {
     ASSERT_GT(back_tips.size(), 100u) << on;
     ASSERT_GT(side_tips.size(), 100u) << on;
     // Nothing hangs past the plane but the point-cut texture (up to 4/3 of it) and the bevel's
-    // turn (half the bevel, horizontal); a strand the jaw pushes down after the cut may, rarely.
-    const float turn = 0.5f * style.cut.bevel * std::hypot(normal.x(), normal.z());
-    EXPECT_LE(quantile(past, 0.99f), style.cut.texture * 4.f / 3.f + turn + 0.05f) << on;
+    // turn (half the bevel, horizontal); an end pushed off the skin after the cut may, a
+    // little: hair is moved out of the head before it is cut, so no end inside the jaw is
+    // pushed down its underside, under the cut line.
+    const float allowed = style.cut.texture * 4.f / 3.f +
+                          0.5f * style.cut.bevel * std::hypot(normal.x(), normal.z()) + 0.05f;
+    EXPECT_LE(quantile(past, 0.99f), allowed) << on;
+    EXPECT_LE(quantile(past, 1.f), allowed + 0.5f) << on;
     // Above the shoulders.
     if (std::isfinite(body.shoulder_top)) {
         EXPECT_GT(lowest, body.shoulder_top) << on;
