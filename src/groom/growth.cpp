@@ -94,11 +94,10 @@ Vec3f growth_direction(const GrowthSpec& spec, const Vec3f& r) {
                             : sides;
     // Hair combed back runs back over all of the top ahead of the whorl, or it would meet
     // the whorl's forward growth in a seam that reads as a parting.
-    const float front_reach =
-        spec.front == GrowthSpec::Front::kBack
-            ? std::max(smoothstep(0.2f, 0.65f, r.z()),
-                       smoothstep(-0.3f, 0.1f, r.z()) * smoothstep(0.15f, 0.45f, from_whorl))
-            : smoothstep(0.2f, 0.65f, r.z());
+    float front_reach = smoothstep(0.2f, 0.65f, r.z());
+    if (spec.front == GrowthSpec::Front::kBack)
+        front_reach = std::max(
+            front_reach, smoothstep(-0.3f, 0.1f, r.z()) * smoothstep(0.15f, 0.45f, from_whorl));
     d = lerp(d, front, front_reach);
     // A fringe grows forward over the forehead, fanning out a little toward the temples.
     if (spec.front == GrowthSpec::Front::kFringe)

@@ -28,9 +28,10 @@ namespace wisp {
 //   part        1 along the style's parting ([growth] part), falling to 0 about 1.3 cm to
 //               either side of it; 0 everywhere with no part (the lift along the part)
 //   crown-part  the larger of crown and part: blow-dried lift at the crown and along the part
-//   tapered     a crop: nape-short's fall toward the nape (to 0.35), and 0 around the ears
-//               (within about a fifth of the head's height of them, rising to 1 by two fifths;
-//               the ears where the head's landmarks place them, else under the map's sides)
+//   tapered     a barber's taper: longest on top toward the front, falling down the back
+//               (to 0.15 at the nape) and the sides (to 0.25), and 0 around the ears (within
+//               about a fifth of the head's height of them, rising to 1 by half; the ears
+//               where the head's landmarks place them, else under the map's sides)
 // Constraint groups select a named region's roots where its map is above 0.5.
 const std::vector<std::string>& procedural_map_names();
 

@@ -118,6 +118,23 @@ class DepthGrid {
     std::vector<int32_t> face_;
 };
 
+// The cells of `view` where the head's surface is seen at a point `in_window` accepts, and of
+// those the ones hair covers.
+template <class Window>
+Coverage window_coverage(const Hair& hair, const Mesh& head, const OrthoView& view,
+                         float width_scale, Window in_window) {
+    const DepthGrid grid(head, view);
+    std::vector<uint8_t> covered;
+    grid.mark_hair(hair, width_scale, covered);
+    Coverage c;
+    for (size_t i = 0; i < grid.size(); ++i) {
+        if (grid.face(i) < 0 || !in_window(grid.point(i))) continue;
+        ++c.cells;
+        c.covered += covered[i];
+    }
+    return c;
+}
+
 }  // namespace
 
 OrthoView ortho_view(const std::string& name, float cell) {
@@ -147,35 +164,16 @@ OrthoView ortho_view(const std::string& name, float cell) {
 
 Coverage face_coverage(const Hair& hair, const Mesh& head, float eye_y, float chin_y,
                        float half_width, float cell, float width_scale) {
-    OrthoView view = ortho_view("front", cell);
-    const DepthGrid grid(head, view);
-    std::vector<uint8_t> covered;
-    grid.mark_hair(hair, width_scale, covered);
-    Coverage c;
-    for (size_t i = 0; i < grid.size(); ++i) {
-        if (grid.face(i) < 0) continue;
-        const Vec3f p = grid.point(i);
-        if (std::abs(p.x()) > half_width || p.y() > eye_y || p.y() < chin_y) continue;
-        ++c.cells;
-        c.covered += covered[i];
-    }
-    return c;
+    return window_coverage(hair, head, ortho_view("front", cell), width_scale, [&](const Vec3f& p) {
+        return std::abs(p.x()) <= half_width && p.y() <= eye_y && p.y() >= chin_y;
+    });
 }
 
 Coverage profile_coverage(const Hair& hair, const Mesh& head, const std::string& side, float eye_y,
                           float chin_y, float eye_z, float cell, float width_scale) {
-    const DepthGrid grid(head, ortho_view(side, cell));
-    std::vector<uint8_t> covered;
-    grid.mark_hair(hair, width_scale, covered);
-    Coverage c;
-    for (size_t i = 0; i < grid.size(); ++i) {
-        if (grid.face(i) < 0) continue;
-        const Vec3f p = grid.point(i);
-        if (p.z() < eye_z || p.y() > eye_y || p.y() < chin_y) continue;
-        ++c.cells;
-        c.covered += covered[i];
-    }
-    return c;
+    return window_coverage(hair, head, ortho_view(side, cell), width_scale, [&](const Vec3f& p) {
+        return p.z() >= eye_z && p.y() <= eye_y && p.y() >= chin_y;
+    });
 }
 
 Coverage scalp_coverage(const Hair& hair, const Scalp& scalp, const OrthoView& view,

@@ -594,13 +594,13 @@ MembersResult members_stage(const Style& style, const Head& head, const HeadFiel
                              ? normal.dot(frame.center) + style.cut.offset * frame.radius
                              : style.cut.offset;
     // Out of the head first, then the cut: cut first, a tip the plane leaves inside the jaw
-    // would be pushed down its underside, hanging below the cut line down the neck. The
-    // push's time counts toward the cut's.
+    // would be pushed down its underside, hanging below the cut line down the neck.
     std::vector<uint8_t> near;
     // Bevelled ends move in by up to half the bevel.
     near_head(style, roots, head_field, masters, clump_reach(style, *head.scalp, roots), 0, n, near,
               0.5f * style.cut.bevel);
     r.points_pushed = push_out_of_head(r.hair, head_field, kClearance, &near, n);
+    lap("collide");
     std::vector<float> offsets;  // per strand: where the plane cuts it (NaN: not at all)
     if (style.cut.region == CutSpec::Region::kFringe || style.cut.texture > 0.f)
         offsets = cut_offsets(style, *head.scalp, frame.radius, r.hair, offset);
@@ -608,11 +608,10 @@ MembersResult members_stage(const Style& style, const Head& head, const HeadFiel
     r.strands_cut = cut_hair(r.hair, normal, offset, &r.strands_removed,
                              offsets.empty() ? nullptr : &offsets, &was_cut);
     bevel_ends(r.hair, was_cut, style.cut.bevel, frame.center);
-    lap("cut");
-    // Again for the new tips and the bevelled ends.
+    // Again for the new tips and the bevelled ends (the rest are out already: quick).
     r.points_pushed +=
         push_out_of_head(r.hair, head_field, kClearance, &near, n, &r.points_inside_head);
-    lap("collide");
+    lap("cut");
     cancel.progress(1, 1);
     return r;
 }
