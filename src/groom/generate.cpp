@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "core/error.hpp"
+#include "core/noise.hpp"
 #include "core/parallel.hpp"
 #include "groom/color.hpp"
 #include "groom/distribution.hpp"
@@ -147,6 +148,7 @@ void synthesize_master_details(const Style& style, const MasterPrototype& protot
             const float amplitude =
                 1.f + style.prototype.amplitude_variation * wave.uniform(-1.f, 1.f);
             const float rate = 1.f + style.prototype.period_variation * wave.uniform(-1.f, 1.f);
+            const float own_phase = wave.uniform();
             SynthesisParams sp;
             sp.window = h;
             sp.substeps = prototype.straight
@@ -159,12 +161,37 @@ void synthesize_master_details(const Style& style, const MasterPrototype& protot
             decompose(prototype.curve, rate * m.segment[w] / sp.substeps, proto, work);
             std::span<Vec3f> details(m.details.data() + w * n, static_cast<size_t>(n));
             sp.scale = synthesis_scale(proto, h);
+            const float coherence = style.prototype.coherence;
+            if (coherence > 0.f && !prototype.straight) {
+                // A phase in periods: the shared field's (spanning about two periods over the
+                // head, so patches differ) mixed with this master's own.
+                const float field =
+                    value_noise(mix64(style.seed ^ 0x5AFE'C0DE'0000'0001ull),
+                                m.roots[w].position / style.prototype.coherence_size);
+                // Hair falls from its root, so a root placed higher reaches a given height
+                // further along: taking its height off the phase puts neighbours' crests at
+                // the same height, as waves set on a head are seen.
+                const float fall = -m.roots[w].position.y() / style.prototype.period;
+                float phase = coherence * (2.f * field + fall) + (1.f - coherence) * own_phase;
+                phase -= std::floor(phase);
+                const float samples_per_period = style.prototype.period *
+                                                 static_cast<float>(sp.substeps) /
+                                                 (rate * m.segment[w]);
+                sp.start = static_cast<int>(std::lround(phase * samples_per_period));
+            }
             Rng srng(style.seed, Stream::kMaster, w);
             synthesize_details(proto, sp, srng, details, {}, scratch);
             // The root stays on the scalp: details are relative to the first one.
             const Vec3f d0 = details[0];
-            for (Vec3f& d : details)
-                d = amplitude * (d - d0);
+            const float onset = style.prototype.onset;
+            for (int k = 0; k < n; ++k) {
+                float grow = 1.f;
+                if (onset > 0.f) {
+                    const float t = std::min(static_cast<float>(k) * m.segment[w] / onset, 1.f);
+                    grow = t * t * (3.f - 2.f * t);
+                }
+                details[k] = grow * amplitude * (details[k] - d0);
+            }
             if (update_frames) update_master(m, w);
         },
         8);

@@ -81,6 +81,13 @@ struct PrototypeSpec {
     // guide's to its clump). Both in [0, 0.9].
     float amplitude_variation = 0.f;
     float period_variation = 0.f;
+    // Neighbouring locks wave in step as real waves set: each master's phase is drawn from a
+    // smooth field over the scalp that varies over `coherence_size` cm, mixed with its own
+    // random phase by 1 − coherence (0: every master its own random phase, as the paper).
+    float coherence = 0.f;       // in [0, 1]
+    float coherence_size = 8.f;  // cm, > 0
+    float onset = 0.f;           // cm: the details grow from none at the root to full over
+                                 // this much of the strand, ≥ 0 (0: full from the root)
 };
 
 // The wisp parameters of §2.1.

@@ -229,7 +229,9 @@ void synthesize_details(std::span<const Vec3f> proto, const SynthesisParams& par
     float* previous = scratch.energy_next.data();
     Vec3f* const chain = scratch.chain.data();
 
-    const size_t start = rng.below(static_cast<uint32_t>(m - span));
+    const size_t start = params.start >= 0
+                             ? std::min(static_cast<size_t>(params.start), m - span - 1)
+                             : rng.below(static_cast<uint32_t>(m - span));
     for (size_t i = 0; i < std::min(h, n); ++i) {
         out[i] = chain[i] = proto[start + i * s];
         if (!chosen.empty()) chosen[i] = static_cast<int32_t>(start + i * s);

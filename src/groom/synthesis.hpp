@@ -16,6 +16,8 @@ struct SynthesisParams {
     float temperature = 0.f;  // T of eq. (4); 0 selects the argmin of eq. (3)
     float scale = 1.f;        // ε is divided by this (see synthesis_scale) so that T is
                               // dimensionless, as in Fig. 7
+    int start = -1;           // the chain's first sample in the prototype (clamped to where a
+                              // window fits); −1: a random one
 };
 
 // The scale that makes T dimensionless for a prototype's details: 1.5·√h times their RMS
@@ -47,9 +49,9 @@ struct SynthesisScratch {
 };
 
 // Synthesizes out.size() details from the prototype details `proto`, sampled at 1/s of the
-// output spacing (#m > h·s). The first h are copied, s apart, from a random place of the
-// prototype (the chain's start); every further step draws a δ*_k with probability
-// P_k ∝ exp(−ε(ω_i, ω*_k) / T) (eq. (4)) over all k with a full window, or the first
+// output spacing (#m > h·s). The first h are copied, s apart, from the prototype at
+// params.start or a random place (the chain's start); every further step draws a δ*_k with
+// probability P_k ∝ exp(−ε(ω_i, ω*_k) / T) (eq. (4)) over all k with a full window, or the first
 // minimizer of ε when T = 0 (eq. (3)). Candidates lie s apart in the prototype's own
 // sampling, so continuing the prototype means k + s and a slip of one sample is a fraction
 // of a step: rising T makes the waves wander smoothly rather than jump a whole sample.

@@ -274,3 +274,114 @@ TEST(Waves, EachWispWavesWithItsOwnPhaseAndAmplitude) {
 }
 
 }  // namespace wisp
+
+namespace wisp {
+namespace {
+
+// Each master's wave phase (radians, from the fit at the prototype's period along its main
+// detail axis, the normal with no roll) and the RMS of its details before and after `split` cm.
+struct WavePhases {
+    std::vector<double> phase, before, after;
+};
+WavePhases wave_phases(const Style& style, const Masters& m, float split) {
+    WavePhases r;
+    const size_t n = static_cast<size_t>(m.points);
+    for (size_t w = 0; w < m.count(); ++w) {
+        const Vec3f* d = m.details.data() + w * n;
+        std::complex<double> fit(0.0, 0.0);
+        double b = 0, a = 0;
+        int nb = 0, na = 0;
+        for (size_t k = 0; k < n; ++k) {
+            const double s = static_cast<double>(k) * m.segment[w];
+            fit += static_cast<double>(d[k].y()) *
+                   std::polar(1.0, 2.0 * 3.14159265 * s / style.prototype.period);
+            const double sq = d[k].squaredNorm();
+            if (s < split)
+                b += sq, ++nb;
+            else
+                a += sq, ++na;
+        }
+        r.phase.push_back(std::arg(fit));
+        r.before.push_back(nb ? std::sqrt(b / nb) : 0.0);
+        r.after.push_back(na ? std::sqrt(a / na) : 0.0);
+    }
+    return r;
+}
+
+Style wave_style() {
+    Style style;
+    style.wisps = 800;
+    style.strands = 4000;
+    style.points_per_strand = 61;  // 0.5 cm segments: 8 a period
+    style.seed = 5;
+    style.length = ScalarMap{ScalarMap::Kind::kConstant, 30.f};
+    style.prototype.kind = PrototypeSpec::Kind::kWavy;
+    style.prototype.period = 4.f;
+    style.prototype.amplitude = 0.8f;
+    style.prototype.window = 6;
+    style.prototype.roll = 0.f;
+    return style;
+}
+
+// How alike the phases of neighbouring masters are: the mean cosine of their difference over
+// pairs whose roots lie within 1.5 cm of each other at nearly one height (the coherent phase
+// also follows the root's height, so crests meet at one height once the hair falls).
+double neighbour_agreement(const Masters& m, const WavePhases& p) {
+    double sum = 0.0;
+    int pairs = 0;
+    for (size_t a = 0; a < m.count(); ++a)
+        for (size_t b = a + 1; b < m.count(); ++b) {
+            const Vec3f d = m.roots[a].position - m.roots[b].position;
+            if (d.norm() < 1.5f && std::abs(d.y()) < 0.25f) {
+                sum += std::cos(p.phase[a] - p.phase[b]);
+                ++pairs;
+            }
+        }
+    EXPECT_GT(pairs, 50);
+    return pairs ? sum / pairs : 0.0;
+}
+
+}  // namespace
+
+// With coherence, neighbouring locks wave in step (their phases agree), while the paper's own
+// synthesis gives each its own; over the head the phases still spread around the circle.
+TEST(Waves, CoherentLocksWaveInStepWithTheirNeighbours) {
+    Style style = wave_style();
+    const Roots roots = grow_roots(style, builtin());
+    const Masters own = synthesize_masters(style, builtin(), roots);
+    const double apart = neighbour_agreement(own, wave_phases(style, own, 0.f));
+    style.prototype.coherence = 1.f;
+    style.prototype.coherence_size = 8.f;
+    const Masters shared = synthesize_masters(style, builtin(), roots);
+    const WavePhases p = wave_phases(style, shared, 0.f);
+    const double together = neighbour_agreement(shared, p);
+    EXPECT_LT(apart, 0.3) << "without coherence, neighbours keep their own phases";
+    EXPECT_GT(together, 0.7) << "with coherence, neighbours wave in step";
+    std::complex<double> sum(0.0, 0.0);
+    for (const double a : p.phase)
+        sum += std::polar(1.0, a);
+    EXPECT_LT(std::abs(sum) / static_cast<double>(p.phase.size()), 0.5)
+        << "not one phase over the whole head";
+}
+
+// The onset ramps the waves in from the root: smooth at the scalp, full further down.
+TEST(Waves, OnsetGrowsTheWavesFromTheRoot) {
+    Style style = wave_style();
+    style.prototype.onset = 8.f;
+    const Roots roots = grow_roots(style, builtin());
+    const Masters m = synthesize_masters(style, builtin(), roots);
+    const WavePhases p = wave_phases(style, m, 3.f);
+    double before = 0, after = 0;
+    for (size_t w = 0; w < p.before.size(); ++w)
+        before += p.before[w], after += p.after[w];
+    EXPECT_LT(before, 0.25 * after) << "the first 3 cm of an 8 cm onset hardly wave";
+    style.prototype.onset = 0.f;
+    const Masters full = synthesize_masters(style, builtin(), roots);
+    const WavePhases q = wave_phases(style, full, 3.f);
+    double full_before = 0;
+    for (const double b : q.before)
+        full_before += b;
+    EXPECT_GT(full_before, 3.0 * before) << "without an onset the waves start at the root";
+}
+
+}  // namespace wisp
