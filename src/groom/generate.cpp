@@ -96,9 +96,14 @@ Masters master_outlines(const Style& style, const Head& head, const Roots& roots
             const Vec3f growth = growth_field(scalp_direction(scalp, root.position));
             const Vec3f dir = protrusion_direction(root, growth, protrusion);
             m.direction[w] = dir;
-            // Details turn with the head: the normal starts horizontal, around the head.
-            Vec3f around = Vec3f::UnitY().cross(root.position - scalp.center());
-            Frame f = frame_from(dir, around.norm() > 1e-4f ? around : Vec3f::UnitX());
+            // Details turn with the head: the normal starts along the scalp, across the strand,
+            // so waves sway over the head rather than in and out of it (where a strand leaves
+            // the top sideways, a horizontal normal would lie along it and leave the wave
+            // standing up off the scalp). A strand leaving straight out takes the horizontal
+            // around the head instead.
+            Vec3f across = root.normal.cross(dir);
+            if (across.norm() < 0.2f) across = Vec3f::UnitY().cross(root.position - scalp.center());
+            Frame f = frame_from(dir, across.norm() > 1e-4f ? across : Vec3f::UnitX());
             Rng rng(style.seed, Stream::kRoll, w);
             const float roll = rng.uniform(-style.prototype.roll, style.prototype.roll);
             const Eigen::AngleAxisf spin(roll, dir);
