@@ -95,7 +95,9 @@ Vec3f grown(const HeadFrame& head, const GrowthField& growth, const Vec3f& p) {
         const float face = smoothstep(0.1f, 0.4f, q.z()) * smoothstep(top, full, q.y()) *
                            smoothstep(-1.9f, -1.4f, q.y()) *
                            (1.f - smoothstep(0.55f, 0.9f, std::abs(q.x())));
-        phi += (1.5f * face * std::clamp(x / 0.03f, -1.f, 1.f)) * Vec3f::UnitX();
+        // Held up while it crosses: hair swept from the part over the forehead travels along
+        // the hairline and falls at the temple, not diagonally across the eyes.
+        phi += face * Vec3f(1.5f * std::clamp(x / 0.03f, -1.f, 1.f), 0.8f, 0.f);
     }
     // Beside the face, from the temples to the jaw, hair that frames it lies back along the
     // cheek rather than standing forward of it: carried back the further forward it is, so the
