@@ -37,7 +37,7 @@ struct GrowthSpec {
     // seen from above: +1 clockwise (most people), −1 counter-clockwise.
     Vec3f whorl = Vec3f(0.f, 0.93f, -0.37f);
     float whorl_turn = 1.f;
-    float whorl_swirl = 0.6f;  // how strongly hair turns about the whorl near it, in [0, 2]
+    float whorl_swirl = 1.5f;  // how strongly hair turns about the whorl near it, in [0, 2]
     // A growth-direction map (empty: none): an image in scalp UV (the top view of the head,
     // face up, as the scalar maps) whose red and green give the direction hair grows in that
     // view, 2·(R, G) − 1 toward the image's right and top. Neutral grey (0.5, 0.5, within 0.025)
