@@ -190,11 +190,9 @@ void synthesize_master_details(const Style& style, const MasterPrototype& protot
             const Vec3f d0 = details[0];
             const float onset = style.prototype.onset;
             for (int k = 0; k < n; ++k) {
-                float grow = 1.f;
-                if (onset > 0.f) {
-                    const float t = std::min(static_cast<float>(k) * m.segment[w] / onset, 1.f);
-                    grow = t * t * (3.f - 2.f * t);
-                }
+                const float grow =
+                    onset > 0.f ? smoothstep(0.f, onset, static_cast<float>(k) * m.segment[w])
+                                : 1.f;
                 details[k] = grow * amplitude * (details[k] - d0);
             }
             if (update_frames) update_master(m, w);

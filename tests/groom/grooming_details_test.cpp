@@ -273,9 +273,6 @@ TEST(Waves, EachWispWavesWithItsOwnPhaseAndAmplitude) {
     EXPECT_GT(varied_spread, 1.8);
 }
 
-}  // namespace wisp
-
-namespace wisp {
 namespace {
 
 // Each master's wave phase (radians, from the fit at the prototype's period along its main
