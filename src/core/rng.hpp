@@ -35,14 +35,21 @@ enum class Stream : uint64_t {
     kWave = 12,
     kHairline = 13,
     kFlyaway = 14,
+    kWaveField = 15,  // the value-noise field that sets waves in step over the scalp
 };
+
+// A 64-bit seed for the stream (seed, domain, id): for fields drawn by hashing rather than
+// by an Rng's sequence (core/noise.hpp).
+inline constexpr uint64_t stream_seed(uint64_t seed, Stream domain, uint64_t id = 0) {
+    return mix64(seed ^ mix64(static_cast<uint64_t>(domain) * 0x632BE59BD9B4E019ull ^
+                              mix64(id + 0x1234567ull)));
+}
 
 // xoshiro256** seeded through SplitMix64 from (seed, domain, id).
 class Rng {
   public:
     explicit Rng(uint64_t seed, Stream domain = Stream::kMisc, uint64_t id = 0) {
-        uint64_t x = mix64(seed ^ mix64(static_cast<uint64_t>(domain) * 0x632BE59BD9B4E019ull ^
-                                        mix64(id + 0x1234567ull)));
+        uint64_t x = stream_seed(seed, domain, id);
         for (auto& s : s_) {
             x = mix64(x);
             s = x;

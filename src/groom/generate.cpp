@@ -171,7 +171,7 @@ void synthesize_master_details(const Style& style, const MasterPrototype& protot
                 // A phase in periods: the shared field's (spanning about two periods over the
                 // head, so patches differ) mixed with this master's own.
                 const float field =
-                    value_noise(mix64(style.seed ^ 0x5AFE'C0DE'0000'0001ull),
+                    value_noise(stream_seed(style.seed, Stream::kWaveField),
                                 m.roots[w].position / style.prototype.coherence_size);
                 // Hair falls from its root, so a root placed higher reaches a given height
                 // further along: taking its height off the phase puts neighbours' crests at
