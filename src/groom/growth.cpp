@@ -38,6 +38,13 @@ float part_end(const GrowthSpec& spec) {
     return kPartStart + spec.part_length * (over_the_top(w) - kPartStart);
 }
 
+// Where along its run (the angle over the top) the part closes: gradually over its last
+// third, so that it runs out in the hair short of the whorl rather than meeting it in a
+// second parting.
+float part_closing(const GrowthSpec& spec) {
+    return kPartStart + 0.65f * (part_end(spec) - kPartStart);
+}
+
 }  // namespace
 
 float fringe_sector(const Vec3f& r) {
@@ -58,9 +65,9 @@ bool on_part(const GrowthSpec& spec, const Vec3f& r, float half_width) {
 float part_nearness(const GrowthSpec& spec, const Vec3f& r, float reach) {
     if (spec.part == GrowthSpec::Part::kNone || !(reach > 0.f)) return 0.f;
     const float a = over_the_top(r);
-    // Fades in over the front hairline's first few degrees and out where the part ends.
+    // Fades in over the front hairline's first few degrees and out as the part closes.
     const float along = smoothstep(kPartStart - 0.15f, kPartStart + 0.05f, a) *
-                        (1.f - smoothstep(part_end(spec) - 0.1f, part_end(spec), a));
+                        (1.f - smoothstep(part_closing(spec), part_end(spec), a));
     return along * (1.f - smoothstep(0.f, reach, std::abs(r.x() - part_x(spec))));
 }
 
@@ -79,9 +86,9 @@ Vec3f growth_direction(const GrowthSpec& spec, const Vec3f& r) {
     const float sigma = std::clamp((r.x() - part_x(spec)) / 0.08f, -1.f, 1.f);
     // The part: on top of the head ahead of the whorl, hair runs away from the part line.
     if (spec.part != GrowthSpec::Part::kNone) {
-        const float a = over_the_top(r), end = part_end(spec);
+        const float a = over_the_top(r);
         const float p = smoothstep(kPartStart - 0.3f, kPartStart, a) *
-                        (1.f - smoothstep(end - 0.1f, end + 0.2f, a)) *
+                        (1.f - smoothstep(part_closing(spec), part_end(spec) + 0.2f, a)) *
                         smoothstep(0.15f, 0.45f, from_whorl);
         d = lerp(d, Vec3f(sigma, 0.f, -0.25f), p);
     }

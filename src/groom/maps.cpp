@@ -77,8 +77,8 @@ float procedural(int which, const Vec2f& uv, const Vec3f& dir, float ear, float 
         }
         case 14:  // part
             return part;
-        case 15:  // crown-part
-            return std::max(1.f - r, part);
+        case 15:  // crown-part: a blow-dry lifts the top, not the sides, where hair lies flat
+            return std::max(1.f - smoothstep(0.15f, 0.7f, r), part);
     }
     return 1.f;
 }

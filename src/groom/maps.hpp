@@ -27,7 +27,8 @@ namespace wisp {
 //   sides       1 above and behind the ears, 0 on top, at the front and at the nape
 //   part        1 along the style's parting ([growth] part), falling to 0 about 1.3 cm to
 //               either side of it; 0 everywhere with no part (the lift along the part)
-//   crown-part  the larger of crown and part: blow-dried lift at the crown and along the part
+//   crown-part  blow-dried lift: 1 on the top of the head (the inner 15% of the map), falling
+//               smoothly to 0 by the upper sides (70%), and along the part (the larger)
 //   tapered     a barber's taper: longest on top toward the front, falling down the back
 //               (to 0.15 at the nape) and the sides (to 0.25), and 0 around the ears (within
 //               about a fifth of the head's height of them, rising to 1 by half; the ears

@@ -458,15 +458,37 @@ SolveStats solve_stage(const Style& style, const Head& head, const HeadField& he
     for (int k = 0; k < n; ++k)
         in.radius_profile[k] =
             deviation_radius(style.wisp.deviation_radius, static_cast<float>(k) / (n - 1)) / r0;
-    // Root lift: the hold that raises the hair `lift` cm at the angle it leaves the scalp
-    // (a nearly flat root would need a long one: at most half the hair).
+    // Root lift, as a blow-dry gives it: the lifted root leaves the scalp steeper (rising by
+    // at least lift / (lift + kLiftBend) along the normal, 30° off the scalp for 1.5 cm) and
+    // is held straight until it stands `lift` cm off the scalp's sphere, where the hair is
+    // let fall. A root left at its flat growth angle would need a long straight run to rise
+    // (5 cm for 1.5 cm on an adult head) and stood out as a ledge.
     if (style.lift.kind != ScalarMap::Kind::kConstant || style.lift.value > 0.f) {
-        const MapSampler lift(style.lift, *head.scalp, style.growth);
+        constexpr float kLiftBend = 1.5f;  // cm
+        const MapSampler lift_map(style.lift, *head.scalp, style.growth);
         in.root_hold.resize(w_count);
         for (size_t w = 0; w < w_count; ++w) {
-            const float rise = std::max(masters.direction[w].dot(masters.roots[w].normal), 0.25f);
+            const SurfacePoint& root = masters.roots[w];
+            const float lift = std::max(lift_map(root), 0.f);
+            in.root_hold[w] = 0.f;
+            if (!(lift > 0.f)) continue;
+            Vec3f& dir = masters.direction[w];
+            float rise = std::clamp(dir.dot(root.normal), -1.f, 1.f);
+            const float steep = lift / (lift + kLiftBend);
+            const Vec3f along = dir - rise * root.normal;
+            if (rise < steep && along.norm() > 1e-4f) {
+                rise = steep;
+                dir = (std::sqrt(1.f - rise * rise) * along.normalized() + rise * root.normal)
+                          .normalized();
+            }
+            // The run of a straight segment leaving a sphere of radius R at this rise that ends
+            // `lift` above it; the hold eases off over its second half, so it holds about 3/4
+            // of its length.
+            const float radius = (root.position - head.scalp->center()).norm();
+            const float rr = radius * std::max(rise, 0.f);
+            const float run = std::sqrt(rr * rr + lift * (2.f * radius + lift)) - rr;
             const float length = masters.segment[w] * static_cast<float>(n - 1);
-            in.root_hold[w] = std::min(std::max(lift(masters.roots[w]), 0.f) / rise, 0.5f * length);
+            in.root_hold[w] = std::min(run / 0.75f, 0.5f * length);
         }
     }
     in.cancel = &cancel;

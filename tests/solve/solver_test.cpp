@@ -91,8 +91,8 @@ TEST(Solver, StifferHairBendsLess) {
 }
 
 TEST(Solver, RootLiftRaisesTheHairOffTheScalpAtItsRootsOnly) {
-    // maps.lift: on top of the head (crown map high), each master rises about `lift` off the
-    // scalp before it falls; low on the sides, where the map is near 0, it lies as without.
+    // maps.lift: on top of the head (crown-part high), each master rises about `lift` off the
+    // scalp before it falls; low on the sides, where the map is 0, it lies as without.
     const HeadField& field = builtin_field();
     const auto rise = [&](const Style& style, bool top) {
         const Masters m = generate_hairstyle(style, builtin(), &field).masters;
@@ -112,7 +112,7 @@ TEST(Solver, RootLiftRaisesTheHairOffTheScalpAtItsRootsOnly) {
     };
     Style flat = small_style(), lifted = small_style();
     lifted.lift.kind = ScalarMap::Kind::kProcedural;
-    lifted.lift.procedural = "crown";
+    lifted.lift.procedural = "crown-part";
     lifted.lift.low = 0.f;
     lifted.lift.high = 2.f;
     const double top_flat = rise(flat, true), top_lifted = rise(lifted, true);
