@@ -221,6 +221,7 @@ struct SolveSpec {
     bool depth_first = false;     // Algorithm 1 is breadth-first; true compares depth-first
     float head_margin = 0.25f;    // cm: head density ramps from 1 at the surface to 0 here
     float friction = 0.3f;        // μ: hair on the skin (slide_direction), ≥ 0
+    float wrap = 0.f;             // cm: hair this near the skin is drawn onto it; 0: none
     float bridge = 1.f;           // cm: creases narrower than twice this lie under the hair
     // Φ: gravity, and the scalp's growth direction over the head (which frames the face).
     std::vector<FieldTerm> field{FieldTerm{}, FieldTerm{FieldTerm::Kind::kGrowth, 1.5f}};

@@ -815,6 +815,16 @@ const std::vector<StyleField>& fields() {
          .doc = "μ of hair on the skin: hair lying on the shoulders, chest or back slides down "
                 "them only where the slope pulls harder than μ times it presses",
          .ref = WISP_REF(solve.friction)},
+        {.path = "solve.wrap",
+         .type = T::kNumber,
+         .stage = S::kSolve,
+         .panel = "solver",
+         .unit = "cm",
+         .lo = 0,
+         .hi = 10,
+         .doc = "shrinkwrap: hair within this distance of the skin is drawn onto it, so hair "
+                "combed over the head follows it in below its widest point; 0: none",
+         .ref = WISP_REF(solve.wrap)},
         {.path = "solve.bridge",
          .type = T::kNumber,
          .stage = S::kSolve,

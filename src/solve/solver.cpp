@@ -348,7 +348,17 @@ class Solver {
             phi = constrained_field(phi, constraint_force(*c, x), c->weight);
             ++counts.constrained;
         }
-        Vec3f q = following ? followed : best_direction(phi, q0, spec_.stiffness);
+        // Shrinkwrap: hair near the skin is pulled in along its normal (only in choosing the
+        // direction: on the skin it slides as without, not held by a harder press).
+        Vec3f drawn = phi;
+        if (!c && spec_.wrap > 0.f) {
+            Vec3f n;
+            const float d = in_.head->sdf(x, &n);
+            const float nn = n.norm();
+            if (d < spec_.wrap && nn > 1e-6f)
+                drawn -= (phi.norm() * (1.f - smoothstep(0.f, spec_.wrap, d)) / nn) * n;
+        }
+        Vec3f q = following ? followed : best_direction(drawn, q0, spec_.stiffness);
         if (!c && !in_.root_hold.empty()) {
             const float hold = in_.root_hold[w];
             const float h = 1.f - smoothstep(0.5f * hold, hold, static_cast<float>(j) * s);

@@ -123,6 +123,43 @@ TEST(Solver, RootLiftRaisesTheHairOffTheScalpAtItsRootsOnly) {
     EXPECT_NEAR(rise(lifted, false), rise(flat, false), 0.5) << "the sides, barely lifted";
 }
 
+TEST(Solver, WrapDrawsHairCombedOverTheHeadOntoIt) {
+    // solve.wrap, a shrinkwrap: stiff 6 cm hair combed down the sides leaves the head in a
+    // straight line below its widest point; drawn onto the skin, its ends lie near it. It
+    // never goes into the skin for that.
+    const HeadField& field = builtin_field();
+    Style loose = small_style();
+    loose.length = ScalarMap{ScalarMap::Kind::kConstant, 6.f};
+    loose.solve.stiffness = 2.f;
+    loose.solve.field = {FieldTerm{}, FieldTerm{FieldTerm::Kind::kGrowth, 2.f}};
+    Style wrapped = loose;
+    wrapped.solve.wrap = 1.5f;
+    const auto gaps = [&](const Style& style, float& deepest) {
+        const Masters m = generate_hairstyle(style, builtin(), &field).masters;
+        const size_t n = static_cast<size_t>(m.points);
+        double sum = 0;
+        size_t count = 0;
+        deepest = INFINITY;
+        for (size_t w = 0; w < m.count(); ++w) {
+            const float up = m.roots[w].normal.y();
+            if (up < 0.f || up > 0.7f) continue;  // the upper sides and back, not the top
+            sum += field.sdf(m.outline[w * n + n - 1]);
+            ++count;
+            for (size_t k = 0; k < n; ++k)
+                deepest = std::min(deepest, field.sdf(m.outline[w * n + k]));
+        }
+        EXPECT_GT(count, 20u);
+        return sum / static_cast<double>(std::max<size_t>(count, 1));
+    };
+    float loose_deepest, wrapped_deepest;
+    const double loose_gap = gaps(loose, loose_deepest),
+                 wrapped_gap = gaps(wrapped, wrapped_deepest);
+    std::printf("ends off the skin: %.2f cm loose, %.2f cm wrapped (deepest point %.2f cm)\n",
+                loose_gap, wrapped_gap, wrapped_deepest);
+    EXPECT_LT(wrapped_gap, 0.6 * loose_gap);
+    EXPECT_GT(wrapped_deepest, std::min(loose_deepest, 0.f) - 0.05f);
+}
+
 TEST(Solver, LowerThresholdGivesMoreVolume) {
     // Fig. 9a/c: τ = 0.1 makes the hair occupy a larger volume than τ = 0.9.
     Style flat = small_style(), full = small_style();
