@@ -87,11 +87,7 @@ Masters master_outlines(const Style& style, const Head& head, const Roots& roots
         [&](size_t w) {
             const SurfacePoint& root = m.roots[w];
             // Roots at the hairline lie low along their growth direction.
-            const float lie =
-                style.hairline.width > 0.f
-                    ? style.hairline.lie * (1.f - smoothstep(0.f, 3.f * style.hairline.width,
-                                                             scalp.edge_distance(root)))
-                    : 0.f;
+            const float lie = hairline_lie(scalp, root, style.hairline.width, style.hairline.lie);
             const float protrusion = protrusion_map(root) * (1.f - lie);
             const Vec3f growth = growth_field(scalp_direction(scalp, root.position));
             const Vec3f dir = protrusion_direction(root, growth, protrusion);

@@ -125,6 +125,11 @@ MapSampler::MapSampler(const ScalarMap& map, const Scalp& scalp, const GrowthSpe
 // ends instead of stopping at a line.
 constexpr float kTempleRamp = 2.5f;
 
+float hairline_lie(const Scalp& scalp, const SurfacePoint& root, float width, float lie) {
+    return width > 0.f ? lie * (1.f - smoothstep(0.f, 3.f * width, scalp.edge_distance(root)))
+                       : 0.f;
+}
+
 float hairline_ramp(const Scalp& scalp, const Vec3f& p, float width) {
     const Vec3f r = scalp_direction(scalp, p);
     const float temple =

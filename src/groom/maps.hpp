@@ -42,6 +42,11 @@ const std::vector<std::string>& procedural_map_names();
 // ends instead of stopping at a line.
 float hairline_ramp(const Scalp& scalp, const Vec3f& p, float width);
 
+// How flat a root at the hairline lies ([hairline] lie, width): `lie` at the scalp's edge,
+// falling to 0 at three times `width` from it; 0 without a ramp. Roots there lie low along
+// their growth direction, neither protruding nor lifted.
+float hairline_lie(const Scalp& scalp, const SurfacePoint& root, float width, float lie);
+
 // A map ready for lookups; image maps are loaded once.
 class MapSampler {
   public:

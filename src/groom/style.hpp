@@ -126,8 +126,8 @@ struct HairlineSpec {
     float baby = 0.3f;        // at the edge, the fraction of strands that are baby hairs, falling
                               // to 0 across the ramp, in [0, 1]
     float baby_length = 2.f;  // cm: a baby hair's length is uniform in [0.4, 1]·this, > 0
-    float lie = 0.7f;         // within three ramp widths of the edge, masters' protrusion is
-                              // scaled down toward (1 − lie) at the edge, in [0, 1]
+    float lie = 0.7f;         // within three ramp widths of the edge, masters' protrusion and
+                              // lift are scaled down toward (1 − lie) at the edge, in [0, 1]
 };
 
 // Flyaways: strands that leave their clump along a short arc near their tips, as real heads

@@ -619,8 +619,8 @@ const std::vector<StyleField>& fields() {
          .panel = "hairline",
          .lo = 0,
          .hi = 1,
-         .doc = "how flat roots lie near the edge: protrusion falls by this fraction at the "
-                "edge, over three ramp widths",
+         .doc = "how flat roots lie near the edge: protrusion and lift fall by this fraction "
+                "at the edge, over three ramp widths",
          .ref = WISP_REF(hairline.lie)},
 
         // [flyaway]

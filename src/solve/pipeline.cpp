@@ -469,7 +469,11 @@ SolveStats solve_stage(const Style& style, const Head& head, const HeadField& he
         in.root_hold.resize(w_count);
         for (size_t w = 0; w < w_count; ++w) {
             const SurfacePoint& root = masters.roots[w];
-            const float lift = std::max(lift_map(root), 0.f);
+            // Not at the hairline, where roots lie low: a lifted root there stands up out of
+            // the face's frame and the hair it holds arcs over the rest as a stray loop.
+            const float lift =
+                std::max(lift_map(root), 0.f) *
+                (1.f - hairline_lie(*head.scalp, root, style.hairline.width, style.hairline.lie));
             in.root_hold[w] = 0.f;
             if (!(lift > 0.f)) continue;
             Vec3f& dir = masters.direction[w];

@@ -123,6 +123,46 @@ TEST(Solver, RootLiftRaisesTheHairOffTheScalpAtItsRootsOnly) {
     EXPECT_NEAR(rise(lifted, false), rise(flat, false), 0.5) << "the sides, barely lifted";
 }
 
+TEST(Solver, RootsAtTheHairlineLieLowUnderALift) {
+    // [hairline] lie holds the lift as it holds the protrusion: a root at the edge of the
+    // scalp, which frames the face, is not stood up by the lift map, or the hair it holds arcs
+    // over the hairline as a loop; a root a few centimetres in is lifted in full.
+    const HeadField& field = builtin_field();
+    const Scalp& scalp = *builtin().scalp;
+    const auto rise = [&](const Style& style, bool edge) {
+        const Masters m = generate_hairstyle(style, builtin(), &field).masters;
+        const size_t n = static_cast<size_t>(m.points);
+        double sum = 0;
+        size_t count = 0;
+        for (size_t w = 0; w < m.count(); ++w) {
+            const float d = scalp.edge_distance(m.roots[w]);
+            if (edge ? d > 0.4f : d < 4.f) continue;
+            float most = 0.f;  // over the first 4 cm of hair
+            for (size_t k = 0; k < n && static_cast<float>(k) * m.segment[w] <= 4.f; ++k)
+                most = std::max(most, field.sdf(m.outline[w * n + k]));
+            sum += most;
+            ++count;
+        }
+        EXPECT_GT(count, 10u);
+        return sum / static_cast<double>(std::max<size_t>(count, 1));
+    };
+    Style flat = small_style();
+    flat.wisps = 1500;  // enough masters within 0.4 cm of the edge
+    flat.length = ScalarMap{ScalarMap::Kind::kConstant, 10.f};
+    flat.hairline.lie = 1.f;
+    Style lying = flat;
+    lying.lift = ScalarMap{ScalarMap::Kind::kConstant, 1.5f};
+    Style standing = lying;
+    standing.hairline.lie = 0.f;
+    const double edge_flat = rise(flat, true), edge_lying = rise(lying, true),
+                 edge_standing = rise(standing, true);
+    std::printf("rise at the hairline: %.2f cm flat, %.2f cm lifted (lie 1), %.2f cm (lie 0)\n",
+                edge_flat, edge_lying, edge_standing);
+    EXPECT_GT(edge_standing, edge_flat + 0.5) << "a lift stands the edge up without lie";
+    EXPECT_LT(edge_lying, edge_flat + 0.5 * (edge_standing - edge_flat));
+    EXPECT_GT(rise(lying, false), rise(flat, false) + 0.5) << "in from the edge, lifted in full";
+}
+
 TEST(Solver, WrapDrawsHairCombedOverTheHeadOntoIt) {
     // solve.wrap, a shrinkwrap: stiff 6 cm hair combed down the sides leaves the head in a
     // straight line below its widest point; drawn onto the skin, its ends lie near it. It
