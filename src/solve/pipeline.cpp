@@ -486,13 +486,15 @@ SolveStats solve_stage(const Style& style, const Head& head, const HeadField& he
                           .normalized();
             }
             // The run of a straight segment leaving a sphere of radius R at this rise that ends
-            // `lift` above it; the hold eases off over its second half, so it holds about 3/4
-            // of its length.
+            // `lift` above it. The hold eases off from the root over twice the run, so it
+            // holds the hair about half of that way and bends it over gradually: eased off
+            // over only its second half, each wisp bent at one knee, and the knees of a lifted
+            // top, evenly spaced, caught the light as rows of scales.
             const float radius = (root.position - head.scalp->center()).norm();
             const float rr = radius * std::max(rise, 0.f);
             const float run = std::sqrt(rr * rr + lift * (2.f * radius + lift)) - rr;
             const float length = masters.segment[w] * static_cast<float>(n - 1);
-            in.root_hold[w] = std::min(run / 0.75f, 0.5f * length);
+            in.root_hold[w] = std::min(run / 0.5f, 0.6f * length);
         }
     }
     in.cancel = &cancel;

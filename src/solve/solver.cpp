@@ -361,7 +361,7 @@ class Solver {
         Vec3f q = following ? followed : best_direction(drawn, q0, spec_.stiffness);
         if (!c && !in_.root_hold.empty()) {
             const float hold = in_.root_hold[w];
-            const float h = 1.f - smoothstep(0.5f * hold, hold, static_cast<float>(j) * s);
+            const float h = 1.f - smoothstep(0.f, hold, static_cast<float>(j) * s);
             if (h > 0.f) q = ((1.f - h) * q + h * q0).normalized();
         }
         if (!following) {

@@ -121,6 +121,31 @@ TEST(Solver, RootLiftRaisesTheHairOffTheScalpAtItsRootsOnly) {
     EXPECT_GT(top_lifted, top_flat + 0.8);
     EXPECT_LT(top_lifted, top_flat + 3.0) << "about the lift, not a spike";
     EXPECT_NEAR(rise(lifted, false), rise(flat, false), 0.5) << "the sides, barely lifted";
+    // It bends over in an arc, not at a knee: the sharpest turn between two segments of a
+    // lifted master on top, over its first 8 cm, is no sharper than a flat one's.
+    const auto knee = [&](const Style& style) {
+        const Masters m = generate_hairstyle(style, builtin(), &field).masters;
+        const size_t n = static_cast<size_t>(m.points);
+        double sum = 0;
+        size_t count = 0;
+        for (size_t w = 0; w < m.count(); ++w) {
+            if (m.roots[w].normal.y() < 0.9f) continue;
+            float sharpest = 0.f;
+            for (size_t k = 1; k + 1 < n && static_cast<float>(k) * m.segment[w] <= 8.f; ++k) {
+                const Vec3f a = m.outline[w * n + k] - m.outline[w * n + k - 1];
+                const Vec3f b = m.outline[w * n + k + 1] - m.outline[w * n + k];
+                sharpest = std::max(
+                    sharpest, std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.f, 1.f)));
+            }
+            sum += sharpest;
+            ++count;
+        }
+        return sum / static_cast<double>(std::max<size_t>(count, 1));
+    };
+    const double knee_flat = knee(flat), knee_lifted = knee(lifted);
+    std::printf("sharpest turn in the first 8 cm on top: %.1f° flat, %.1f° lifted\n",
+                knee_flat * 180 / M_PI, knee_lifted * 180 / M_PI);
+    EXPECT_LT(knee_lifted, 1.2 * knee_flat);
 }
 
 TEST(Solver, RootsAtTheHairlineLieLowUnderALift) {
@@ -151,7 +176,7 @@ TEST(Solver, RootsAtTheHairlineLieLowUnderALift) {
     flat.length = ScalarMap{ScalarMap::Kind::kConstant, 10.f};
     flat.hairline.lie = 1.f;
     Style lying = flat;
-    lying.lift = ScalarMap{ScalarMap::Kind::kConstant, 1.5f};
+    lying.lift = ScalarMap{ScalarMap::Kind::kConstant, 2.f};
     Style standing = lying;
     standing.hairline.lie = 0.f;
     const double edge_flat = rise(flat, true), edge_lying = rise(lying, true),
