@@ -494,7 +494,7 @@ SolveStats solve_stage(const Style& style, const Head& head, const HeadField& he
             const float rr = radius * std::max(rise, 0.f);
             const float run = std::sqrt(rr * rr + lift * (2.f * radius + lift)) - rr;
             const float length = masters.segment[w] * static_cast<float>(n - 1);
-            in.root_hold[w] = std::min(run / 0.5f, 0.6f * length);
+            in.root_hold[w] = std::min(2.f * run, 0.6f * length);
         }
     }
     in.cancel = &cancel;

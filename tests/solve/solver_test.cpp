@@ -57,6 +57,29 @@ double hair_radius(const Masters& m) {
     return sum / std::max<size_t>(count, 1);
 }
 
+// How far the masters `keep` takes (by their root) rise off the skin within their first
+// `reach` cm, on the mean, and how many it took: how much they are lifted.
+struct Rise {
+    double mean;
+    size_t count;
+};
+template <class Keep>
+Rise mean_rise(const Masters& m, float reach, Keep keep) {
+    const HeadField& field = builtin_field();
+    const size_t n = static_cast<size_t>(m.points);
+    double sum = 0;
+    size_t count = 0;
+    for (size_t w = 0; w < m.count(); ++w) {
+        if (!keep(m.roots[w])) continue;
+        float most = 0.f;
+        for (size_t k = 0; k < n && static_cast<float>(k) * m.segment[w] <= reach; ++k)
+            most = std::max(most, field.sdf(m.outline[w * n + k]));
+        sum += most;
+        ++count;
+    }
+    return {sum / static_cast<double>(std::max<size_t>(count, 1)), count};
+}
+
 }  // namespace
 
 TEST(Solver, BestDirectionMaximizesEquationFive) {
@@ -96,19 +119,12 @@ TEST(Solver, RootLiftRaisesTheHairOffTheScalpAtItsRootsOnly) {
     const HeadField& field = builtin_field();
     const auto rise = [&](const Style& style, bool top) {
         const Masters m = generate_hairstyle(style, builtin(), &field).masters;
-        const size_t n = static_cast<size_t>(m.points);
-        double sum = 0;
-        size_t count = 0;
-        for (size_t w = 0; w < m.count(); ++w) {
-            const float up = m.roots[w].normal.y();
-            if (top ? up < 0.9f : std::abs(up) > 0.3f) continue;
-            float most = 0.f;  // over the first 5 cm of hair
-            for (size_t k = 0; k < n && static_cast<float>(k) * m.segment[w] <= 5.f; ++k)
-                most = std::max(most, field.sdf(m.outline[w * n + k]));
-            sum += most;
-            ++count;
-        }
-        return sum / static_cast<double>(std::max<size_t>(count, 1));
+        return mean_rise(m, 5.f,
+                         [&](const SurfacePoint& root) {
+                             const float up = root.normal.y();
+                             return top ? up >= 0.9f : std::abs(up) <= 0.3f;
+                         })
+            .mean;
     };
     Style flat = small_style(), lifted = small_style();
     lifted.lift.kind = ScalarMap::Kind::kProcedural;
@@ -152,24 +168,15 @@ TEST(Solver, RootsAtTheHairlineLieLowUnderALift) {
     // [hairline] lie holds the lift as it holds the protrusion: a root at the edge of the
     // scalp, which frames the face, is not stood up by the lift map, or the hair it holds arcs
     // over the hairline as a loop; a root a few centimetres in is lifted in full.
-    const HeadField& field = builtin_field();
     const Scalp& scalp = *builtin().scalp;
     const auto rise = [&](const Style& style, bool edge) {
-        const Masters m = generate_hairstyle(style, builtin(), &field).masters;
-        const size_t n = static_cast<size_t>(m.points);
-        double sum = 0;
-        size_t count = 0;
-        for (size_t w = 0; w < m.count(); ++w) {
-            const float d = scalp.edge_distance(m.roots[w]);
-            if (edge ? d > 0.4f : d < 4.f) continue;
-            float most = 0.f;  // over the first 4 cm of hair
-            for (size_t k = 0; k < n && static_cast<float>(k) * m.segment[w] <= 4.f; ++k)
-                most = std::max(most, field.sdf(m.outline[w * n + k]));
-            sum += most;
-            ++count;
-        }
-        EXPECT_GT(count, 10u);
-        return sum / static_cast<double>(std::max<size_t>(count, 1));
+        const Masters m = generate_hairstyle(style, builtin(), &builtin_field()).masters;
+        const Rise r = mean_rise(m, 4.f, [&](const SurfacePoint& root) {
+            const float d = scalp.edge_distance(root);
+            return edge ? d <= 0.4f : d >= 4.f;
+        });
+        EXPECT_GT(r.count, 10u);
+        return r.mean;
     };
     Style flat = small_style();
     flat.wisps = 1500;  // enough masters within 0.4 cm of the edge
