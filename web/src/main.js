@@ -23,12 +23,16 @@ function say(text) {
   status.textContent = text;
 }
 
-// The document: autosaved (DOC.autosave.toml beside it) a moment after each edit.
+// The document: autosaved (DOC.autosave.toml beside it) a moment after each edit. An
+// autosave that answers after a Save began does not overwrite what the Save reports.
 let autosaveTimer = null;
+let saves = 0;
 function edited() {
   clearTimeout(autosaveTimer);
   autosaveTimer = setTimeout(async () => {
+    const before = saves;
     const result = await postJson("/api/autosave", {});
+    if (saves !== before) return;
     document.getElementById("saved").textContent = result.ok
       ? `autosaved ${new Date().toTimeString().slice(0, 5)}` : "";
     if (!result.ok) say(result.body.error);
@@ -312,6 +316,7 @@ document.getElementById("paint").onclick = () => setPainting(!painter.active);
 
 // Save, Save as, Open: files of the style's folder only (the server checks the names).
 async function save(name) {
+  ++saves;
   const result = await postJson("/api/save", name ? { name } : {});
   if (!result.ok) return say(result.body.error);
   say("");
