@@ -55,7 +55,10 @@ Vec3f shoulder_section(const HeadFrame& head, const Vec3f& p) {
     const float f = d.dot(head.forward) - head.split;
     const float weight =
         smoothstep(1.f, 1.5f, beside) * smoothstep(1.6f, 0.9f, h) * smoothstep(-1.3f, -0.7f, h);
-    return (0.9f * weight * std::clamp(f / 0.2f, -1.f, 1.f)) * head.forward;
+    // Where hair lands on the shoulders' top, the push is stronger than the skin's friction
+    // holds it back with (μ·g, solve.friction), or it would not divide hair lying there.
+    const float push = 0.9f + 0.7f * smoothstep(0.5f, 0.25f, std::abs(h));
+    return (push * weight * std::clamp(f / 0.2f, -1.f, 1.f)) * head.forward;
 }
 
 // The growth term: the scalp's growth direction at the point of the head's sphere under p,
@@ -81,8 +84,13 @@ Vec3f grown(const HeadFrame& head, const GrowthField& growth, const Vec3f& p) {
     if (q.y() < -0.2f && axis2 < 1.15f * 1.15f && axis2 > 1e-8f && dist2 > 1.15f * 1.15f) {
         const float axis = std::sqrt(axis2);
         const float off_head = smoothstep(1.15f, 1.6f, std::sqrt(dist2));
-        const float curtain =
-            off_head * smoothstep(-0.2f, -0.7f, q.y()) * (1.f - smoothstep(0.8f, 1.15f, axis));
+        // Down to the shoulders: hair that reaches them rests on them, and carried on outward
+        // along their top it would slide out over the arm.
+        const float above = std::isfinite(head.shoulder_top)
+                                ? smoothstep(0.1f, 0.6f, (p.y() - head.shoulder_top) / head.radius)
+                                : 1.f;
+        const float curtain = off_head * above * smoothstep(-0.2f, -0.7f, q.y()) *
+                              (1.f - smoothstep(0.8f, 1.15f, axis));
         phi += (1.5f * curtain / axis) * Vec3f(2.f * q.x(), 0.f, q.z());
     }
     // A fringe may reach the brows; other hair is cleared from above the hairline down, so

@@ -659,10 +659,48 @@ TEST(StylingField, LongHairDividesInFrontOfAndBehindTheShoulders) {
         EXPECT_EQ(field_term(term, frame, growth, far_below),
                   field_term(term, plain, growth, far_below));
     }
-    const Vec3f over_neck(frame.neck.x(), frame.shoulder_top + 0.2f * frame.radius,
+    const Vec3f over_neck(frame.neck.x(), frame.shoulder_top + 0.8f * frame.radius,
                           frame.neck.z() + frame.split + 2.f);
     EXPECT_EQ(field_term(term, frame, growth, over_neck),
               field_term(term, plain, growth, over_neck));
+}
+
+// Hair that reaches the shoulders' top rests there or is divided, never carried on along it:
+// above them, hair beside the neck is carried outward (a curtain as wide as the head), but not
+// on the shoulders' top, where it would slide out over the arm; and there the division's push
+// is more than the skin's friction holds back (μ times the pull into the skin), or hair lying
+// on the top would stay there, to be carried out over the arm by its own stiffness.
+TEST(StylingField, HairOnTheShouldersTopIsNotCarriedOutOverTheArm) {
+    const Head& head = builtin();
+    const HeadFrame frame = head_frame(head);
+    ASSERT_TRUE(std::isfinite(frame.shoulder_top));
+    const GrowthField growth(GrowthSpec{}, *head.scalp);
+    const FieldTerm term{FieldTerm::Kind::kGrowth};
+    const HeadFrame plain = head_frame(*head.scalp);  // no shoulders known
+    const Vec3f side = Vec3f::UnitY().cross(frame.forward);
+    const SolveSpec spec;
+    for (float s : {-1.f, 1.f}) {
+        const Vec3f beside_neck = frame.neck + s * 1.2f * frame.neck_radius * side +
+                                  (frame.shoulder_top - frame.neck.y()) * Vec3f::UnitY() -
+                                  3.f * frame.forward;
+        EXPECT_GT(s * field_term(term, plain, growth, beside_neck).dot(side), 0.5f)
+            << "side " << s << ": the curtain, without shoulders";
+        EXPECT_LT(std::abs(field_term(term, frame, growth, beside_neck).dot(side)), 0.05f)
+            << "side " << s;
+        const Vec3f on_top = frame.neck + s * 2.f * frame.neck_radius * side +
+                             (frame.shoulder_top - frame.neck.y()) * Vec3f::UnitY() +
+                             frame.split * frame.forward;
+        for (float f : {-1.f, 1.f}) {
+            // The default field's Φ (gravity and growth); on the top, the skin faces up. What
+            // friction leaves of the pull along it must outweigh κ·q₀, the stiffness that
+            // carries hair on in the way it arrived (slide_direction).
+            Vec3f phi = Vec3f::Zero();
+            for (const FieldTerm& t : spec.field)
+                phi += t.weight * field_term(t, frame, growth, on_top + f * frame.forward);
+            EXPECT_GT(f * phi.dot(frame.forward) - spec.friction * -phi.y(), spec.stiffness)
+                << "side " << s << ", " << (f > 0 ? "in front" : "behind");
+        }
+    }
 }
 
 TEST(Constraint, ForcesFollowSectionFour) {
