@@ -104,8 +104,15 @@ Vec3f grown(const HeadFrame& head, const GrowthField& growth, const Vec3f& p) {
                            smoothstep(-1.9f, -1.4f, q.y()) *
                            (1.f - smoothstep(0.55f, 0.9f, std::abs(q.x())));
         // Held up while it crosses: hair swept from the part over the forehead travels along
-        // the hairline and falls at the temple, not diagonally across the eyes.
-        phi += face * Vec3f(1.5f * std::clamp(x / 0.03f, -1.f, 1.f), 0.8f, 0.f);
+        // the hairline and falls at the temple, not diagonally across the eyes. Along the head,
+        // not off it: the sideways push has an outward part where the forehead curves back
+        // toward the temples, and the hair it carries, lifted at the part and lying on the
+        // others, left the head in a straight line, a visor 2-4 cm off the forehead.
+        Vec3f across(1.5f * std::clamp(x / 0.03f, -1.f, 1.f), 0.8f, 0.f);
+        const float dist = std::sqrt(dist2);
+        const Vec3f r = q / dist;
+        across -= (std::max(across.dot(r), 0.f) * (1.f - smoothstep(1.15f, 1.6f, dist))) * r;
+        phi += face * across;
     }
     // Beside the face, from the temples to the jaw, hair that frames it lies back along the
     // cheek rather than standing forward of it: carried back the further forward it is, so the

@@ -670,6 +670,33 @@ TEST(StylingField, LongHairDividesInFrontOfAndBehindTheShoulders) {
 // on the shoulders' top, where it would slide out over the arm; and there the division's push
 // is more than the skin's friction holds back (μ times the pull into the skin), or hair lying
 // on the top would stay there, to be carried out over the arm by its own stiffness.
+// Hair swept from a side part over the forehead is carried sideways, away from the part, and
+// held up, so that it falls at the temple and not across the eyes; and along the head, not off
+// it: where the forehead curves back toward the temple, a push straight sideways points out of
+// the head, and hair lying on top of the rest followed it off the forehead as a visor.
+TEST(StylingField, HairSweptOverTheForeheadFollowsTheHead) {
+    const Head& head = builtin();
+    const HeadFrame frame = head_frame(head);
+    GrowthSpec spec;
+    spec.part = GrowthSpec::Part::kSide;
+    spec.part_offset = -0.28f;  // on the character's right, as wavy-bob's
+    const GrowthField growth(spec, *head.scalp);
+    const FieldTerm term{FieldTerm::Kind::kGrowth};
+    const float part = part_x(spec);
+    for (float x : {0.3f, 0.45f, 0.6f}) {
+        for (float y : {0.1f, 0.3f}) {
+            const float side = x > part ? 1.f : -1.f;
+            const Vec3f r = Vec3f(x, y, std::sqrt(1.f - x * x - y * y));
+            const Vec3f p = frame.center + 1.05f * frame.radius * r;
+            const Vec3f phi = field_term(term, frame, growth, p);
+            const std::string at = "at x " + std::to_string(x) + ", y " + std::to_string(y);
+            EXPECT_GT(side * phi.x(), 1.f) << at;  // away from the part
+            EXPECT_GT(phi.y(), 0.f) << at;         // held up
+            EXPECT_LT(phi.dot(r), 0.05f) << at;    // not off the head
+        }
+    }
+}
+
 TEST(StylingField, HairOnTheShouldersTopIsNotCarriedOutOverTheArm) {
     const Head& head = builtin();
     const HeadFrame frame = head_frame(head);
