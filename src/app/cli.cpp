@@ -342,7 +342,7 @@ nlohmann::json coverage_stats(const Hair& hair, const Head& head, const Style& s
     };
     for (const char* view : {"top", "back", "left", "right"}) {
         const Coverage c =
-            scalp_coverage(hair, *head.scalp, ortho_view(view), parting, 1.f, style.hairline.width);
+            scalp_coverage(hair, *head.scalp, ortho_view(view), parting, 1.f, &style.hairline);
         j["scalp_bare"][view] = c.cells ? 1.f - c.fraction() : 0.f;
     }
     return j;

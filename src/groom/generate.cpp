@@ -45,7 +45,7 @@ RootParams root_params(const Style& style) {
 Roots grow_roots(const Style& style, const Head& head, const MeshDistance* scalp_surface,
                  const RootProposals* proposals) {
     MapSampler density(style.density, *head.scalp, style.growth);
-    density.set_edge_ramp(style.hairline.width);
+    density.set_hairline(style.hairline);
     return place_roots(*head.scalp, density, root_params(style), scalp_surface, proposals);
 }
 
@@ -87,7 +87,7 @@ Masters master_outlines(const Style& style, const Head& head, const Roots& roots
         [&](size_t w) {
             const SurfacePoint& root = m.roots[w];
             // Roots at the hairline lie low along their growth direction.
-            const float lie = hairline_lie(scalp, root, style.hairline.width, style.hairline.lie);
+            const float lie = hairline_lie(scalp, root, style.hairline);
             const float protrusion = protrusion_map(root) * (1.f - lie);
             const Vec3f growth = growth_field(scalp_direction(scalp, root.position));
             const Vec3f dir = protrusion_direction(root, growth, protrusion);
@@ -254,10 +254,11 @@ MemberGrowth::MemberGrowth(const Style& style, const Scalp& scalp, const Roots& 
     for (size_t i = 0; i < s_count; ++i) {
         const uint32_t j = id(i);
         if (hairline_.width > 0.f && hairline_.baby > 0.f) {
-            const float edge = scalp.edge_distance(roots.members[j]);
+            const float edge = hairline_edge(scalp, roots.members[j], hairline_.irregularity);
             if (edge < hairline_.width) {
                 Rng rng(style.seed, Stream::kHairline, j);
-                if (rng.uniform() < hairline_.baby * (1.f - edge / hairline_.width)) {
+                if (rng.uniform() <
+                    hairline_.baby * (1.f - std::max(edge, 0.f) / hairline_.width)) {
                     kind_[i] = kBaby;
                     if (!length_map) length_map.emplace(style.length, scalp, style.growth);
                     const float master = (*length_map)(roots.masters[hair.wisp[i]]);

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "core/noise.hpp"
 #include "groom/growth.hpp"
 
 namespace wisp {
@@ -125,24 +126,52 @@ MapSampler::MapSampler(const ScalarMap& map, const Scalp& scalp, const GrowthSpe
 // ends instead of stopping at a line.
 constexpr float kTempleRamp = 2.5f;
 
-float hairline_lie(const Scalp& scalp, const SurfacePoint& root, float width, float lie) {
-    return width > 0.f ? lie * (1.f - smoothstep(0.f, 3.f * width, scalp.edge_distance(root)))
-                       : 0.f;
+namespace {
+
+// The temples and the sideburns: the sides of the head in front of the ears, 0 … 1.
+float temple_region(const Scalp& scalp, const Vec3f& p) {
+    const Vec3f r = scalp_direction(scalp, p);
+    return smoothstep(0.55f, 0.8f, std::abs(r.x())) * smoothstep(-0.25f, 0.05f, r.z());
+}
+
+// The hairline's noise: fixed, so that it belongs to the head (its positions), not the style.
+constexpr uint64_t kHairlineNoise = 0x6861'6972'6c69'6e65;  // "hairline"
+
+}  // namespace
+
+float hairline_edge(const Scalp& scalp, const Vec3f& p, float edge, float irregularity) {
+    if (!(irregularity > 0.f)) return edge;
+    const float wander = 0.65f * value_noise(kHairlineNoise, p / 1.5f) +
+                         0.35f * value_noise(kHairlineNoise + 1, p / 0.6f) +
+                         0.5f * temple_region(scalp, p);
+    return edge - irregularity * wander;
+}
+
+float hairline_edge(const Scalp& scalp, const SurfacePoint& p, float irregularity) {
+    return hairline_edge(scalp, p.position, scalp.edge_distance(p), irregularity);
+}
+
+float hairline_density(const Scalp& scalp, const Vec3f& p, float edge, const HairlineSpec& spec) {
+    if (edge >= kTempleRamp * spec.width + hairline_wander(spec.irregularity)) return 1.f;
+    const float inside = hairline_edge(scalp, p, edge, spec.irregularity);
+    if (!(spec.width > 0.f)) return inside > 0.f ? 1.f : 0.f;
+    return smoothstep(0.f, hairline_ramp(scalp, p, spec.width), inside);
+}
+
+float hairline_lie(const Scalp& scalp, const SurfacePoint& root, const HairlineSpec& spec) {
+    if (!(spec.width > 0.f)) return 0.f;
+    const float inside = hairline_edge(scalp, root, spec.irregularity);
+    return spec.lie * (1.f - smoothstep(0.f, 3.f * spec.width, inside));
 }
 
 float hairline_ramp(const Scalp& scalp, const Vec3f& p, float width) {
-    const Vec3f r = scalp_direction(scalp, p);
-    const float temple =
-        smoothstep(0.55f, 0.8f, std::abs(r.x())) * smoothstep(-0.25f, 0.05f, r.z());
-    return width * (1.f + (kTempleRamp - 1.f) * temple);
+    return width * (1.f + (kTempleRamp - 1.f) * temple_region(scalp, p));
 }
 
 float MapSampler::operator()(const SurfacePoint& p) const {
     const float v = value(p);
-    if (!(edge_ramp_ > 0.f)) return v;
-    const float edge = scalp_->edge_distance(p);
-    if (edge >= kTempleRamp * edge_ramp_) return v;
-    return v * smoothstep(0.f, hairline_ramp(*scalp_, p.position, edge_ramp_), edge);
+    if (!hairline_) return v;
+    return v * hairline_density(*scalp_, p.position, scalp_->edge_distance(p), *hairline_);
 }
 
 float MapSampler::value(const SurfacePoint& p) const {

@@ -1,6 +1,7 @@
 #pragma once
 // Scalp maps (Choe & Ko §2.3, Fig. 8): density, length and protrusion over the scalp.
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -42,10 +43,27 @@ const std::vector<std::string>& procedural_map_names();
 // ends instead of stopping at a line.
 float hairline_ramp(const Scalp& scalp, const Vec3f& p, float width);
 
-// How flat a root at the hairline lies ([hairline] lie, width): `lie` at the scalp's edge,
-// falling to 0 at three times `width` from it; 0 without a ramp. Roots there lie low along
-// their growth direction, neither protruding nor lifted.
-float hairline_lie(const Scalp& scalp, const SurfacePoint& root, float width, float lie);
+// How far scalp point p lies inside the hairline ([hairline] irregularity), cm: its distance
+// from the scalp's edge (Scalp::edge_distance, `edge`) less how far the line wanders in
+// there: `irregularity` times a smooth noise of p in [0, 1] (two octaves, about 1.5 and 0.6
+// cm across), plus half of it at the temples. The noise is the head's, not the style's: every
+// style on one head has the same hairline. Negative outside the line.
+float hairline_edge(const Scalp& scalp, const Vec3f& p, float edge, float irregularity);
+// The same, at a scalp point.
+float hairline_edge(const Scalp& scalp, const SurfacePoint& p, float irregularity);
+// The most hairline_edge() takes off the edge distance.
+inline float hairline_wander(float irregularity) {
+    return 1.5f * irregularity;
+}
+
+// The hairline's root density at scalp point p (0 … 1): a smooth ramp from 0 at the line to 1
+// hairline_ramp() inside it; without a ramp (width 0), 0 outside the line and 1 inside.
+float hairline_density(const Scalp& scalp, const Vec3f& p, float edge, const HairlineSpec& spec);
+
+// How flat a root at the hairline lies ([hairline] lie, width): `lie` at the line, falling to
+// 0 at three times `width` inside it; 0 without a ramp. Roots there lie low along their
+// growth direction, neither protruding nor lifted.
+float hairline_lie(const Scalp& scalp, const SurfacePoint& root, const HairlineSpec& spec);
 
 // A map ready for lookups; image maps are loaded once.
 class MapSampler {
@@ -55,9 +73,8 @@ class MapSampler {
     MapSampler(const ScalarMap& map, const Scalp& scalp, const GrowthSpec& growth = {});
     // The map's value (in its own units) at a scalp point.
     float operator()(const SurfacePoint& p) const;
-    // Multiplies the map by a smooth ramp from 0 at the scalp's edge to 1 at `width` cm from
-    // it (Scalp::edge_distance), hairline_ramp wide: the hairline's density. 0: no ramp.
-    void set_edge_ramp(float width) { edge_ramp_ = width; }
+    // Multiplies the map by the hairline's density (hairline_density).
+    void set_hairline(const HairlineSpec& spec) { hairline_ = spec; }
 
   private:
     ScalarMap map_;
@@ -65,7 +82,7 @@ class MapSampler {
     GrowthSpec growth_;
     std::shared_ptr<const GrayImage> image_;
     int procedural_ = -1;
-    float edge_ramp_ = 0.f;
+    std::optional<HairlineSpec> hairline_;
     float value(const SurfacePoint& p) const;
 };
 

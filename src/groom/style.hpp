@@ -128,6 +128,9 @@ struct HairlineSpec {
     float baby_length = 2.f;  // cm: a baby hair's length is uniform in [0.4, 1]·this, > 0
     float lie = 0.7f;         // within three ramp widths of the edge, masters' protrusion and
                               // lift are scaled down toward (1 − lie) at the edge, in [0, 1]
+    // cm: how far the line wanders in from the scalp's edge (a noise over about 1.5 cm, and
+    // half as much again at the temples), so it is not a drawn line, ≥ 0 (0: the edge itself)
+    float irregularity = 0.4f;
 };
 
 // Flyaways: strands that leave their clump along a short arc near their tips, as real heads

@@ -622,6 +622,16 @@ const std::vector<StyleField>& fields() {
          .doc = "how flat roots lie near the edge: protrusion and lift fall by this fraction "
                 "at the edge, over three ramp widths",
          .ref = WISP_REF(hairline.lie)},
+        {.path = "hairline.irregularity",
+         .type = T::kNumber,
+         .stage = S::kRoots,
+         .panel = "hairline",
+         .unit = "cm",
+         .lo = 0,
+         .hi = 3,
+         .doc = "how far the hairline wanders in from the scalp's edge, irregularly along it "
+                "and most at the temples (0: the edge itself)",
+         .ref = WISP_REF(hairline.irregularity)},
 
         // [flyaway]
         {.path = "flyaway.fraction",

@@ -178,7 +178,7 @@ Coverage profile_coverage(const Hair& hair, const Mesh& head, const std::string&
 
 Coverage scalp_coverage(const Hair& hair, const Scalp& scalp, const OrthoView& view,
                         const std::function<bool(const Vec3f&)>& exclude, float width_scale,
-                        float hairline) {
+                        const HairlineSpec* hairline) {
     const Mesh& mesh = scalp.mesh();
     std::vector<uint8_t> is_scalp(mesh.faces.size(), 0);
     for (uint32_t f : scalp.faces())
@@ -191,8 +191,10 @@ Coverage scalp_coverage(const Hair& hair, const Scalp& scalp, const OrthoView& v
         const int32_t f = grid.face(i);
         if (f < 0 || !is_scalp[f]) continue;
         if (exclude && exclude(grid.point(i))) continue;
-        if (hairline > 0.f && scalp.edge_distance(static_cast<uint32_t>(f), grid.point(i)) <
-                                  hairline_ramp(scalp, grid.point(i), hairline))
+        if (hairline &&
+            hairline_density(scalp, grid.point(i),
+                             scalp.edge_distance(static_cast<uint32_t>(f), grid.point(i)),
+                             *hairline) < 1.f)
             continue;
         ++c.cells;
         c.covered += covered[i];

@@ -51,12 +51,12 @@ Coverage profile_coverage(const Hair& hair, const Mesh& head, const std::string&
                           float chin_y, float eye_z, float cell = 0.5f, float width_scale = 1.f);
 
 // The scalp seen along `view`: cells whose nearest surface is a scalp face (and whose scalp
-// point `exclude` does not reject, such as points along a parting, and that lies beyond the
-// density ramp of a hairline `hairline` cm wide (hairline_ramp): a soft hairline thins out
-// there by design, [hairline] width), and of those the ones hair covers. bare = cells − covered.
+// point `exclude` does not reject, such as points along a parting, and that lies where the
+// `hairline`'s density is full (hairline_density: a soft, irregular hairline thins out by
+// design), and of those the ones hair covers. bare = cells − covered.
 Coverage scalp_coverage(const Hair& hair, const Scalp& scalp, const OrthoView& view,
                         const std::function<bool(const Vec3f&)>& exclude = {},
-                        float width_scale = 1.f, float hairline = 0.f);
+                        float width_scale = 1.f, const HairlineSpec* hairline = nullptr);
 
 // The face window's landmarks of a head facing +Z: the nose tip, the eye line and the chin,
 // as find_landmarks found them on the head's own mesh (Head::landmarks). Where it found none,

@@ -471,9 +471,8 @@ SolveStats solve_stage(const Style& style, const Head& head, const HeadField& he
             const SurfacePoint& root = masters.roots[w];
             // Not at the hairline, where roots lie low: a lifted root there stands up out of
             // the face's frame and the hair it holds arcs over the rest as a stray loop.
-            const float lift =
-                std::max(lift_map(root), 0.f) *
-                (1.f - hairline_lie(*head.scalp, root, style.hairline.width, style.hairline.lie));
+            const float lift = std::max(lift_map(root), 0.f) *
+                               (1.f - hairline_lie(*head.scalp, root, style.hairline));
             in.root_hold[w] = 0.f;
             if (!(lift > 0.f)) continue;
             Vec3f& dir = masters.direction[w];

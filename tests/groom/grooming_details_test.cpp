@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <map>
 #include <vector>
 
 #include "core/rng.hpp"
@@ -108,6 +109,7 @@ TEST(Hairline, RootDensityRampsUpOverTheWidthFromTheScalpsEdge) {
         style.wisps = 2000;
         style.strands = 200000;
         style.hairline.width = width;
+        style.hairline.irregularity = 0.f;  // the ramp alone, from the edge itself
         const Roots roots = grow_roots(style, builtin());
         // Area in each band, from an area-uniform sample of the scalp, against the density
         // far from the edge, anywhere.
@@ -155,12 +157,79 @@ TEST(Hairline, RootDensityRampsUpOverTheWidthFromTheScalpsEdge) {
     EXPECT_GT(hard[0], 0.85) << "width 0 is a hard edge";
 }
 
+// A hairline is not a drawn line: with `irregularity`, where it starts wanders in from the
+// scalp's edge along it, and furthest at the temples. Measured with a hard edge (width 0), by
+// the nearest root to the edge in each 6° sector round the head's vertical axis.
+TEST(Hairline, TheLineWandersInFromTheScalpsEdgeMostAtTheTemples) {
+    const Scalp& scalp = *builtin().scalp;
+    const Vec3f c = scalp.center();
+    constexpr float kSector = 6.f * kPi / 180.f;
+    struct Line {
+        std::vector<float> depth;             // per sector with roots near the edge
+        float forehead = 0.f, temples = 0.f;  // mean depth there
+        float outside = 0.f;                  // the furthest a root lies outside the line
+    };
+    const auto line = [&](float irregularity) {
+        Style style = base_style();
+        style.wisps = 2000;
+        style.strands = 200000;
+        style.hairline.width = 0.f;
+        style.hairline.irregularity = irregularity;
+        const Roots roots = grow_roots(style, builtin());
+        std::map<int, float> nearest;
+        std::map<int, Vec3f> where;
+        Line l;
+        for (const SurfacePoint& p : roots.members) {
+            l.outside = std::max(l.outside, -hairline_edge(scalp, p, irregularity));
+            const float e = scalp.edge_distance(p);
+            if (e > 3.f) continue;
+            const Vec3f d = p.position - c;
+            // The front hairline and the temples: above the centre, within 60° of the front.
+            const float around = std::atan2(d.x(), d.z());
+            if (d.y() < 0.f || std::abs(around) > 60.f * kPi / 180.f) continue;
+            const int sector = static_cast<int>(std::floor(around / kSector));
+            auto [it, fresh] = nearest.try_emplace(sector, e);
+            if (fresh || e < it->second) {
+                it->second = e;
+                where[sector] = d.normalized();
+            }
+        }
+        std::vector<float> forehead, temples;
+        for (const auto& [sector, e] : nearest) {
+            l.depth.push_back(e);
+            const Vec3f& r = where[sector];
+            if (std::abs(r.x()) < 0.3f && r.z() > 0.5f) forehead.push_back(e);
+            if (std::abs(r.x()) > 0.65f && r.z() > -0.2f) temples.push_back(e);
+        }
+        const auto mean = [](const std::vector<float>& v) {
+            float s = 0.f;
+            for (float x : v)
+                s += x;
+            return v.empty() ? 0.f : s / static_cast<float>(v.size());
+        };
+        l.forehead = mean(forehead);
+        l.temples = mean(temples);
+        return l;
+    };
+    const auto spread = [](const std::vector<float>& v) {
+        return *std::max_element(v.begin(), v.end()) - *std::min_element(v.begin(), v.end());
+    };
+    const Line drawn = line(0.f), wandering = line(0.6f);
+    ASSERT_GT(drawn.depth.size(), 15u);
+    EXPECT_LT(spread(drawn.depth), 0.2f) << "irregularity 0: the roots start at the edge";
+    EXPECT_GT(spread(wandering.depth), 0.4f) << "the line wanders";
+    EXPECT_LE(spread(wandering.depth), 1.5f * 0.6f + 0.2f) << "by no more than 1.5 × it";
+    EXPECT_LT(wandering.outside, 0.01f) << "no root outside the line";
+    EXPECT_GT(wandering.temples, wandering.forehead + 0.1f) << "the temples recede";
+}
+
 TEST(Hairline, BabyHairsAreShortAndOnlyAtTheEdge) {
     Style style = base_style();
     style.flyaway.fraction = 0.f;
     style.hairline.width = 0.8f;
     style.hairline.baby = 0.5f;
     style.hairline.baby_length = 2.f;
+    style.hairline.irregularity = 0.f;  // measured from the edge itself
     const Grown g = grow(style);
     const Scalp& scalp = *builtin().scalp;
     size_t near = 0, near_short = 0;

@@ -130,7 +130,7 @@ Measured measure(const std::string& preset, const Head& head) {
     };
     for (int v = 0; v < 4; ++v) {
         const Coverage c = scalp_coverage(r.hair, *head.scalp, ortho_view(kViews[v]), parting,
-                                          widths, style.hairline.width);
+                                          widths, &style.hairline);
         m.bare[v] = c.cells ? 1.f - c.fraction() : 0.f;
     }
     m.groups = r.solve.groups;

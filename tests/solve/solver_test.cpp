@@ -17,6 +17,7 @@
 #include "geometry/builtin_head.hpp"
 #include "geometry/mesh_distance.hpp"
 #include "groom/generate.hpp"
+#include "groom/maps.hpp"
 #include "solve/pipeline.hpp"
 
 namespace wisp {
@@ -172,7 +173,8 @@ TEST(Solver, RootsAtTheHairlineLieLowUnderALift) {
     const auto rise = [&](const Style& style, bool edge) {
         const Masters m = generate_hairstyle(style, builtin(), &builtin_field()).masters;
         const Rise r = mean_rise(m, 4.f, [&](const SurfacePoint& root) {
-            const float d = scalp.edge_distance(root);
+            // From the hairline, which wanders in from the scalp's edge.
+            const float d = hairline_edge(scalp, root, style.hairline.irregularity);
             return edge ? d <= 0.4f : d >= 4.f;
         });
         EXPECT_GT(r.count, 10u);
@@ -182,6 +184,7 @@ TEST(Solver, RootsAtTheHairlineLieLowUnderALift) {
     flat.wisps = 1500;  // enough masters within 0.4 cm of the edge
     flat.length = ScalarMap{ScalarMap::Kind::kConstant, 10.f};
     flat.hairline.lie = 1.f;
+    flat.hairline.irregularity = 0.f;  // the line at the edge: masters close to it to measure
     Style lying = flat;
     lying.lift = ScalarMap{ScalarMap::Kind::kConstant, 2.f};
     Style standing = lying;
