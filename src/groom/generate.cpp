@@ -254,7 +254,13 @@ MemberGrowth::MemberGrowth(const Style& style, const Scalp& scalp, const Roots& 
     for (size_t i = 0; i < s_count; ++i) {
         const uint32_t j = id(i);
         if (hairline_.width > 0.f && hairline_.baby > 0.f) {
-            const float edge = hairline_edge(scalp, roots.members[j], hairline_.irregularity);
+            // The line's noise only near the edge: most roots are far from it.
+            const SurfacePoint& root = roots.members[j];
+            const float from_edge = scalp.edge_distance(root);
+            const float edge =
+                from_edge < hairline_.width + hairline_wander(hairline_.irregularity)
+                    ? hairline_edge(scalp, root.position, from_edge, hairline_.irregularity)
+                    : from_edge;
             if (edge < hairline_.width) {
                 Rng rng(style.seed, Stream::kHairline, j);
                 if (rng.uniform() <
