@@ -135,6 +135,7 @@ std::vector<uint32_t> select_by_hairline(const Mesh& mesh, const ScalpSpec& spec
         const float dx = (c.x() - cx) / ax, dz = (c.z() - cz) / az;
         if (dx * dx + dz * dz > 1.f) continue;
         if (c.y() < top - depth(std::atan2(c.x() - cx, c.z() - cz))) continue;
+        candidate[f] = 3;  // within the hairline; a candidate if it faces out
         const Vec3f n = mesh.face_normal(f);
         if (n.y() < -0.5f || n.dot((c - centre).normalized()) < 0.2f) continue;
         candidate[f] = 1;
@@ -160,6 +161,27 @@ std::vector<uint32_t> select_by_hairline(const Mesh& mesh, const ScalpSpec& spec
                     stack.push_back(incident[a]);
                 }
         }
+    }
+    // Close slots and pinholes: a face within the hairline whose three corners all lie on
+    // selected faces is taken too, however it faces. The per-face test leaves out single faces
+    // in a groove (the furrow at the nape's centre, where the normals turn down): an edge
+    // inside the scalp, whose density ramp shows as a bald spot. Two passes close slots two
+    // faces wide.
+    std::vector<char> on_scalp(nv, 0);
+    for (int pass = 0; pass < 2; ++pass) {
+        for (uint32_t f : faces)
+            for (int k = 0; k < 3; ++k)
+                on_scalp[mesh.faces[f][k]] = 1;
+        const size_t before = faces.size();
+        for (size_t f = 0; f < nf; ++f) {
+            const Vec3i& t = mesh.faces[f];
+            if (candidate[f] != 3 && candidate[f] != 1) continue;
+            if (on_scalp[t[0]] && on_scalp[t[1]] && on_scalp[t[2]]) {
+                candidate[f] = 2;
+                faces.push_back(static_cast<uint32_t>(f));
+            }
+        }
+        if (faces.size() == before) break;
     }
     std::sort(faces.begin(), faces.end());
     return faces;

@@ -262,6 +262,15 @@ TEST(Scalp, MakeHumanHeadHairline) {
     }
     EXPECT_LT(lowest_middle, top - nape + 1.5f);
     EXPECT_LT(lowest_behind_ear, top - nape + 3.f);
+    // No slot up the middle of the nape, where the neck's furrow turns the faces' normals down:
+    // a slot's edges inside the scalp thin the roots around them into a bald spot. Up the
+    // back's midline, from 1.5 cm above the hairline, the edge is more than a centimetre away.
+    for (uint32_t f : scalp.faces()) {
+        const Vec3f c = centroid(m, f);
+        const float azimuth = std::abs(std::atan2(c.x() - c0.x(), c.z() - c0.z()));
+        if (azimuth > 0.97f * kPi && c.y() > lowest_middle + 1.5f)
+            EXPECT_GT(scalp.edge_distance(f, c), 1.f) << "face " << f << " at " << c.transpose();
+    }
     // The group "helper-hair" is not part of this file.
     ScalpSpec spec;
     spec.group = "helper-hair";
