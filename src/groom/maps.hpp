@@ -73,8 +73,11 @@ class MapSampler {
     MapSampler(const ScalarMap& map, const Scalp& scalp, const GrowthSpec& growth = {});
     // The map's value (in its own units) at a scalp point.
     float operator()(const SurfacePoint& p) const;
-    // Multiplies the map by the hairline's density (hairline_density).
-    void set_hairline(const HairlineSpec& spec) { hairline_ = spec; }
+    // Multiplies the map by the hairline's density (hairline_density); a hard line at the
+    // edge itself (width and irregularity 0) leaves the map as it is.
+    void set_hairline(const HairlineSpec& spec) {
+        if (spec.width > 0.f || spec.irregularity > 0.f) hairline_ = spec;
+    }
 
   private:
     ScalarMap map_;
