@@ -23,6 +23,14 @@ constexpr float kRootWeight = 2.f;
 // its own shape it is closer to short strands from across the head than to its neighbours:
 // it would make wisps of them, spanning the hairline. It moves with its neighbours instead.
 //   samples  #strands·n cross-sections;  lengths  #strands
+// The length under which a strand is short (above): a quarter of the median.
+float short_length(const std::vector<float>& lengths) {
+    if (lengths.size() < 2) return 0.f;
+    std::vector<float> sorted = lengths;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    return 0.25f * sorted[sorted.size() / 2];
+}
+
 std::vector<uint32_t> shape_sources(const std::vector<Vec3f>& samples,
                                     const std::vector<float>& lengths, int n) {
     const size_t strands = lengths.size();
@@ -30,9 +38,7 @@ std::vector<uint32_t> shape_sources(const std::vector<Vec3f>& samples,
     for (size_t s = 0; s < strands; ++s)
         source[s] = static_cast<uint32_t>(s);
     if (strands < 2) return source;
-    std::vector<float> sorted = lengths;
-    std::nth_element(sorted.begin(), sorted.begin() + strands / 2, sorted.end());
-    const float shortest = 0.25f * sorted[strands / 2];
+    const float shortest = short_length(lengths);
     std::vector<Vec3f> roots;
     std::vector<uint32_t> full;
     Box3 box;
@@ -349,23 +355,33 @@ Hierarchy build_hierarchy(const Hair& hair, const HierarchyOptions& o) {
         if (!o.strand_held.empty()) held_length[s] = std::max(held_length[s], o.strand_held[s]);
     }
 
+    // Short strands (baby hairs at the hairline, in wisps that fall down the back) make wisps
+    // and groups of their own. Their cross-sections lie by their roots: in a node with long
+    // hair, they would stretch its radius from the nape to the tips (30 cm), and it would read
+    // any small acceleration as over the split threshold and split and merge over and over on
+    // settled hair.
+    const float shortest = short_length(lengths);
+    std::vector<uint8_t> is_short(strands);
+    for (size_t s = 0; s < strands; ++s)
+        is_short[s] = lengths[s] < shortest;
+
     // The wisp level.
     std::vector<Cluster> wisps;
     if (has_ids) {
-        std::map<int32_t, uint32_t> index;
+        std::map<std::pair<int32_t, uint8_t>, uint32_t> index;
         for (size_t s = 0; s < strands; ++s)
-            index.emplace(hair.wisp[s], 0);
+            index.emplace(std::pair{hair.wisp[s], is_short[s]}, 0);
         uint32_t next = 0;
         for (auto& [id, i] : index)
             i = next++;
         wisps.resize(index.size());
         for (size_t s = 0; s < strands; ++s)
-            wisps[index[hair.wisp[s]]].strands.push_back(static_cast<uint32_t>(s));
+            wisps[index[{hair.wisp[s], is_short[s]}]].strands.push_back(static_cast<uint32_t>(s));
     } else {
-        // Held and free strands make separate wisps.
-        std::vector<uint32_t> classes[2];
+        // Held and free strands make separate wisps, as do short and long.
+        std::vector<uint32_t> classes[4];
         for (size_t s = 0; s < strands; ++s)
-            classes[held_length[s] > 0].push_back(static_cast<uint32_t>(s));
+            classes[2 * (held_length[s] > 0) + is_short[s]].push_back(static_cast<uint32_t>(s));
         for (std::vector<uint32_t>& all : classes) {
             if (all.empty()) continue;
             for (auto& members : bisect(strand_features, dim, std::move(all), 1,
@@ -388,13 +404,15 @@ Hierarchy build_hierarchy(const Hair& hair, const HierarchyOptions& o) {
         }
         // Held and free wisps are grouped apart: a group is tied or loose as a whole, so the
         // coarse nodes of a ponytail are not half pinned.
-        // A wisp is held when most of its strands are.
-        std::vector<uint32_t> classes[2];
+        // A wisp is held when most of its strands are; short ones (above) are grouped apart.
+        std::vector<uint32_t> classes[4];
         for (size_t w = 0; w < wisps.size(); ++w) {
             size_t held = 0;
             for (uint32_t s : wisps[w].strands)
                 held += held_length[s] > 0;
-            classes[2 * held > wisps[w].strands.size()].push_back(static_cast<uint32_t>(w));
+            const bool held_wisp = 2 * held > wisps[w].strands.size();
+            classes[2 * held_wisp + is_short[wisps[w].strands.front()]].push_back(
+                static_cast<uint32_t>(w));
         }
         std::vector<Cluster> groups;
         for (std::vector<uint32_t>& all : classes) {
