@@ -192,7 +192,7 @@ bool StageCache::run_until(Stage last, const CancelToken& cancel, const StagePro
                 if (whole) preview_strands = 0;
                 if (preview_strands) order(all);  // made here: the task reads it
                 std::optional<MemberBands> bands;
-                if (solve && (whole || preview_strands) && MemberBands::banded(style_))
+                if (solve && (whole || preview_strands))
                     bands.emplace(style_, *head_field_, *head_.scalp, roots_, groups_.wisp_group,
                                   masters_.points,
                                   whole

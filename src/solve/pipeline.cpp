@@ -504,16 +504,22 @@ SolveStats solve_stage(const Style& style, const Head& head, const HeadField& he
     return stats;
 }
 
-bool MemberBands::banded(const Style& style) {
-    return !(style.cut.enabled && style.cut.normal.norm() > 0.f);
+namespace {
+
+bool cuts(const Style& style) {
+    return style.cut.enabled && style.cut.normal.norm() > 0.f;
 }
+
+}  // namespace
 
 MemberBands::MemberBands(const Style& style, const HeadField& head_field, const Scalp& scalp,
                          const Roots& roots, std::span<const int32_t> wisp_group, int points,
                          std::span<const uint32_t> only)
     : style_(style),
       head_field_(head_field),
+      scalp_(scalp),
       roots_(roots),
+      points_(points),
       growth_(style, scalp, roots, points, wisp_group, only),
       clump_reach_(clump_reach(style, scalp, roots)) {
     Hair& hair = growth_.hair();
@@ -527,7 +533,9 @@ void MemberBands::grow(const Masters& masters, int k0, int k1, const CancelToken
 }
 
 void MemberBands::push(const Masters& masters, int k0, int k1) {
-    near_head(style_, roots_, head_field_, masters, clump_reach_, k0, k1, near_);
+    // Bevelled ends move in by up to half the bevel.
+    near_head(style_, roots_, head_field_, masters, clump_reach_, k0, k1, near_,
+              cuts(style_) ? 0.5f * style_.cut.bevel : 0.f);
     Hair& hair = growth_.hair();
     const int n = masters.points;
     std::atomic<size_t> moved{0}, inside{0};
@@ -550,8 +558,30 @@ void MemberBands::push(const Masters& masters, int k0, int k1) {
     result_.points_inside_head += inside;
 }
 
-MembersResult MemberBands::finish() {
+MembersResult MemberBands::finish(bool cut) {
     result_.hair = std::move(growth_.hair());
+    if (!cut || !cuts(style_)) return std::move(result_);
+    Hair& hair = result_.hair;
+    const HeadFrame frame = head_frame(scalp_);
+    const Vec3f normal = style_.cut.normal.normalized();
+    const float offset = style_.cut.head_relative
+                             ? normal.dot(frame.center) + style_.cut.offset * frame.radius
+                             : style_.cut.offset;
+    // Out of the head first (the bands did it), then the cut: cut first, a tip the plane
+    // leaves inside the jaw would be pushed down its underside, hanging below the cut line
+    // down the neck.
+    std::vector<float> offsets;  // per strand: where the plane cuts it (NaN: not at all)
+    if (style_.cut.region == CutSpec::Region::kFringe || style_.cut.texture > 0.f)
+        offsets = cut_offsets(style_, scalp_, frame.radius, hair, offset);
+    std::vector<uint8_t> was_cut;
+    result_.strands_cut = cut_hair(hair, normal, offset, &result_.strands_removed,
+                                   offsets.empty() ? nullptr : &offsets, &was_cut);
+    bevel_ends(hair, was_cut, style_.cut.bevel, frame.center);
+    // Again for the new tips and the bevelled ends (the rest are out already: quick); what
+    // is still inside is counted after this push.
+    result_.points_inside_head = 0;
+    result_.points_pushed += push_out_of_head(hair, head_field_, kClearance, &near_, points_,
+                                              &result_.points_inside_head);
     return std::move(result_);
 }
 
@@ -596,49 +626,16 @@ MembersResult members_stage(const Style& style, const Head& head, const HeadFiel
         watch = Stopwatch();
     };
     const int n = masters.points;
-    if (MemberBands::banded(style)) {
-        // One band: all of the growth (about half of the stage), then the push out of the head.
-        MemberBands bands(style, head_field, *head.scalp, roots, wisp_group, n, only);
-        bands.grow(masters, 0, n, cancel.part(0.f, 0.5f));
-        if (cancel.cancelled()) return bands.finish();
-        lap("members");
-        bands.push(masters, 0, n);
-        lap("collide");
-        cancel.progress(1, 1);
-        return bands.finish();
-    }
-    MembersResult r;
-    r.hair =
-        grow_members(style, *head.scalp, masters, roots, wisp_group, only, cancel.part(0.f, 0.5f));
-    if (cancel.cancelled()) return r;
-    r.hair.group.resize(r.hair.strand_count());
-    for (size_t j = 0; j < r.hair.strand_count(); ++j)
-        r.hair.group[j] = wisp_group[static_cast<size_t>(r.hair.wisp[j])];
+    // One band: all of the growth (about half of the stage), then the push out of the head
+    // and the cut.
+    MemberBands bands(style, head_field, *head.scalp, roots, wisp_group, n, only);
+    bands.grow(masters, 0, n, cancel.part(0.f, 0.5f));
+    if (cancel.cancelled()) return bands.finish(false);
     lap("members");
-    const HeadFrame frame = head_frame(*head.scalp);
-    const Vec3f normal = style.cut.normal.normalized();
-    const float offset = style.cut.head_relative
-                             ? normal.dot(frame.center) + style.cut.offset * frame.radius
-                             : style.cut.offset;
-    // Out of the head first, then the cut: cut first, a tip the plane leaves inside the jaw
-    // would be pushed down its underside, hanging below the cut line down the neck.
-    std::vector<uint8_t> near;
-    // Bevelled ends move in by up to half the bevel.
-    near_head(style, roots, head_field, masters, clump_reach(style, *head.scalp, roots), 0, n, near,
-              0.5f * style.cut.bevel);
-    r.points_pushed = push_out_of_head(r.hair, head_field, kClearance, &near, n);
+    bands.push(masters, 0, n);
     lap("collide");
-    std::vector<float> offsets;  // per strand: where the plane cuts it (NaN: not at all)
-    if (style.cut.region == CutSpec::Region::kFringe || style.cut.texture > 0.f)
-        offsets = cut_offsets(style, *head.scalp, frame.radius, r.hair, offset);
-    std::vector<uint8_t> was_cut;
-    r.strands_cut = cut_hair(r.hair, normal, offset, &r.strands_removed,
-                             offsets.empty() ? nullptr : &offsets, &was_cut);
-    bevel_ends(r.hair, was_cut, style.cut.bevel, frame.center);
-    // Again for the new tips and the bevelled ends (the rest are out already: quick).
-    r.points_pushed +=
-        push_out_of_head(r.hair, head_field, kClearance, &near, n, &r.points_inside_head);
-    lap("cut");
+    MembersResult r = bands.finish();
+    if (cuts(style)) lap("cut");
     cancel.progress(1, 1);
     return r;
 }

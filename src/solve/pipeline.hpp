@@ -112,23 +112,25 @@ MembersResult members_stage(const Style& style, const Head& head, const HeadFiel
 // the solve's layers (the editor's preview, beside the solve): grow(masters, k0, k1) grows
 // the points k0 ≤ k < k1 of every strand, then push(masters, k0, k1) pushes out of the head
 // those no later band reads; both read the masters' control points and frames below k1
-// only. After bands covering [0, n) in order, finish() is members_stage's result to the bit.
-// Without a cut only (banded): the cut needs whole strands before the push.
+// only. After bands covering [0, n) in order, finish() cuts the whole strands (a style's
+// `[cut]`) and is members_stage's result to the bit; finish(false) returns the strands as
+// the bands left them (a cancelled growth).
 class MemberBands {
   public:
-    static bool banded(const Style& style);
     // `style`, `head_field`, `scalp` and `roots` must outlive the object; the rest is copied.
     MemberBands(const Style& style, const HeadField& head_field, const Scalp& scalp,
                 const Roots& roots, std::span<const int32_t> wisp_group, int points,
                 std::span<const uint32_t> only = {});
     void grow(const Masters& masters, int k0, int k1, const CancelToken& cancel = {});
     void push(const Masters& masters, int k0, int k1);
-    MembersResult finish();
+    MembersResult finish(bool cut = true);
 
   private:
     const Style& style_;
     const HeadField& head_field_;
+    const Scalp& scalp_;
     const Roots& roots_;
+    int points_;
     MemberGrowth growth_;
     std::vector<float> clump_reach_;  // #W how far clumps can move a wisp's members
     std::vector<uint8_t> near_;       // #W·n near_head flags, filled band by band

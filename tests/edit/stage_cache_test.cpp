@@ -14,9 +14,11 @@
 namespace wisp {
 namespace {
 
-// A small style, quick to regenerate: a few thousand strands and the solver on.
+// A small style, quick to regenerate: a few thousand strands and the solver on. Uncut, so
+// that a preview's strands are the full hair's by index (a cut removes strands).
 Style small_style() {
     Style s = load_preset("default");
+    s.cut.enabled = false;
     s.wisps = 120;
     s.strands = 3000;
     s.points_per_strand = 16;
@@ -303,25 +305,29 @@ TEST(StageCache, PreviewColoursMadeBesideTheSolveAreTheFullHairs) {
 // A preview's members grow beside the solve, band by band as its layers make the masters'
 // joints final: after a map stroke (whose masters' details are synthesized beside the solve
 // too), a κ change and a seed change, the preview is the full hair's strands, to the bit. With
-// a cut (which needs whole strands before the push) they grow after the solve.
+// a cut too (it cuts the whole strands after the last band): turning it on re-runs only the
+// members, the κ change after it grows them beside the solve.
 TEST(StageCache, PreviewMembersGrownBesideTheSolveAreTheFullHairs) {
     Style style = small_style();
     StageCache cache(style);
     cache.update();
     int beside = cache.members_grown_beside();
+    bool cut = false;
     for (const auto& [path, value] :
          {std::pair{"maps.density", "\"crown\""}, std::pair{"solve.stiffness", "0.4"},
-          std::pair{"seed", "11"}, std::pair{"cut.enabled", "true"}}) {
-        const bool cut = std::string(path) == "cut.enabled";
+          std::pair{"seed", "11"}, std::pair{"cut.enabled", "true"},
+          std::pair{"solve.stiffness", "0.45"}}) {
+        const bool solves = std::string(path) != "cut.enabled";
+        cut = cut || !solves;
         cache.set(path, value);
         const Hair* preview = cache.update_preview(700);
         ASSERT_NE(preview, nullptr) << path;
-        EXPECT_EQ(cache.members_grown_beside(), beside += !cut) << path;
-        if (cut) continue;  // the cut removes strands, so the preview's are shifted
+        EXPECT_EQ(cache.members_grown_beside(), beside += solves) << path;
         const Hair copy = *preview;
         const Hair& full = cache.update().hair;  // its members grown after the solve
         EXPECT_EQ(cache.members_grown_beside(), beside) << path;
         expect_same_hair(full, generate_hairstyle(cache.style(), cache.head()).hair);
+        if (cut) continue;  // the cut removes strands, so the preview's are shifted
         const std::vector<uint32_t> order = strand_order(full.strand_count());
         ASSERT_EQ(copy.strand_count(), 700u) << path;
         for (size_t i = 0; i < 700; ++i) {
@@ -334,19 +340,19 @@ TEST(StageCache, PreviewMembersGrownBesideTheSolveAreTheFullHairs) {
 }
 
 // An update that goes on to the members grows the whole hair's beside the solve (the release
-// after a κ drag, a map stroke's full answer): the same hair as generate gives, to the bit;
-// with a cut they grow after the solve.
+// after a κ drag, a map stroke's full answer): the same hair as generate gives, to the bit,
+// with a cut too (turning it on re-runs only the members, after the solve).
 TEST(StageCache, WholeHairGrownBesideTheSolveIsGeneratesHair) {
     StageCache cache(small_style());
     cache.update();
     int beside = cache.members_grown_beside();
     for (const auto& [path, value] :
          {std::pair{"solve.stiffness", "0.4"}, std::pair{"maps.density", "\"crown\""},
-          std::pair{"cut.enabled", "true"}}) {
-        const bool cut = std::string(path) == "cut.enabled";
+          std::pair{"cut.enabled", "true"}, std::pair{"solve.stiffness", "0.45"}}) {
+        const bool solves = std::string(path) != "cut.enabled";
         cache.set(path, value);
         const Hair& hair = cache.update().hair;
-        EXPECT_EQ(cache.members_grown_beside(), beside += !cut) << path;
+        EXPECT_EQ(cache.members_grown_beside(), beside += solves) << path;
         expect_same_hair(hair, generate_hairstyle(cache.style(), cache.head()).hair);
     }
     cache.set("cut.enabled", "false");
