@@ -1,0 +1,121 @@
+#pragma once
+// Light scattered by one hair fibre: the far-field model of Chiang, Bitterli, Tappan and
+// Burley ("A Practical and Controllable Hair and Fur Model for Production Path Tracing",
+// EGSR 2016), the model of Cycles' Principled Hair BSDF and pbrt-v4's hair material, built
+// on d'Eon et al. 2011 and Marschner et al. 2003.
+//
+// A fibre is a dielectric cylinder (η = 1.55) whose interior absorbs σa per unit of its
+// radius, with the cuticle's scales tilted by α toward the tip. Light leaves it by paths p:
+// R (p = 0, reflected at the surface), TT (1, through), TRT (2, in, reflected off the back,
+// out) and the rest (p ≥ 3) summed. Each path is a product
+//
+//   S_p(ω_i, ω_o) = M_p(θ_i, θ_o) · N_p(φ; h) · A_p(h)
+//
+// of a longitudinal lobe M_p (θ from the plane normal to the fibre; d'Eon's von Mises–Fisher
+// form, of variance v_p from the longitudinal roughness β_m, around θ_i shifted by the
+// scales' tilt: −2α for R, α for TT, 4α for TRT), an azimuthal lobe N_p (a logistic of scale
+// s from the azimuthal roughness β_n, around the exit azimuth of the path that enters at
+// offset h across the fibre) and its attenuation A_p: Fresnel at each interface and e^−σa·l
+// along each of its p passes of length l(h) = 2 cos γ_t / cos θ_t.
+//
+// A rasterizer draws a fibre thinner than a pixel without knowing h: the far field averages
+// over h ∈ [−1, 1]. That average is tabulated once per set of roughnesses, absorption aside:
+//   N̄_p(φ, θ_o) = ½ ∫ F_p(h) N_p(φ; h) dh,   F_p the Fresnel part of A_p,
+//   L̄_p(φ, θ_o) = ½ ∫ F_p N_p · p·l(h) dh / N̄_p, the mean path inside the fibre,
+// and the absorption of a strand applied as e^−σa·L̄_p: exact without absorption (so the
+// model conserves energy: a white furnace sums to 1) and to first order in σa, and where
+// absorption is strong only R, which it does not touch, is left. M_p is tabulated over
+// (sin θ_i, sin θ_o).
+//
+// Units: S is per steradian, the radiance leaving the fibre per unit of irradiance (on a
+// plane facing the light) arriving as a narrow beam: for a directional light of irradiance E,
+// L_o = E · S(ω_i, ω_o), the BCSDF times cos θ_i.
+#include <array>
+#include <vector>
+
+#include "core/math.hpp"
+
+namespace wisp {
+
+// Absorption σa (per unit of fibre radius) of eumelanin and pheomelanin at unit concentration:
+// Chiang et al. 2016 §4.1 (after d'Eon et al. 2011), as pbrt-v4 uses them.
+Vec3f eumelanin_absorption();
+Vec3f pheomelanin_absorption();
+
+struct Melanin {
+    float eumelanin = 0.f;    // concentration, ≥ 0: 0 white … about 8 black
+    float pheomelanin = 0.f;  // concentration, ≥ 0: the red of auburn and ginger hair
+};
+
+Vec3f melanin_absorption(const Melanin& m);
+
+// The σa whose fibres give hair of colour `c` (linear RGB, each in (0, 1]) once light has
+// scattered through many of them: Chiang et al. 2016 eq. 9, a fit over their path-traced
+// hair for azimuthal roughness β_n.
+Vec3f absorption_from_color(const Vec3f& c, float beta_n);
+
+// The melanin concentrations whose absorption is nearest σa (least squares over the three
+// channels, both concentrations ≥ 0): a colour as the pigments that make it.
+Melanin melanin_from_absorption(const Vec3f& sigma_a);
+
+struct FiberParams {
+    float eta = 1.55f;    // refractive index of keratin
+    float beta_m = 0.3f;  // longitudinal roughness, in [0.01, 1] (Cycles' "Roughness")
+    float beta_n = 0.3f;  // azimuthal roughness, in [0.01, 1] (Cycles' "Radial Roughness")
+    float alpha = 2.f;    // cuticle tilt toward the tip, degrees, in [−10, 10] (Cycles' "Offset")
+};
+
+// The per-render tables of one set of FiberParams.
+class FiberScattering {
+  public:
+    explicit FiberScattering(const FiberParams& params = {});
+
+    // What evaluating for one eye direction shares between lights.
+    struct View {
+        Vec3f t;      // unit tangent, root to tip
+        float sin_o;  // t·ω_o
+        float cos_o;
+        Vec3f op;     // ω_o's projection on the plane normal to t
+        float op2;    // its squared length
+        int row = 0;  // the |sin θ_o| row of the azimuthal tables, and its weight
+        float row_w = 0;
+        int m_col = 0;  // the sin θ_o column of the longitudinal tables, and its weight
+        float m_col_w = 0;
+    };
+    View view(const Vec3f& tangent, const Vec3f& to_eye) const;
+
+    // S(ω_i, ω_o) for unit ω_i (toward the light), a strand of absorption σa.
+    Vec3f eval(const View& v, const Vec3f& to_light, const Vec3f& sigma_a) const;
+    Vec3f eval(const Vec3f& tangent, const Vec3f& to_light, const Vec3f& to_eye,
+               const Vec3f& sigma_a) const {
+        return eval(view(tangent, to_eye), to_light, sigma_a);
+    }
+
+    const FiberParams& params() const { return params_; }
+
+    // Table sizes: azimuth φ ∈ [0, π] and |sin θ_o| ∈ [0, 1] for N̄ and L̄; sin θ_i and sin θ_o
+    // ∈ [−1, 1] for M.
+    static constexpr int kPhi = 96, kThetaO = 32, kM = 128;
+
+  private:
+    FiberParams params_;
+    // sin and cos of the shift of θ_i for R (+2α), TT (−α) and TRT (−4α).
+    float tilt_sin_[3], tilt_cos_[3];
+    // #3·kThetaO·kPhi: N̄_p and L̄_p at (p, row, φ column).
+    std::vector<float> n_, l_;
+    // #kThetaO: the rest (p ≥ 3) without absorption, the mean Fresnel factor f̄ and the mean
+    // path l̄ through the fibre: A_3 ≈ F̄₃ · T³ (1 − f̄) / (1 − f̄ T), T = e^−σa·l̄.
+    std::vector<float> rest_, rest_f_, rest_l_;
+    // #4·kM·kM: M_p at (p, sin θ_i row, sin θ_o column); p = 3 is untilted with v_2.
+    std::vector<float> m_;
+};
+
+// d'Eon et al.'s longitudinal lobe M_p for variance v (the von Mises–Fisher distribution
+// on θ), normalized over ∫ M cos θ_i dθ_i = 1.
+float longitudinal_scattering(float sin_i, float cos_i, float sin_o, float cos_o, float v);
+
+// Fresnel reflectance of unpolarized light at a dielectric of index η from the outside, at
+// incidence cosine cos_i.
+float fresnel_dielectric(float cos_i, float eta);
+
+}  // namespace wisp
