@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/parallel.hpp"
 #include "render/strand_samples.hpp"
@@ -93,60 +94,123 @@ OpacityShadowMap::OpacityShadowMap(const Hair& hair, const LightFrame& light, co
     du_ = size.x() / nx_;
     dv_ = size.y() / ny_;
     dw_ = size.z() / nz_;
+    inv_depth_ = 1.f / size.z();
     const size_t cells = static_cast<size_t>(nx_) * ny_ * nz_;
 
-    // Deposit pass. Each strand is walked in pieces no longer than a texel, and each
-    // piece adds its opacity to the cell holding its midpoint.
-    tbb::enumerable_thread_specific<std::vector<uint32_t>> partial(
-        [&] { return std::vector<uint32_t>(cells, 0u); });
-    const float inv_du = 1.f / du_, inv_dv = 1.f / dv_, inv_dw = 1.f / dw_;
+    // The depth of the nearest hair in each texel, then a walk over the strands in pieces no
+    // longer than a texel that adds each piece's opacity to the cell holding its midpoint, in
+    // slabs counted from there.
+    const float inv_du = 1.f / du_, inv_dv = 1.f / dv_;
     const float step = 2.f * std::min(du_, dv_);
     const size_t stride = static_cast<size_t>(std::max(1, options.strand_stride));
     const float area_scale =
         options.strand_opacity * static_cast<float>(stride) * kFixedPoint / (du_ * dv_);
     const size_t strands = hair.strand_count();
-    parallel_for(
-        (strands + 63) / 64,
-        [&](size_t chunk) {
-            std::vector<uint32_t>& grid = partial.local();
-            auto deposit = [&](const Vec3f& q, float amount) {
-                const int x = std::clamp(static_cast<int>((q.x() - lo_.x()) * inv_du), 0, nx_ - 1);
-                const int y = std::clamp(static_cast<int>((q.y() - lo_.y()) * inv_dv), 0, ny_ - 1);
-                const int z = std::clamp(static_cast<int>((q.z() - lo_.z()) * inv_dw), 0, nz_ - 1);
-                grid[(static_cast<size_t>(z) * ny_ + y) * nx_ + x] +=
-                    static_cast<uint32_t>(amount + 0.5f);
-            };
-            for (size_t k = chunk * 64; k < std::min(strands, chunk * 64 + 64); ++k) {
-                if (k % stride != 0) continue;
-                const size_t s = order[k];
-                bool first = true;
-                Vec3f prev_q;
-                float prev_w = 0;
-                auto sub = [&](size_t, const Vec3f& b, const Vec3f& c) {
-                    return std::min(8, static_cast<int>((c - b).norm() / (4.f * step)) + 1);
-                };
-                for_each_strand_sample<false>(
-                    hair, s, options.width_scale, options.tip_width, sub,
-                    [&](const StrandSample& sample) {
-                        const Vec3f q = light.to_light_space(sample.p);
-                        if (!first) {
-                            const Vec3f d = q - prev_q;
-                            // Only the extent across the light blocks it: a piece seen end-on
-                            // by the light casts (almost) nothing.
-                            const float across = std::sqrt(d.x() * d.x() + d.y() * d.y());
-                            const int n = std::max(1, static_cast<int>(across / step) + 1);
-                            const float amount = 0.5f * (prev_w + sample.width) * across *
-                                                 area_scale / static_cast<float>(n);
-                            for (int k = 0; k < n; ++k)
-                                deposit(prev_q + d * ((static_cast<float>(k) + 0.5f) / n), amount);
-                        }
-                        first = false;
-                        prev_q = q;
-                        prev_w = sample.width;
-                    });
-            }
-        },
-        1);
+    const size_t plane = static_cast<size_t>(nx_) * ny_;
+    auto texel = [&](const Vec3f& q) {
+        const int x = std::clamp(static_cast<int>((q.x() - lo_.x()) * inv_du), 0, nx_ - 1);
+        const int y = std::clamp(static_cast<int>((q.y() - lo_.y()) * inv_dv), 0, ny_ - 1);
+        return static_cast<size_t>(y) * nx_ + x;
+    };
+    // Calls visit(q, amount) for every piece's midpoint q (light space) and opacity.
+    // visit(grid, q, amount), with `grid` this thread's (looked up once per chunk).
+    auto walk = [&](auto& per_thread, auto&& visit) {
+        parallel_for(
+            (strands + 63) / 64,
+            [&](size_t chunk) {
+                auto& grid = per_thread.local();
+                for (size_t k = chunk * 64; k < std::min(strands, chunk * 64 + 64); ++k) {
+                    if (k % stride != 0) continue;
+                    const size_t s = order[k];
+                    bool first = true;
+                    Vec3f prev_q;
+                    float prev_w = 0;
+                    auto sub = [&](size_t, const Vec3f& b, const Vec3f& c) {
+                        return std::min(8, static_cast<int>((c - b).norm() / (4.f * step)) + 1);
+                    };
+                    for_each_strand_sample<false>(
+                        hair, s, options.width_scale, options.tip_width, sub,
+                        [&](const StrandSample& sample) {
+                            const Vec3f q = light.to_light_space(sample.p);
+                            if (!first) {
+                                const Vec3f d = q - prev_q;
+                                // Only the extent across the light blocks it: a piece seen
+                                // end-on by the light casts (almost) nothing.
+                                const float across = std::sqrt(d.x() * d.x() + d.y() * d.y());
+                                const int n = std::max(1, static_cast<int>(across / step) + 1);
+                                const float amount = 0.5f * (prev_w + sample.width) * across *
+                                                     area_scale / static_cast<float>(n);
+                                for (int k = 0; k < n; ++k)
+                                    visit(grid, prev_q + d * ((static_cast<float>(k) + 0.5f) / n),
+                                          amount);
+                            }
+                            first = false;
+                            prev_q = q;
+                            prev_w = sample.width;
+                        });
+                }
+            },
+            1);
+    };
+
+    // The nearest hair per texel (a minimum: the same in any order), then the least over each
+    // texel and its 8 neighbours, so that a lookup between texels, which reads four of them,
+    // finds every one's slabs starting in front of it.
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    tbb::enumerable_thread_specific<std::vector<float>> partial_near(
+        [&] { return std::vector<float>(plane, kInf); });
+    // Along the chords between control points in steps of two texels, cheaper than the
+    // pieces' walk (no curve, no widths): a texel stepped over, or one the curve strays into
+    // from its chord, is a neighbour of one visited, and the least is taken over neighbours.
+    const float texel_step = step;
+    parallel_for((strands + 63) / 64,
+                 [&](size_t chunk) {
+                     std::vector<float>& near = partial_near.local();
+                     for (size_t k = chunk * 64; k < std::min(strands, chunk * 64 + 64); ++k) {
+                         if (k % stride != 0) continue;
+                         const std::span<const Vec3f> p = hair.strand(order[k]);
+                         Vec3f a = p.empty() ? Vec3f::Zero() : light.to_light_space(p[0]);
+                         for (size_t i = 0; i < p.size(); ++i) {
+                             const Vec3f b = light.to_light_space(p[i]);
+                             const Vec3f d = b - a;
+                             const float across = std::sqrt(d.x() * d.x() + d.y() * d.y());
+                             const int n =
+                                 std::min(4096, static_cast<int>(across / texel_step) + 1);
+                             for (int j = 1; j <= n; ++j) {
+                                 const Vec3f q = a + d * (static_cast<float>(j) / n);
+                                 float& z = near[texel(q)];
+                                 z = std::min(z, q.z());
+                             }
+                             a = b;
+                         }
+                     }
+                 },
+                 1);
+    std::vector<float> nearest(plane, kInf);
+    for (const std::vector<float>& g : partial_near)
+        for (size_t i = 0; i < plane; ++i)
+            nearest[i] = std::min(nearest[i], g[i]);
+    near_.assign(plane, kInf);
+    parallel_for(static_cast<size_t>(ny_), [&](size_t y) {
+        for (int x = 0; x < nx_; ++x) {
+            float z = kInf;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int xx = x + dx, yy = static_cast<int>(y) + dy;
+                    if (xx >= 0 && xx < nx_ && yy >= 0 && yy < ny_)
+                        z = std::min(z, nearest[static_cast<size_t>(yy) * nx_ + xx]);
+                }
+            near_[y * nx_ + x] = z;
+        }
+    });
+
+    tbb::enumerable_thread_specific<std::vector<uint32_t>> partial(
+        [&] { return std::vector<uint32_t>(cells, 0u); });
+    walk(partial, [&](std::vector<uint32_t>& grid, const Vec3f& q, float amount) {
+        const size_t t = texel(q);
+        const int z = std::clamp(static_cast<int>(slab(q.z() - near_[t])), 0, nz_ - 1);
+        grid[static_cast<size_t>(z) * plane + t] += static_cast<uint32_t>(amount + 0.5f);
+    });
 
     // Sum the per-thread grids (integers: any order gives the same sum), blur each slab with
     // a 1-2-1 tent in u and v to hide the texel grid, and accumulate along the light.
@@ -155,7 +219,6 @@ OpacityShadowMap::OpacityShadowMap(const Hair& hair, const LightFrame& light, co
         for (size_t i = 0; i < cells; ++i)
             total[i] += g[i];
     std::vector<float> blur_x(cells), blur(cells);
-    const size_t plane = static_cast<size_t>(nx_) * ny_;
     parallel_for(static_cast<size_t>(nz_), [&](size_t z) {
         const uint32_t* in = &total[z * plane];
         float* out = &blur_x[z * plane];
@@ -200,18 +263,24 @@ float OpacityShadowMap::optical_depth(const Vec3f& p) const {
     // that a strand does not shadow itself.
     const float fx = std::clamp((q.x() - lo_.x()) / du_ - 0.5f, 0.f, nx_ - 1.f);
     const float fy = std::clamp((q.y() - lo_.y()) / dv_ - 0.5f, 0.f, ny_ - 1.f);
-    const float fz = std::clamp((q.z() - lo_.z()) / dw_ - 0.5f, 0.f, static_cast<float>(nz_));
     const int x0 = std::min(static_cast<int>(fx), nx_ - 1),
               y0 = std::min(static_cast<int>(fy), ny_ - 1);
-    const int z0 = std::min(static_cast<int>(fz), nz_ - 1);
     const int x1 = std::min(x0 + 1, nx_ - 1), y1 = std::min(y0 + 1, ny_ - 1);
-    const float ax = fx - x0, ay = fy - y0, az = std::min(fz - z0, 1.f);
+    const float ax = fx - x0, ay = fy - y0;
+    // Each of the four texels in its own slabs, which start at its nearest hair.
     auto column = [&](int x, int y) {
-        const float* c = &tau_[(static_cast<size_t>(y) * nx_ + x) * (nz_ + 1) + z0];
+        const size_t t = static_cast<size_t>(y) * nx_ + x;
+        const float fz = std::min(slab(q.z() - near_[t]) - 0.5f, static_cast<float>(nz_));
+        if (!(fz > 0.f)) return 0.f;  // in front of its hair, or no hair there
+        const int z0 = std::min(static_cast<int>(fz), nz_ - 1);
+        const float az = std::min(fz - z0, 1.f);
+        const float* c = &tau_[t * (nz_ + 1) + z0];
         return c[0] + (c[1] - c[0]) * az;
     };
-    const float top = column(x0, y0) + (column(x1, y0) - column(x0, y0)) * ax;
-    const float bottom = column(x0, y1) + (column(x1, y1) - column(x0, y1)) * ax;
+    const float c00 = column(x0, y0), c10 = column(x1, y0);
+    const float c01 = column(x0, y1), c11 = column(x1, y1);
+    const float top = c00 + (c10 - c00) * ax;
+    const float bottom = c01 + (c11 - c01) * ax;
     return top + (bottom - top) * ay;
 }
 
