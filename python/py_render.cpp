@@ -68,12 +68,17 @@ RenderOptions render_options(const std::string& view, int width, int height, con
         else if (k == "background")
             o.background = vec3(value, "background");
         else if (k == "shading") {
-            const std::string s = value.cast<std::string>();
-            if (s != "hair" && s != "kajiya-kay")
-                throw py::value_error(
-                    cat("shading: expected 'hair' or 'kajiya-kay', got '", s, "'"));
-            o.shading =
-                s == "hair" ? RenderOptions::Shading::kHair : RenderOptions::Shading::kKajiyaKay;
+            std::string s;
+            try {
+                s = value.cast<std::string>();
+            } catch (const py::cast_error&) {
+                throw py::type_error("shading: expected a name");
+            }
+            try {
+                o.shading = parse_shading(s);
+            } catch (const Error& e) {
+                throw py::value_error(e.what());
+            }
         } else if (k == "specular_exponent")
             o.specular_exponent = number(value, k.c_str(), 1, 10000);
         else if (k == "specular")
@@ -153,6 +158,32 @@ void bind_render(py::module_& m) {
         },
         py::arg("image"), "PNG bytes of an H×W×3 uint8 image");
     m.def("view_names", &view_names);
+    m.def("shading_names", &shading_names);
+    m.def(
+        "melanin_from_color",
+        [](const py::array_t<float, py::array::c_style | py::array::forcecast>& colors,
+           double beta_n) {
+            if (colors.ndim() != 2 || colors.shape(1) != 3)
+                throw py::value_error("colors: expected shape (N, 3), linear RGB");
+            if (!(beta_n >= 0.1 && beta_n <= 1))
+                throw py::value_error(cat("beta_n: expected 0.1 to 1, got ", beta_n));
+            const size_t n = static_cast<size_t>(colors.shape(0));
+            py::array_t<float> out({py::ssize_t(n), py::ssize_t(2)});
+            const float* c = colors.data();
+            float* o = out.mutable_data();
+            for (size_t i = 0; i < n; ++i) {
+                const Vec3f color(c[3 * i], c[3 * i + 1], c[3 * i + 2]);
+                if (!color.allFinite())
+                    throw py::value_error(cat("colors: row ", i, " is not finite"));
+                const Melanin m = melanin_from_color(color, static_cast<float>(beta_n));
+                o[2 * i] = m.eumelanin;
+                o[2 * i + 1] = m.pheomelanin;
+            }
+            return out;
+        },
+        py::arg("colors"), py::arg("beta_n") = 0.3,
+        "The eumelanin and pheomelanin concentrations (N×2; Chiang et al. 2016's units, as "
+        "pbrt's) whose hair has each colour, as the renderer's fibre model takes them");
 }
 
 }  // namespace wisp::python

@@ -109,3 +109,24 @@ def test_render(small_hair):
         wisp.render(small_hair, size=32, brightness=2)
     with pytest.raises(ValueError, match="size"):
         wisp.render(small_hair, size=0)
+    with pytest.raises(ValueError, match="one of hair, fiber, kajiya-kay"):
+        wisp.render(small_hair, size=32, shading="phong")
+
+
+def test_fiber_shading_and_its_melanin(small_hair):
+    assert wisp.shading_names() == ["hair", "fiber", "kajiya-kay"]
+    image = wisp.render(small_hair, size=64, shading="fiber")
+    assert image.std() > 1
+    # Darker is more eumelanin; a red colour is pheomelanin; concentrations are >= 0.
+    colors = np.array([[0.0075, 0.0056, 0.0048], [0.073, 0.039, 0.016], [0.09, 0.026, 0.012]])
+    pigments = wisp.melanin_from_color(colors)
+    assert pigments.shape == (3, 2) and pigments.dtype == np.float32
+    assert (pigments >= 0).all()
+    assert pigments[0, 0] > pigments[1, 0]
+    assert pigments[2, 1] > pigments[2, 0]
+    with pytest.raises(ValueError, match="shape"):
+        wisp.melanin_from_color(np.zeros((3, 4)))
+    with pytest.raises(ValueError, match="not finite"):
+        wisp.melanin_from_color(np.array([[np.nan, 0.1, 0.1]]))
+    with pytest.raises(ValueError, match="beta_n"):
+        wisp.melanin_from_color(colors, beta_n=5)

@@ -25,6 +25,7 @@ from ._wisp import Error, Hair, Head, Masters, Roots, hair_formats, preset_names
 __all__ = [
     "Error", "Style", "Head", "Hair", "Roots", "Masters", "generate", "render", "read",
     "preset_names", "hair_formats", "schema", "stages", "animate", "Animation", "Frame",
+    "shading_names", "melanin_from_color",
 ]
 
 _SCHEMA = {f["path"]: f for f in _wisp.schema()}
@@ -202,9 +203,9 @@ def render(hair: Hair, head: Head | None | bool = None, view: str = "three-quart
     head: a Head; None: the head the hair was generated on, else the built-in head; False:
     no head. view: one of ``wisp._wisp.view_names()`` ("front", "three-quarter", ...). size:
     N (square) or (width, height) in pixels. options, as the CLI's: eye=(x,y,z) and
-    target=(x,y,z) in cm, fov (degrees), background=(r,g,b) linear, shading ("hair" or
-    "kajiya-kay"), specular, specular_exponent, rim (0 turns the rim light off), shadows
-    (bool), width_scale."""
+    target=(x,y,z) in cm, fov (degrees), background=(r,g,b) linear, shading (one of
+    ``wisp.shading_names()``: "hair", "fiber", "kajiya-kay"), specular, specular_exponent, rim
+    (0 turns the rim light off), shadows (bool), width_scale."""
     if not isinstance(hair, Hair):
         raise TypeError("render: hair must be a wisp.Hair, got " + type(hair).__name__)
     if head is False:
@@ -225,6 +226,20 @@ def render(hair: Hair, head: Head | None | bool = None, view: str = "three-quart
     if not isinstance(alpha, bool):
         raise TypeError(f"alpha: expected True or False, got {alpha!r}")
     return _wisp.render(hair, head, view, width, height, threads, alpha, **options)
+
+
+def shading_names() -> list[str]:
+    """The renderer's shading models, as ``render(shading=...)`` and ``wisp render --shading``
+    take them."""
+    return _wisp.shading_names()
+
+
+def melanin_from_color(colors, beta_n: float = 0.3):
+    """The eumelanin and pheomelanin concentrations (an N×2 float32 array, in Chiang et al.
+    2016's units, as pbrt's) whose hair has each linear RGB colour of ``colors`` (N×3): the
+    pigments the ``fiber`` shading gives a strand of that colour, for azimuthal roughness
+    beta_n."""
+    return _wisp.melanin_from_color(colors, beta_n)
 
 
 def _repr_png_(self):

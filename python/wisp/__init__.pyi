@@ -171,6 +171,11 @@ def render(hair: Hair, head: Head | None | Literal[False] = None,
            threads: int | None = None, alpha: bool = False, **options: Any) -> UInt8Array:
     """H×W×3 uint8 sRGB; with alpha, H×W×4: straight colours and coverage as alpha."""
 
+def shading_names() -> list[str]: ...
+
+def melanin_from_color(colors: Any, beta_n: float = 0.3) -> Float32Array:
+    """N×3 linear RGB → N×2 (eumelanin, pheomelanin), as the fiber shading takes them."""
+
 class stages:
     @staticmethod
     def roots(style: Style, head: Head, threads: int | None = None) -> Roots: ...

@@ -100,8 +100,9 @@ struct LookArgs {
         cmd->add_option("--background", background, "Background linear RGB r,g,b in [0,1]");
         cmd->add_option("--shading", shading,
                         "hair: the highlights of real hair (Marschner's shifted lobes); "
-                        "kajiya-kay: the paper's model")
-            ->check(CLI::IsMember({"hair", "kajiya-kay"}))
+                        "fiber: the fibre model of path tracers (Chiang et al. 2016) with "
+                        "melanin and multiple scattering; kajiya-kay: the paper's model")
+            ->check(CLI::IsMember(shading_names()))
             ->capture_default_str();
         cmd->add_option("--specular-exponent", specular_exponent, "Kajiya-Kay specular exponent")
             ->check(CLI::Range(1.f, 10000.f))
@@ -123,8 +124,7 @@ struct LookArgs {
             o.look_at = LookAt{parse_vec3("--eye", eye), parse_vec3("--target", target)};
         o.fov_y_degrees = fov;
         if (!background.empty()) o.background = parse_vec3("--background", background);
-        o.shading = shading == "kajiya-kay" ? RenderOptions::Shading::kKajiyaKay
-                                            : RenderOptions::Shading::kHair;
+        o.shading = parse_shading(shading);
         o.specular_exponent = specular_exponent;
         if (specular_strength >= 0.f) {
             o.specular_strength = specular_strength;

@@ -17,10 +17,18 @@ Vec3f melanin_absorption(const Melanin& m) {
            std::max(0.f, m.pheomelanin) * pheomelanin_absorption();
 }
 
+namespace {
+
+// k(β_n) of Chiang et al. eq. 9.
+float color_fit(float b) {
+    return 5.969f - 0.215f * b + 2.532f * b * b - 10.73f * b * b * b + 5.574f * b * b * b * b +
+           0.245f * b * b * b * b * b;
+}
+
+}  // namespace
+
 Vec3f absorption_from_color(const Vec3f& c, float beta_n) {
-    const float b = beta_n;
-    const float fit = 5.969f - 0.215f * b + 2.532f * b * b - 10.73f * b * b * b +
-                      5.574f * b * b * b * b + 0.245f * b * b * b * b * b;
+    const float fit = color_fit(beta_n);
     Vec3f sigma;
     for (int k = 0; k < 3; ++k) {
         const float x = std::log(std::clamp(c[k], 1e-4f, 1.f)) / fit;
@@ -29,18 +37,83 @@ Vec3f absorption_from_color(const Vec3f& c, float beta_n) {
     return sigma;
 }
 
-Melanin melanin_from_absorption(const Vec3f& sigma_a) {
+Vec3f color_from_absorption(const Vec3f& sigma_a, float beta_n) {
+    const float fit = color_fit(beta_n);
+    Vec3f c;
+    for (int k = 0; k < 3; ++k)
+        c[k] = std::exp(-fit * std::sqrt(std::max(sigma_a[k], 0.f)));
+    return c;
+}
+
+Melanin melanin_from_color(const Vec3f& c, float beta_n) {
+    const float fit = color_fit(beta_n);
     const Vec3f e = eumelanin_absorption(), p = pheomelanin_absorption();
-    // Least squares over both, then over each alone where the pair would go negative.
-    const float ee = e.dot(e), pp = p.dot(p), ep = e.dot(p);
-    const float se = sigma_a.dot(e), sp = sigma_a.dot(p);
-    const float det = ee * pp - ep * ep;
-    Melanin m{(se * pp - sp * ep) / det, (sp * ee - se * ep) / det};
-    if (m.eumelanin >= 0.f && m.pheomelanin >= 0.f) return m;
-    const Melanin only_e{std::max(0.f, se / ee), 0.f}, only_p{0.f, std::max(0.f, sp / pp)};
-    const float err_e = (sigma_a - melanin_absorption(only_e)).squaredNorm();
-    const float err_p = (sigma_a - melanin_absorption(only_p)).squaredNorm();
-    return err_e <= err_p ? only_e : only_p;
+    // Luminance weights (Rec. 709). The redness is fitted to red and green alone: blue, which
+    // both pigments absorb most, is where a colour picked by eye strays furthest from any
+    // hair's (an auburn's blue, a blonde's, ask for more than either pigment lets through),
+    // and it would pull the fit off the red-to-green balance that makes a hair red or brown.
+    const float w[3] = {0.2126f, 0.7152f, 0.0722f};
+    const float w_hue[3] = {0.2126f, 0.7152f, 0.f};
+    Vec3f target;  // √σa each channel asks for: −ln c / k
+    for (int k = 0; k < 3; ++k)
+        target[k] = -std::log(std::clamp(c[k], 1e-8f, 1.f)) / fit;
+    // As concentrations q·(1 − r) and q·r: for a redness r, each channel's √σa is √q times
+    // √((1 − r)·e + r·p), so the best √q is a weighted linear fit. Searched over r, then
+    // refined by ternary search around the best (the error is smooth in r).
+    const auto error = [&](double r) {
+        double num = 0, den = 0;
+        double shape[3];
+        for (int k = 0; k < 3; ++k) {
+            shape[k] = std::sqrt((1 - r) * e[k] + r * p[k]);
+            num += w_hue[k] * shape[k] * target[k];
+            den += w_hue[k] * shape[k] * shape[k];
+        }
+        const double g = std::max(0.0, num / den);
+        double err = 0;
+        for (int k = 0; k < 3; ++k)
+            err += w_hue[k] * (g * shape[k] - target[k]) * (g * shape[k] - target[k]);
+        return err;
+    };
+    constexpr int kSteps = 32;
+    int best = 0;
+    double best_err = INFINITY;
+    for (int i = 0; i <= kSteps; ++i) {
+        const double err = error(static_cast<double>(i) / kSteps);
+        if (err < best_err) best_err = err, best = i;
+    }
+    double lo = std::max(0, best - 1) / static_cast<double>(kSteps);
+    double hi = std::min(kSteps, best + 1) / static_cast<double>(kSteps);
+    for (int iteration = 0; iteration < 40; ++iteration) {
+        const double a = lo + (hi - lo) / 3, b = hi - (hi - lo) / 3;
+        if (error(a) < error(b))
+            hi = b;
+        else
+            lo = a;
+    }
+    // The redness found, the amount that gives the colour's luminance exactly (bisection: the
+    // luminance falls as √q grows).
+    const double r = 0.5 * (lo + hi);
+    double shape[3];
+    for (int k = 0; k < 3; ++k)
+        shape[k] = std::sqrt((1 - r) * e[k] + r * p[k]);
+    const auto luminance = [&](double g) {
+        double y = 0;
+        for (int k = 0; k < 3; ++k)
+            y += w[k] * std::exp(-fit * g * shape[k]);
+        return y;
+    };
+    double want = 0;
+    for (int k = 0; k < 3; ++k)
+        want += w[k] * std::clamp(static_cast<double>(c[k]), 1e-8, 1.0);
+    double g_lo = 0, g_hi = 1;
+    while (luminance(g_hi) > want && g_hi < 1e3)
+        g_hi *= 2;
+    for (int iteration = 0; iteration < 50; ++iteration) {
+        const double g = 0.5 * (g_lo + g_hi);
+        (luminance(g) > want ? g_lo : g_hi) = g;
+    }
+    const double g = 0.5 * (g_lo + g_hi);
+    return {static_cast<float>(g * g * (1 - r)), static_cast<float>(g * g * r)};
 }
 
 float fresnel_dielectric(float cos_i, float eta) {
@@ -187,6 +260,32 @@ FiberScattering::FiberScattering(const FiberParams& params) : params_(params) {
         rest_l_[row] = static_cast<float>(rest_l / weight);
     }
 
+    // The albedos' shares, from row 0 (light and eye across the fibre): φ < π/2 is back.
+    for (int p = 0; p < 3; ++p) {
+        double fwd = 0, back = 0, fwd_l = 0, back_l = 0;
+        for (int j = 0; j + 1 < kPhi; ++j) {
+            // Trapezoids over [0, π], doubled for [−π, 0].
+            const double dphi = M_PI / (kPhi - 1);
+            const double phi = (j + 0.5) * dphi;
+            const size_t at = static_cast<size_t>(p) * kThetaO * kPhi + j;
+            const double value = dphi * (n_[at] + n_[at + 1]);  // 2 · ½ (a + b) dφ
+            const double path = 0.5 * (l_[at] + l_[at + 1]);
+            if (phi < 0.5 * M_PI) {
+                back += value;
+                back_l += value * path;
+            } else {
+                fwd += value;
+                fwd_l += value * path;
+            }
+        }
+        forward_[p] = static_cast<float>(fwd);
+        backward_[p] = static_cast<float>(back);
+        forward_path_[p] = fwd > 0 ? static_cast<float>(fwd_l / fwd) : 0.f;
+        backward_path_[p] = back > 0 ? static_cast<float>(back_l / back) : 0.f;
+    }
+    back_variance_ = static_cast<float>(0.5 * (v[0] + v[2]));
+    forward_variance_ = static_cast<float>(v[1]);
+
     // The longitudinal tables, on sin θ ∈ [−1, 1] nodes.
     m_.assign(4 * kM * kM, 0.f);
     for (int p = 0; p < 4; ++p)
@@ -254,11 +353,60 @@ Vec3f FiberScattering::eval(const View& v, const Vec3f& to_light, const Vec3f& s
     };
     const float rest = rest_at(rest_), f = rest_at(rest_f_), l = rest_at(rest_l_);
     const float m_rest = longitudinal(3, sin_i) * (1.f / (2.f * kPi));
-    Vec3f out;
+    Vec3f out = Vec3f::Zero();
     for (int k = 0; k < 3; ++k) {
         const float t = std::exp(-sigma_a[k] * l);
         out[k] = r + tt * std::exp(-sigma_a[k] * l_tt) + trt * std::exp(-sigma_a[k] * l_trt) +
                  m_rest * rest * t * t * t * (1.f - f) / (1.f - f * t);
+    }
+    return out;
+}
+
+FiberScattering::Albedo FiberScattering::albedo(const Vec3f& sigma_a) const {
+    Albedo a;
+    // The rest (p ≥ 3) at row 0, split evenly between forward and back.
+    const float t_rest_l = rest_l_[0], f = rest_f_[0];
+    for (int k = 0; k < 3; ++k) {
+        const float t = std::exp(-sigma_a[k] * t_rest_l);
+        const float rest = 0.5f * rest_[0] * t * t * t * (1.f - f) / (1.f - f * t);
+        float fwd = rest, back = rest;
+        for (int p = 0; p < 3; ++p) {
+            fwd += forward_[p] * std::exp(-sigma_a[k] * forward_path_[p]);
+            back += backward_[p] * std::exp(-sigma_a[k] * backward_path_[p]);
+        }
+        a.forward[k] = std::min(fwd, 0.999f);
+        a.backward[k] = back;
+        a.log_forward[k] = std::log(std::max(a.forward[k], 1e-6f));
+        const float ff = a.forward[k] * a.forward[k], one = 1.f - ff;
+        a.back_scatter[k] = back * ff / one + back * back * back * ff / (one * one * one);
+    }
+    return a;
+}
+
+Vec3f FiberScattering::multiple(const View& v, const Vec3f& to_light, const Albedo& a,
+                                float fibres) const {
+    const float sin_i = std::clamp(v.t.dot(to_light), -1.f, 1.f);
+    const float cos_i = std::sqrt(std::max(0.f, 1.f - sin_i * sin_i));
+    // θ_h = (θ_i + θ_o)/2, θ_d = (θ_o − θ_i)/2, from the sines.
+    const float theta_i = std::asin(sin_i), theta_o = std::asin(v.sin_o);
+    const float theta_h = 0.5f * (theta_i + theta_o);
+    const float cos_d = std::cos(0.5f * (theta_o - theta_i));
+    const float n = std::max(0.f, fibres);
+    // The longitudinal spread: the fibres' back-scattering, widened by each forward pass.
+    const float variance = back_variance_ + n * forward_variance_;
+    const float g =
+        std::exp(-0.5f * theta_h * theta_h / variance) / std::sqrt(2.f * kPi * variance);
+    const float shape = cos_i * g / (kPi * std::max(cos_d * cos_d, 1e-3f));
+    const float direct = std::exp(-n);
+    Vec3f out = Vec3f::Zero();
+    for (int k = 0; k < 3; ++k) {
+        const float through = std::exp(n * a.log_forward[k]);  // ā_f^n
+        // Back-scattered by the fibres behind the point, of the light that reached it; and
+        // the forward-scattered light that reached it (beyond what came straight through),
+        // sent back by the fibre itself.
+        out[k] =
+            shape * (2.f * params_.back_density * a.back_scatter[k] * through +
+                     params_.forward_density * a.backward[k] * std::max(0.f, through - direct));
     }
     return out;
 }

@@ -54,15 +54,26 @@ Vec3f melanin_absorption(const Melanin& m);
 // hair for azimuthal roughness β_n.
 Vec3f absorption_from_color(const Vec3f& c, float beta_n);
 
-// The melanin concentrations whose absorption is nearest σa (least squares over the three
-// channels, both concentrations ≥ 0): a colour as the pigments that make it.
-Melanin melanin_from_absorption(const Vec3f& sigma_a);
+// The colour of hair whose fibres absorb σa: eq. 9 the other way, c = e^(−k(β_n)·√σa).
+Vec3f color_from_absorption(const Vec3f& sigma_a, float beta_n);
+
+// The melanin concentrations whose hair looks nearest colour `c` (linear RGB, by eq. 9): the
+// share of pheomelanin from the least squares fit of ln c to their colour's in red and green,
+// weighted by their shares of luminance (Rec. 709), and the amount that gives c's luminance.
+// Hair takes its colour from two pigments only, and both absorb blue most, so a neutral grey
+// or black comes out as the brown of its lightness, as real dark hair is.
+Melanin melanin_from_color(const Vec3f& c, float beta_n);
 
 struct FiberParams {
     float eta = 1.55f;    // refractive index of keratin
     float beta_m = 0.3f;  // longitudinal roughness, in [0.01, 1] (Cycles' "Roughness")
     float beta_n = 0.3f;  // azimuthal roughness, in [0.01, 1] (Cycles' "Radial Roughness")
     float alpha = 2.f;    // cuticle tilt toward the tip, degrees, in [−10, 10] (Cycles' "Offset")
+    // Dual scattering's density factors (Zinke et al. 2008 §4.3): how much of the light the
+    // fibres around a point scatter back (d_b) and pass forward (d_f), for hair that is not a
+    // tight bundle. 0.7 in the paper.
+    float back_density = 0.7f;
+    float forward_density = 0.7f;
 };
 
 // The per-render tables of one set of FiberParams.
@@ -91,6 +102,25 @@ class FiberScattering {
         return eval(view(tangent, to_eye), to_light, sigma_a);
     }
 
+    // A fibre's albedos for light that reaches it from all around (Zinke et al. 2008's ā_f and
+    // ā_b): the share it sends on forward (the half-space of azimuths away from the light)
+    // and back, and the dual-scattering back-scatter A_b of the fibres behind it.
+    struct Albedo {
+        Vec3f forward = Vec3f::Zero(), backward = Vec3f::Zero();
+        Vec3f log_forward = Vec3f::Zero();  // ln ā_f, for ā_f^n
+        // A_b = ā_b ā_f² / (1 − ā_f²) + ā_b³ ā_f² / (1 − ā_f²)³
+        Vec3f back_scatter = Vec3f::Zero();
+    };
+    Albedo albedo(const Vec3f& sigma_a) const;
+
+    // Light scattered more than once in the hair (dual scattering, Zinke et al. 2008, "Dual
+    // Scattering Approximation for Fast Multiple Scattering in Hair", §4): arriving through
+    // `fibres` fibres between the light and the point, most of it scattered forward by them,
+    // tinted by ā_f at each and spread in θ, then sent back toward the eye by the fibres
+    // around the point. Per steradian and unit irradiance, as eval; without the light that
+    // arrives unscattered (eval × e^−fibres).
+    Vec3f multiple(const View& v, const Vec3f& to_light, const Albedo& a, float fibres) const;
+
     const FiberParams& params() const { return params_; }
 
     // Table sizes: azimuth φ ∈ [0, π] and |sin θ_o| ∈ [0, 1] for N̄ and L̄; sin θ_i and sin θ_o
@@ -108,6 +138,12 @@ class FiberScattering {
     std::vector<float> rest_, rest_f_, rest_l_;
     // #4·kM·kM: M_p at (p, sin θ_i row, sin θ_o column); p = 3 is untilted with v_2.
     std::vector<float> m_;
+    // For albedo(), at θ_o = 0: per path p, the share of N̄_p sent forward and back, and the
+    // mean path inside the fibre of each.
+    float forward_[3], backward_[3], forward_path_[3], backward_path_[3];
+    // For multiple(): the longitudinal variances of back-scattering (R and TRT) and of one
+    // fibre's forward scattering (TT).
+    float back_variance_ = 0, forward_variance_ = 0;
 };
 
 // d'Eon et al.'s longitudinal lobe M_p for variance v (the von Mises–Fisher distribution

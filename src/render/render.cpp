@@ -221,6 +221,13 @@ struct Scene {
     float specular_floor = 0.f;          // cone cosine below which the specular term is < 1/4096
     float lobe_shadow_exponent = 0.f;    // lobe_shadow_opacity / shadow_opacity − 1, ≥ 0
     Box3 hair_box;
+    std::unique_ptr<FiberScattering> fiber;  // kFiber's tables
+};
+
+// A strand's absorption and albedos for kFiber.
+struct FiberStrand {
+    Vec3f sigma_a = Vec3f::Zero();
+    FiberScattering::Albedo albedo;
 };
 
 // The key's visibility for the lobes as a fraction of `shadow`, its visibility for the diffuse
@@ -236,10 +243,38 @@ float lobe_shadow(const Scene& scene, float shadow) {
 // rim light (visible fraction `rim_shadow`) and ambient: the lobes of real hair (`lobes`, the
 // strand's), or Kajiya-Kay.
 Vec3f shade_hair(const Scene& scene, const Vec3f& p, const Vec3f& t, const Vec3f& color,
-                 float shadow, float rim_shadow, const HairLobeSet& lobes) {
+                 float shadow, float rim_shadow, const HairLobeSet& lobes,
+                 const FiberStrand& fiber_strand) {
     const RenderOptions& o = *scene.options;
     const Lights& l = scene.lights;
     const Vec3f e = (scene.camera.eye - p).normalized();
+    if (o.shading == RenderOptions::Shading::kFiber) {
+        // Radiance per unit of wisp's light intensity: π times the model's (wisp's lights have
+        // no 1/π: a Lambertian surface of albedo a under intensity E shows a·E·cos θ).
+        const FiberScattering& fiber = *scene.fiber;
+        const FiberScattering::View view = fiber.view(t, e);
+        auto light = [&](const Vec3f& dir, float fibres) {
+            // What comes straight through the fibres in front (e^−n), and what they scatter
+            // on to the point.
+            const float direct = std::exp(-fibres);
+            Vec3f out = fiber.multiple(view, dir, fiber_strand.albedo, fibres);
+            if (direct > 1.f / 4096.f) out += direct * fiber.eval(view, dir, fiber_strand.sigma_a);
+            return kPi * out;
+        };
+        // The fibres between the point and the light, from the map's optical depth at
+        // shadow_opacity per fibre (the head's shadow counted as deep hair: none arrives).
+        const float key_fibres =
+            -std::log(std::max(shadow, 1e-6f)) / std::max(o.shadow_opacity, 1e-3f);
+        Vec3f c = l.ambient.cwiseProduct(color) +
+                  l.key_color.cwiseProduct(light(l.key_dir, key_fibres)) +
+                  l.fill_color.cwiseProduct(light(l.fill_dir, 0.f));
+        if (l.rim && rim_shadow > kRimInvisible) {
+            const float rim_fibres =
+                -std::log(std::max(rim_shadow, 1e-6f)) / std::max(o.rim_shadow_opacity, 1e-3f);
+            c += l.rim_color.cwiseProduct(light(l.rim_dir, rim_fibres));
+        }
+        return c;
+    }
     if (o.shading == RenderOptions::Shading::kHair) {
         const HairView view(t, e);  // what the three lights share
         Vec3f c = l.ambient.cwiseProduct(color) +
@@ -536,6 +571,13 @@ size_t tessellate_strands(const Scene& scene, const HeadBlocks& head,
             const Vec3f color =
                 (hair.color_of(s) * (1.f + o.strand_brightness * uniform(0x7a3d91f2c4e5b6a7)))
                     .cwiseMin(1.f);
+            FiberStrand fiber_strand;
+            if (scene.fiber) {
+                // The colour as the melanin that makes it: the absorption of those pigments.
+                fiber_strand.sigma_a =
+                    melanin_absorption(melanin_from_color(color, o.fiber.beta_n));
+                fiber_strand.albedo = scene.fiber->albedo(fiber_strand.sigma_a);
+            }
             const float width_scale =
                 o.width_scale * (1.f + o.strand_width * uniform(0x3c6ef372fe94f82b));
             const std::span<const Vec3f> p = hair.strand(s);
@@ -605,8 +647,8 @@ size_t tessellate_strands(const Scene& scene, const HeadBlocks& head,
                 const float shadow = shadow0 + (shadow1 - shadow0) * sample.u;
                 const float rim_u = (static_cast<float>(segment - rim_a) + sample.u) * rim_scale;
                 const float rim_shadow = rim0 + (rim1 - rim0) * rim_u;
-                v[j].rgb |= pack_color(
-                    shade_hair(scene, sample.p, sample.t, color, shadow, rim_shadow, lobes));
+                v[j].rgb |= pack_color(shade_hair(scene, sample.p, sample.t, color, shadow,
+                                                  rim_shadow, lobes, fiber_strand));
             }
             if (n > 0) v[n - 1].rgb |= kLastOfStrand;
         },
@@ -764,6 +806,22 @@ void render_tile(const Scene& scene, const HeadGeometry& head, const Bins<uint32
 
 }  // namespace
 
+const std::vector<std::string>& shading_names() {
+    static const std::vector<std::string> names{"hair", "fiber", "kajiya-kay"};
+    return names;
+}
+
+RenderOptions::Shading parse_shading(const std::string& name) {
+    using S = RenderOptions::Shading;
+    if (name == "hair") return S::kHair;
+    if (name == "fiber") return S::kFiber;
+    if (name == "kajiya-kay") return S::kKajiyaKay;
+    std::string names;
+    for (const std::string& n : shading_names())
+        names += (names.empty() ? "" : ", ") + n;
+    fail("shading: unknown model '", name, "' (one of ", names, ")");
+}
+
 Box3 framing_bounds(const Hair& hair, const Mesh* head) {
     const Box3 hair_box = hair.bounds();
     Box3 box = hair_box;
@@ -821,6 +879,8 @@ RgbImage render(const Hair& hair, const Mesh* head, const RenderOptions& o, Rend
                                      ? std::max(0.f, o.lobe_shadow_opacity / o.shadow_opacity - 1.f)
                                      : 0.f;
     scene.specular_floor = std::pow(1.f / 4096.f, 1.f / std::max(o.specular_exponent, 1e-3f));
+    if (o.shading == RenderOptions::Shading::kFiber)
+        scene.fiber = std::make_unique<FiberScattering>(o.fiber);
     lap("camera");
 
     if (o.shadows) {

@@ -35,6 +35,7 @@
 #include "core/timer.hpp"
 #include "geometry/mesh.hpp"
 #include "render/camera.hpp"
+#include "render/fiber_scattering.hpp"
 #include "render/hair_shading.hpp"
 
 namespace wisp {
@@ -61,9 +62,13 @@ struct RenderOptions {
     // The hair's reflectance: kHair, the lobes of real hair (hair_shading.hpp), or kKajiyaKay,
     // the model of Choe & Ko §5: colour = ambient·c + Σ_lights light·(diffuse_strength·c·
     // sin(t,l) + specular_strength·s·cone^specular_exponent), s = mix(white, c, specular_tint).
-    enum class Shading { kHair, kKajiyaKay };
+    // kFiber: the far-field fibre model of Chiang et al. 2016 (Cycles' Principled Hair BSDF),
+    // the strand's colour as the melanin that gives it, with light scattered many times by
+    // dual scattering (fiber_scattering.hpp).
+    enum class Shading { kHair, kKajiyaKay, kFiber };
     Shading shading = Shading::kHair;
     HairLobes hair;
+    FiberParams fiber;
     float diffuse_strength = 0.7f;
     float specular_strength = 0.5f;
     float specular_exponent = 80.f;
@@ -110,6 +115,11 @@ struct RenderOptions {
     // resolve single strands; the walk over the strands was the rim's largest cost).
     int rim_shadow_stride = 4;
 };
+
+// The shading models by name (`--shading`, Python's shading=): "hair", "fiber", "kajiya-kay".
+const std::vector<std::string>& shading_names();
+// The model of a name of shading_names(); throws wisp::Error naming the choices otherwise.
+RenderOptions::Shading parse_shading(const std::string& name);
 
 struct RenderStats {
     StageTimes stages;          // (pass, ms) in the order above

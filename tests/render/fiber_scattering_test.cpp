@@ -43,17 +43,33 @@ TEST(FiberScattering, MelaninAbsorptionIsThePublishedCoefficients) {
     EXPECT_NEAR(pheo.z(), 1.05f, 1e-6f);
     // Both absorb blue most: hair is never blue; pheomelanin is the redder.
     EXPECT_GT(pheo.z() / pheo.x(), eu.z() / eu.x());
-    // Concentrations come back from their absorption.
-    for (const Melanin m :
-         {Melanin{8.f, 0.f}, Melanin{1.3f, 0.f}, Melanin{0.5f, 1.2f}, Melanin{0.f, 0.4f}}) {
-        const Melanin back = melanin_from_absorption(melanin_absorption(m));
-        EXPECT_NEAR(back.eumelanin, m.eumelanin, 1e-4f);
-        EXPECT_NEAR(back.pheomelanin, m.pheomelanin, 1e-4f);
+}
+
+// A colour is made of the melanin whose hair has it: a melanin's own colour gives it back; a
+// colour no melanin makes keeps its lightness; darker is more eumelanin, redder more
+// pheomelanin.
+TEST(FiberScattering, MelaninFromColorFindsThePigmentsOfAColor) {
+    for (const Melanin m : {Melanin{4.f, 0.f}, Melanin{1.3f, 0.f}, Melanin{0.5f, 1.2f},
+                            Melanin{0.f, 0.4f}, Melanin{0.3f, 0.1f}}) {
+        const Vec3f c = color_from_absorption(melanin_absorption(m), 0.3f);
+        const Melanin back = melanin_from_color(c, 0.3f);
+        EXPECT_NEAR(back.eumelanin, m.eumelanin, 2e-3f * (1.f + m.eumelanin));
+        EXPECT_NEAR(back.pheomelanin, m.pheomelanin, 2e-3f * (1.f + m.pheomelanin));
     }
-    // A colour no melanin makes (grey: equal absorption) still gives concentrations ≥ 0.
-    const Melanin grey = melanin_from_absorption(Vec3f::Constant(0.5f));
-    EXPECT_GE(grey.eumelanin, 0.f);
-    EXPECT_GE(grey.pheomelanin, 0.f);
+    const auto luminance = [](const Vec3f& c) {
+        return 0.2126f * c.x() + 0.7152f * c.y() + 0.0722f * c.z();
+    };
+    for (const Vec3f grey : {Vec3f(0.006f, 0.006f, 0.006f), Vec3f(0.3f, 0.3f, 0.3f)}) {
+        const Melanin m = melanin_from_color(grey, 0.3f);
+        const Vec3f c = color_from_absorption(melanin_absorption(m), 0.3f);
+        EXPECT_NEAR(std::log(luminance(c)), std::log(luminance(grey)), 0.01f);
+    }
+    const Melanin black = melanin_from_color({0.0075f, 0.0056f, 0.0048f}, 0.3f);
+    const Melanin brown = melanin_from_color({0.073f, 0.039f, 0.016f}, 0.3f);
+    const Melanin auburn = melanin_from_color({0.09f, 0.026f, 0.012f}, 0.3f);
+    EXPECT_GT(black.eumelanin, brown.eumelanin);
+    EXPECT_GT(auburn.pheomelanin / (auburn.eumelanin + auburn.pheomelanin),
+              brown.pheomelanin / (brown.eumelanin + brown.pheomelanin + 1e-6f));
 }
 
 // Chiang et al. eq. 9: a darker colour is more absorption, white none.

@@ -365,6 +365,40 @@ TEST(Render, PictureDoesNotDependOnThreadCount) {
         two = render(s.hair, &s.head, o);
     }
     EXPECT_EQ(one.rgb, two.rgb);
+    o.shading = RenderOptions::Shading::kFiber;
+    {
+        ThreadLimit limit(1);
+        one = render(s.hair, &s.head, o);
+    }
+    {
+        ThreadLimit limit(2);
+        two = render(s.hair, &s.head, o);
+    }
+    EXPECT_EQ(one.rgb, two.rgb) << "fiber";
+}
+
+// The fibre model takes a strand's colour as the melanin that makes it: black hair stays dark
+// (what it shows is the surface's reflection), blonde hair takes its colour from the light
+// passing through its fibres, brighter where the light arrives scattered through the hair
+// than dark hair's, and a red's hue survives.
+TEST(Render, FiberShadingGivesEachColourItsMelanin) {
+    Hair hair = small_scene().hair;
+    RenderOptions o = small_options("back");
+    o.width = o.height = 128;
+    o.background = Vec3f::Zero();
+    o.shading = RenderOptions::Shading::kFiber;
+    auto look = [&](const Vec3f& color) {
+        for (Vec3f& c : hair.colors)
+            c = color;
+        return std::pair{hair_luminance(hair, o), hair_chroma(hair, o)};
+    };
+    const auto [black, black_chroma] = look({0.0075f, 0.0056f, 0.0048f});
+    const auto [blonde, blonde_chroma] = look({0.48f, 0.34f, 0.13f});
+    const auto [auburn, auburn_chroma] = look({0.09f, 0.026f, 0.012f});
+    EXPECT_LT(black.mean, 45.0);
+    EXPECT_GT(blonde.mean, 2.0 * black.mean);
+    EXPECT_GT(auburn_chroma.saturation, black_chroma.saturation);
+    EXPECT_GT(auburn_chroma.saturation, 0.4);
 }
 
 // Pieces the head hides at every pixel they may touch are neither shaded nor drawn: hair
