@@ -212,33 +212,14 @@ OpacityShadowMap::OpacityShadowMap(const Hair& hair, const LightFrame& light, co
         grid[static_cast<size_t>(z) * plane + t] += static_cast<uint32_t>(amount + 0.5f);
     });
 
-    // Sum the per-thread grids (integers: any order gives the same sum), blur each slab with
-    // a 1-2-1 tent in u and v to hide the texel grid, and accumulate along the light.
+    // Sum the per-thread grids (integers: any order gives the same sum) and accumulate along
+    // the light. The slabs are not blurred across texels: a neighbour's slab k lies at another
+    // depth (each texel's slabs start at its own nearest hair), and a blur moved the dense
+    // side hair's deposits in front of the temple, whose skin then took its shadow.
     std::vector<uint32_t> total(cells, 0u);
     for (const std::vector<uint32_t>& g : partial)
         for (size_t i = 0; i < cells; ++i)
             total[i] += g[i];
-    std::vector<float> blur_x(cells), blur(cells);
-    parallel_for(static_cast<size_t>(nz_), [&](size_t z) {
-        const uint32_t* in = &total[z * plane];
-        float* out = &blur_x[z * plane];
-        for (int y = 0; y < ny_; ++y)
-            for (int x = 0; x < nx_; ++x) {
-                const size_t row = static_cast<size_t>(y) * nx_;
-                out[row + x] = 0.25f * static_cast<float>(in[row + std::max(x - 1, 0)]) +
-                               0.5f * static_cast<float>(in[row + x]) +
-                               0.25f * static_cast<float>(in[row + std::min(x + 1, nx_ - 1)]);
-            }
-        float* out2 = &blur[z * plane];
-        for (int y = 0; y < ny_; ++y) {
-            const float* up = &out[static_cast<size_t>(std::max(y - 1, 0)) * nx_];
-            const float* mid = &out[static_cast<size_t>(y) * nx_];
-            const float* down = &out[static_cast<size_t>(std::min(y + 1, ny_ - 1)) * nx_];
-            for (int x = 0; x < nx_; ++x)
-                out2[static_cast<size_t>(y) * nx_ + x] =
-                    0.25f * up[x] + 0.5f * mid[x] + 0.25f * down[x];
-        }
-    });
     // Running sum along the light into the lookup layout, texel-major (a lookup reads two
     // neighbouring boundaries of four texels).
     tau_.assign(plane * (nz_ + 1), 0.f);
@@ -249,7 +230,7 @@ OpacityShadowMap::OpacityShadowMap(const Hair& hair, const LightFrame& light, co
             float* out = &tau_[texel * (nz_ + 1)];
             out[0] = 0;
             for (int z = 0; z < nz_; ++z) {
-                sum += blur[z * plane + texel] * (1.f / kFixedPoint);
+                sum += static_cast<float>(total[z * plane + texel]) * (1.f / kFixedPoint);
                 out[z + 1] = sum;
             }
         },
