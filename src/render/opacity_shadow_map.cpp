@@ -214,8 +214,9 @@ OpacityShadowMap::OpacityShadowMap(const Hair& hair, const LightFrame& light, co
 
     // Sum the per-thread grids (integers: any order gives the same sum) and accumulate along
     // the light. The slabs are not blurred across texels: a neighbour's slab k lies at another
-    // depth (each texel's slabs start at its own nearest hair), and a blur moved the dense
-    // side hair's deposits in front of the temple, whose skin then took its shadow.
+    // depth (each texel's slabs start at its own nearest hair), so a blur would move a dense
+    // neighbour's opacity to this texel's depths, in front of skin that hair lies behind (the
+    // side hair's shadow on a temple).
     std::vector<uint32_t> total(cells, 0u);
     for (const std::vector<uint32_t>& g : partial)
         for (size_t i = 0; i < cells; ++i)

@@ -8,12 +8,11 @@
 // crosses; a running sum along the light gives, at each slab boundary, the optical depth τ of
 // the hair in front of it. A point's transmittance is exp(-τ) with τ interpolated trilinearly.
 // Slabs cut by planes (Kim & Neumann's) cross the curved surface of the hair, which then
-// enters each slab at its start in some places and at its end in others: the hair just under
-// the surface got 45% more or less shadow depending on where, in stripes across a crown.
-// Slabs that start at the surface follow it. And they grow with depth (boundary k at depth
-// D·(k/slices)², D the map's depth), as Yuksel & Keyser's layers do: thin where the outer
-// layer of hair takes the light and its shadows show, thick deep inside, where little light
-// arrives. With even slabs the outer centimetre of hair was one slab.
+// enters each slab at its start in some places and at its end in others, so the hair just
+// under the surface is shadowed more or less in stripes across a crown. Slabs that start at
+// the surface follow it. And they grow with depth (boundary k at depth D·(k/slices)², D the
+// map's depth), as Yuksel & Keyser's layers do: thin where the outer layer of hair takes the
+// light and its shadows show, thick deep inside, where little light arrives.
 //
 // Deposits are summed as fixed-point integers, so the map is bit-identical whatever the
 // thread count or the order in which strands are visited.
