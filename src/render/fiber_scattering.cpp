@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 
 namespace wisp {
 
@@ -48,74 +49,57 @@ Vec3f color_from_absorption(const Vec3f& sigma_a, float beta_n) {
 Melanin melanin_from_color(const Vec3f& c, float beta_n) {
     const float fit = color_fit(beta_n);
     const Vec3f e = eumelanin_absorption(), p = pheomelanin_absorption();
-    // Luminance weights (Rec. 709). The redness is fitted to red and green alone: blue, which
-    // both pigments absorb most, is where a colour picked by eye strays furthest from any
-    // hair's (an auburn's blue, a blonde's, ask for more than either pigment lets through),
-    // and it would pull the fit off the red-to-green balance that makes a hair red or brown.
-    const float w[3] = {0.2126f, 0.7152f, 0.0722f};
-    const float w_hue[3] = {0.2126f, 0.7152f, 0.f};
-    Vec3f target;  // √σa each channel asks for: −ln c / k
+    // The redness is fitted to red and green alone: blue, which both pigments absorb most, is
+    // where a colour picked by eye strays furthest from any hair's (an auburn's blue, a
+    // blonde's, ask for more than either pigment lets through), and it would pull the fit off
+    // the red-to-green balance that makes a hair red or brown.
+    double target[3];  // √σa each channel asks for: −ln c / k
     for (int k = 0; k < 3; ++k)
-        target[k] = -std::log(std::clamp(c[k], 1e-8f, 1.f)) / fit;
-    // As concentrations q·(1 − r) and q·r: for a redness r, each channel's √σa is √q times
-    // √((1 − r)·e + r·p), so the best √q is a weighted linear fit. Searched over r, then
-    // refined by ternary search around the best (the error is smooth in r).
-    const auto error = [&](double r) {
-        double num = 0, den = 0;
-        double shape[3];
-        for (int k = 0; k < 3; ++k) {
-            shape[k] = std::sqrt((1 - r) * e[k] + r * p[k]);
-            num += w_hue[k] * shape[k] * target[k];
-            den += w_hue[k] * shape[k] * shape[k];
-        }
-        const double g = std::max(0.0, num / den);
-        double err = 0;
-        for (int k = 0; k < 3; ++k)
-            err += w_hue[k] * (g * shape[k] - target[k]) * (g * shape[k] - target[k]);
-        return err;
-    };
-    constexpr int kSteps = 32;
-    int best = 0;
-    double best_err = INFINITY;
-    for (int i = 0; i <= kSteps; ++i) {
-        const double err = error(static_cast<double>(i) / kSteps);
-        if (err < best_err) best_err = err, best = i;
+        target[k] = -std::log(std::clamp(static_cast<double>(c[k]), 1e-8, 1.0)) / fit;
+    // As concentrations q·(1 − r) and q·r, each channel's √σa is √q · √((1 − r)·e + r·p). Red
+    // over green fixes r, exactly where the pigments can give the colour's ratio and at the
+    // nearer pigment alone where they cannot (the ratio is monotonic in r):
+    //   ((1 − r)·e_R + r·p_R) = ρ²·((1 − r)·e_G + r·p_G),  ρ = √σa_R / √σa_G.
+    // Eumelanin's ratio is the higher: a colour redder than pheomelanin is pheomelanin, one
+    // less red than eumelanin (a grey, a black) eumelanin.
+    double r = 0;
+    if (target[1] > 0) {
+        const double rho2 = (target[0] / target[1]) * (target[0] / target[1]);
+        if (rho2 <= p[0] / p[1])
+            r = 1;
+        else if (rho2 < e[0] / e[1])
+            r = (rho2 * e[1] - e[0]) / ((p[0] - e[0]) - rho2 * (p[1] - e[1]));
     }
-    double lo = std::max(0, best - 1) / static_cast<double>(kSteps);
-    double hi = std::min(kSteps, best + 1) / static_cast<double>(kSteps);
-    for (int iteration = 0; iteration < 40; ++iteration) {
-        const double a = lo + (hi - lo) / 3, b = hi - (hi - lo) / 3;
-        if (error(a) < error(b))
-            hi = b;
-        else
-            lo = a;
-    }
-    // The redness found, the amount that gives the colour's luminance exactly (bisection: the
-    // luminance falls as √q grows).
-    const double r = 0.5 * (lo + hi);
     double shape[3];
     for (int k = 0; k < 3; ++k)
         shape[k] = std::sqrt((1 - r) * e[k] + r * p[k]);
-    const auto luminance = [&](double g) {
-        double y = 0;
-        for (int k = 0; k < 3; ++k)
-            y += w[k] * std::exp(-fit * g * shape[k]);
-        return y;
-    };
+    // Then the amount that gives the colour's luminance (Rec. 709) exactly: Newton on √q, the
+    // luminance being convex and falling in it, from green's own √q.
+    const double w[3] = {0.2126, 0.7152, 0.0722};
     double want = 0;
     for (int k = 0; k < 3; ++k)
         want += w[k] * std::clamp(static_cast<double>(c[k]), 1e-8, 1.0);
-    double g_lo = 0, g_hi = 1;
-    while (luminance(g_hi) > want && g_hi < 1e3)
-        g_hi *= 2;
-    for (int iteration = 0; iteration < 50; ++iteration) {
-        const double g = 0.5 * (g_lo + g_hi);
-        (luminance(g) > want ? g_lo : g_hi) = g;
+    double g = std::max(0.0, target[1] / shape[1]);
+    for (int iteration = 0; iteration < 32; ++iteration) {
+        double y = 0, dy = 0;
+        for (int k = 0; k < 3; ++k) {
+            const double term = w[k] * std::exp(-fit * g * shape[k]);
+            y += term;
+            dy -= fit * shape[k] * term;
+        }
+        if (dy >= 0) break;  // white: no melanin
+        const double next = std::max(0.0, g - (y - want) / dy);
+        const bool done = std::abs(next - g) <= 1e-9 * (1 + g);
+        g = next;
+        if (done) break;
     }
-    const double g = 0.5 * (g_lo + g_hi);
     return {static_cast<float>(g * g * (1 - r)), static_cast<float>(g * g * r)};
 }
 
+namespace {
+
+// Fresnel reflectance of unpolarized light at a dielectric of index η from the outside, at
+// incidence cosine cos_i.
 float fresnel_dielectric(float cos_i, float eta) {
     cos_i = std::clamp(cos_i, 0.f, 1.f);
     const float sin_t2 = (1.f - cos_i * cos_i) / (eta * eta);
@@ -126,10 +110,8 @@ float fresnel_dielectric(float cos_i, float eta) {
     return 0.5f * (parallel * parallel + perpendicular * perpendicular);
 }
 
-namespace {
-
-// The modified Bessel function I₀(x), from its series (ten terms: below 10⁻⁷ relative for
-// x ≤ 12, where log_bessel_i0 takes over).
+// The modified Bessel function I₀(x), from its series, summed until a term adds under 10⁻¹²
+// of the sum (log_bessel_i0 takes over above x = 12).
 double bessel_i0(double x) {
     double sum = 0, term = 1;
     const double q = 0.25 * x * x;
@@ -177,8 +159,8 @@ inline float fast_acos(float x) {
     return x >= 0.f ? r : kPi - r;
 }
 
-}  // namespace
-
+// d'Eon et al.'s longitudinal lobe M_p for variance v (the von Mises–Fisher distribution on θ),
+// normalized over ∫ M cos θ_i dθ_i = 1.
 float longitudinal_scattering(float sin_i, float cos_i, float sin_o, float cos_o, float v) {
     const double a = static_cast<double>(cos_i) * cos_o / v;
     const double b = static_cast<double>(sin_i) * sin_o / v;
@@ -187,6 +169,8 @@ float longitudinal_scattering(float sin_i, float cos_i, float sin_o, float cos_o
                               : std::exp(-b) * bessel_i0(a) / (2 * v * std::sinh(1.0 / v));
     return static_cast<float>(m);
 }
+
+}  // namespace
 
 FiberScattering::FiberScattering(const FiberParams& params) : params_(params) {
     const double eta = params.eta;
@@ -409,6 +393,23 @@ Vec3f FiberScattering::multiple(const View& v, const Vec3f& to_light, const Albe
                      params_.forward_density * a.backward[k] * std::max(0.f, through - direct));
     }
     return out;
+}
+
+std::shared_ptr<const FiberScattering> fiber_scattering(const FiberParams& params) {
+    static std::mutex mutex;
+    static FiberParams last;
+    static std::shared_ptr<const FiberScattering> tables;
+    const auto same = [](const FiberParams& a, const FiberParams& b) {
+        return a.eta == b.eta && a.beta_m == b.beta_m && a.beta_n == b.beta_n &&
+               a.alpha == b.alpha && a.back_density == b.back_density &&
+               a.forward_density == b.forward_density;
+    };
+    const std::lock_guard lock(mutex);
+    if (!tables || !same(last, params)) {
+        tables = std::make_shared<const FiberScattering>(params);
+        last = params;
+    }
+    return tables;
 }
 
 }  // namespace wisp

@@ -31,6 +31,7 @@
 // plane facing the light) arriving as a narrow beam: for a directional light of irradiance E,
 // L_o = E · S(ω_i, ω_o), the BCSDF times cos θ_i.
 #include <array>
+#include <memory>
 #include <vector>
 
 #include "core/math.hpp"
@@ -58,8 +59,8 @@ Vec3f absorption_from_color(const Vec3f& c, float beta_n);
 Vec3f color_from_absorption(const Vec3f& sigma_a, float beta_n);
 
 // The melanin concentrations whose hair looks nearest colour `c` (linear RGB, by eq. 9): the
-// share of pheomelanin from the least squares fit of ln c to their colour's in red and green,
-// weighted by their shares of luminance (Rec. 709), and the amount that gives c's luminance.
+// share of pheomelanin that gives c's balance of red to green (the nearer pigment alone where
+// none does), and the amount that gives c's luminance (Rec. 709).
 // Hair takes its colour from two pigments only, and both absorb blue most, so a neutral grey
 // or black comes out as the brown of its lightness, as real dark hair is.
 Melanin melanin_from_color(const Vec3f& c, float beta_n);
@@ -121,8 +122,6 @@ class FiberScattering {
     // arrives unscattered (eval × e^−fibres).
     Vec3f multiple(const View& v, const Vec3f& to_light, const Albedo& a, float fibres) const;
 
-    const FiberParams& params() const { return params_; }
-
     // Table sizes: azimuth φ ∈ [0, π] and |sin θ_o| ∈ [0, 1] for N̄ and L̄; sin θ_i and sin θ_o
     // ∈ [−1, 1] for M.
     static constexpr int kPhi = 96, kThetaO = 32, kM = 128;
@@ -146,12 +145,8 @@ class FiberScattering {
     float back_variance_ = 0, forward_variance_ = 0;
 };
 
-// d'Eon et al.'s longitudinal lobe M_p for variance v (the von Mises–Fisher distribution
-// on θ), normalized over ∫ M cos θ_i dθ_i = 1.
-float longitudinal_scattering(float sin_i, float cos_i, float sin_o, float cos_o, float v);
-
-// Fresnel reflectance of unpolarized light at a dielectric of index η from the outside, at
-// incidence cosine cos_i.
-float fresnel_dielectric(float cos_i, float eta);
+// The tables for `params`, shared: built once for the parameters last asked for (about 50 ms),
+// which a contact sheet's views and an editor's successive renders ask for again.
+std::shared_ptr<const FiberScattering> fiber_scattering(const FiberParams& params);
 
 }  // namespace wisp

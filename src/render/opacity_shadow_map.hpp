@@ -74,7 +74,6 @@ class OpacityShadowMap {
     int resolution() const { return nx_; }
     int slices() const { return nz_; }
     float texel_size() const { return std::max(du_, dv_); }  // cm
-    float depth() const { return dw_ * nz_; }                // D, cm
 
   private:
     // The slab coordinate (boundary k at k) of a depth behind a texel's nearest hair.

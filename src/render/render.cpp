@@ -221,7 +221,7 @@ struct Scene {
     float specular_floor = 0.f;          // cone cosine below which the specular term is < 1/4096
     float lobe_shadow_exponent = 0.f;    // lobe_shadow_opacity / shadow_opacity − 1, ≥ 0
     Box3 hair_box;
-    std::unique_ptr<FiberScattering> fiber;  // kFiber's tables
+    std::shared_ptr<const FiberScattering> fiber;  // kFiber's tables
 };
 
 // A strand's absorption and albedos for kFiber.
@@ -879,8 +879,7 @@ RgbImage render(const Hair& hair, const Mesh* head, const RenderOptions& o, Rend
                                      ? std::max(0.f, o.lobe_shadow_opacity / o.shadow_opacity - 1.f)
                                      : 0.f;
     scene.specular_floor = std::pow(1.f / 4096.f, 1.f / std::max(o.specular_exponent, 1e-3f));
-    if (o.shading == RenderOptions::Shading::kFiber)
-        scene.fiber = std::make_unique<FiberScattering>(o.fiber);
+    if (o.shading == RenderOptions::Shading::kFiber) scene.fiber = fiber_scattering(o.fiber);
     lap("camera");
 
     if (o.shadows) {
