@@ -17,13 +17,8 @@ namespace {
 // first and alike in shape second.
 constexpr float kRootWeight = 2.f;
 
-// Whose shape each strand is clustered by: its own, or for a strand under a quarter of the
-// median length (a baby hair at the hairline, a trimmed strand), that of the nearest strand
-// by root of at least that length. A short strand's cross-sections all lie by its root, so by
-// its own shape it is closer to short strands from across the head than to its neighbours:
-// it would make wisps of them, spanning the hairline. It moves with its neighbours instead.
-//   samples  #strands·n cross-sections;  lengths  #strands
-// The length under which a strand is short (above): a quarter of the median.
+// The length under which a strand is short (shape_sources, build_hierarchy): a quarter of the
+// median.
 float short_length(const std::vector<float>& lengths) {
     if (lengths.size() < 2) return 0.f;
     std::vector<float> sorted = lengths;
@@ -31,6 +26,12 @@ float short_length(const std::vector<float>& lengths) {
     return 0.25f * sorted[sorted.size() / 2];
 }
 
+// Whose shape each strand is clustered by: its own, or for a strand under a quarter of the
+// median length (a baby hair at the hairline, a trimmed strand), that of the nearest strand
+// by root of at least that length. A short strand's cross-sections all lie by its root, so by
+// its own shape it is closer to short strands from across the head than to its neighbours:
+// it would make wisps of them, spanning the hairline. It moves with its neighbours instead.
+//   samples  #strands·n cross-sections;  lengths  #strands
 std::vector<uint32_t> shape_sources(const std::vector<Vec3f>& samples,
                                     const std::vector<float>& lengths, int n) {
     const size_t strands = lengths.size();
