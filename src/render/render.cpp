@@ -253,7 +253,9 @@ Vec3f shade_hair(const Scene& scene, const Vec3f& p, const Vec3f& t, const Vec3f
         // no 1/π: a Lambertian surface of albedo a under intensity E shows a·E·cos θ).
         const FiberScattering& fiber = *scene.fiber;
         const FiberScattering::View view = fiber.view(t, e);
-        auto light = [&](const Vec3f& dir, float fibres) {
+        // Returns a Vec3f: deduced, it would be Eigen's expression `kPi * out`, which refers
+        // to the local `out` after the lambda has returned.
+        auto light = [&](const Vec3f& dir, float fibres) -> Vec3f {
             // What comes straight through the fibres in front (e^−n), and what they scatter
             // on to the point.
             const float direct = std::exp(-fibres);

@@ -401,6 +401,59 @@ TEST(Render, FiberShadingGivesEachColourItsMelanin) {
     EXPECT_GT(auburn_chroma.saturation, 0.4);
 }
 
+// The picture shows what the fibre model says: a flat sheet of straight strands facing the
+// eye, unshadowed, takes in its middle the colour computed from FiberScattering directly
+// (ambient, and the key's and fill's single and dual scattering). Dark hair's colour there is
+// mostly the surface's grey reflection, so a renderer that lost a lobe would miss by far more
+// than the tolerance.
+TEST(Render, FiberPictureShowsTheModelsRadiance) {
+    Hair sheet;
+    const Vec3f color(0.09f, 0.026f, 0.012f);  // auburn
+    constexpr int points = 16;
+    for (int layer = 0; layer < 2; ++layer)
+        for (int k = 0; k < 160; ++k) {
+            std::array<Vec3f, points> strand;
+            const float x = -4.f + 0.05f * k + 0.025f * layer;
+            for (int i = 0; i < points; ++i)
+                strand[i] = Vec3f(x, 4.f - 8.f * i / (points - 1), -0.05f * layer);
+            sheet.add_strand(strand);
+            sheet.colors.push_back(color);
+        }
+    sheet.default_width = 0.1f;
+    RenderOptions o;
+    o.width = o.height = 64;
+    o.look_at = LookAt{Vec3f(0, 0, 60), Vec3f(0, 0, 0)};
+    o.fov_y_degrees = 10.f;
+    o.shadows = false;
+    o.rim.color = Vec3f::Zero();
+    o.strand_brightness = 0.f;
+    o.strand_width = 0.f;
+    o.background = Vec3f::Zero();
+    o.shading = RenderOptions::Shading::kFiber;
+    const RgbImage image = render(sheet, nullptr, o);
+
+    const FiberScattering fiber(o.fiber);
+    const Vec3f sigma_a = melanin_absorption(melanin_from_color(color, o.fiber.beta_n));
+    const FiberScattering::Albedo albedo = fiber.albedo(sigma_a);
+    const FiberScattering::View view = fiber.view(Vec3f(0, -1, 0), Vec3f(0, 0, 1));
+    Vec3f expected = o.ambient.cwiseProduct(color);
+    for (const DirectionalLight& light : {o.key, o.fill}) {
+        const Vec3f dir = light.direction.normalized();
+        const Vec3f scattered =
+            fiber.eval(view, dir, sigma_a) + fiber.multiple(view, dir, albedo, 0.f);
+        expected += kPi * light.color.cwiseProduct(scattered);
+    }
+    auto linear = [](uint8_t v) {
+        const float s = v / 255.f;
+        return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f);
+    };
+    const uint8_t* middle = &image.rgb[(32 * 64 + 32) * 3];
+    for (int c = 0; c < 3; ++c) {
+        // 8-bit sRGB and the colour's packing: a few per cent.
+        EXPECT_NEAR(linear(middle[c]), expected[c], 0.04f * expected[c] + 0.0005f) << c;
+    }
+}
+
 // Pieces the head hides at every pixel they may touch are neither shaded nor drawn: hair
 // wholly behind the head leaves the picture as the head alone makes it, and the hair on the
 // sphere's far side is counted as hidden while the near side is drawn.
