@@ -26,7 +26,8 @@ const wisp::Mesh& bench_head() {
     return head;
 }
 
-void run(benchmark::State& state, bool shadows, const char* view, bool rim = true) {
+void run(benchmark::State& state, bool shadows, const char* view, bool rim = true,
+         wisp::RenderOptions::Shading shading = wisp::RenderOptions{}.shading) {
     const wisp::Hair& hair = bench_hair();
     const wisp::Mesh& head = bench_head();
     wisp::ThreadLimit limit(static_cast<int>(state.range(0)));
@@ -35,6 +36,7 @@ void run(benchmark::State& state, bool shadows, const char* view, bool rim = tru
     options.shadows = shadows;
     options.view = view;
     if (!rim) options.rim.color = wisp::Vec3f::Zero();
+    options.shading = shading;
     wisp::RenderStats stats;
     std::vector<double> stage_ms;
     for (auto _ : state) {
@@ -59,6 +61,10 @@ void BM_Render100kShadows(benchmark::State& state) {
 void BM_Render100kShadowsNoRim(benchmark::State& state) {
     run(state, true, "three-quarter", false);
 }
+// The fibre model (R, TT, TRT and dual scattering from tables) in place of the lobes.
+void BM_Render100kFiber(benchmark::State& state) {
+    run(state, true, "three-quarter", true, wisp::RenderOptions::Shading::kFiber);
+}
 void BM_Render100kNoShadows(benchmark::State& state) {
     run(state, false, "three-quarter");
 }
@@ -70,5 +76,6 @@ void BM_Render100kBack(benchmark::State& state) {
 
 BENCHMARK(BM_Render100kShadows)->Arg(2)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Render100kShadowsNoRim)->Arg(2)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Render100kFiber)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Render100kNoShadows)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Render100kBack)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
