@@ -367,8 +367,8 @@ FiberScattering::Albedo FiberScattering::albedo(const Vec3f& sigma_a) const {
     return a;
 }
 
-Vec3f FiberScattering::multiple(const View& v, const Vec3f& to_light, const Albedo& a,
-                                float fibres) const {
+Vec3f FiberScattering::multiple(const View& v, const Vec3f& to_light, const Albedo& a, float fibres,
+                                float behind) const {
     const float sin_i = std::clamp(v.t.dot(to_light), -1.f, 1.f);
     const float cos_i = std::sqrt(std::max(0.f, 1.f - sin_i * sin_i));
     // θ_h = (θ_i + θ_o)/2, θ_d = (θ_o − θ_i)/2, from the sines.
@@ -385,11 +385,13 @@ Vec3f FiberScattering::multiple(const View& v, const Vec3f& to_light, const Albe
     Vec3f out = Vec3f::Zero();
     for (int k = 0; k < 3; ++k) {
         const float through = std::exp(n * a.log_forward[k]);  // ā_f^n
+        // 1 − ā_f^2m (1 for hair without end, where exp gives 0).
+        const float layers = 1.f - std::exp(2.f * std::max(0.f, behind) * a.log_forward[k]);
         // Back-scattered by the fibres behind the point, of the light that reached it; and
         // the forward-scattered light that reached it (beyond what came straight through),
         // sent back by the fibre itself.
         out[k] =
-            shape * (2.f * params_.back_density * a.back_scatter[k] * through +
+            shape * (2.f * params_.back_density * a.back_scatter[k] * layers * through +
                      params_.forward_density * a.backward[k] * std::max(0.f, through - direct));
     }
     return out;

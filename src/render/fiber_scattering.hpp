@@ -31,6 +31,7 @@
 // plane facing the light) arriving as a narrow beam: for a directional light of irradiance E,
 // L_o = E · S(ω_i, ω_o), the BCSDF times cos θ_i.
 #include <array>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -120,7 +121,12 @@ class FiberScattering {
     // tinted by ā_f at each and spread in θ, then sent back toward the eye by the fibres
     // around the point. Per steradian and unit irradiance, as eval; without the light that
     // arrives unscattered (eval × e^−fibres).
-    Vec3f multiple(const View& v, const Vec3f& to_light, const Albedo& a, float fibres) const;
+    // `behind`: the fibres behind the point along the light, whose back-scattering A_b sums:
+    // Zinke's A_b is for hair as deep as the light goes, which light hair (ā_f near 1, so
+    // the sum over layers converges slowly) is not on a head; A_b over m layers is taken as
+    // A_b · (1 − ā_f^2m), its first term's share exactly.
+    Vec3f multiple(const View& v, const Vec3f& to_light, const Albedo& a, float fibres,
+                   float behind = std::numeric_limits<float>::infinity()) const;
 
     // Table sizes: azimuth φ ∈ [0, π] and |sin θ_o| ∈ [0, 1] for N̄ and L̄; sin θ_i and sin θ_o
     // ∈ [−1, 1] for M.

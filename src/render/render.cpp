@@ -119,6 +119,7 @@ struct Lights {
 struct LightShadow {
     std::unique_ptr<OpacityShadowMap> hair;
     std::unique_ptr<ShadowDepthMap> head;
+    Vec3f travel = Vec3f::Zero();  // the direction the light travels (away from it)
 
     // Visibility of the light in [0, 1] at p (cm, head space).
     float visibility(const Vec3f& p, float bias = 0.05f) const {
@@ -128,6 +129,16 @@ struct LightShadow {
         return v;
     }
     float head_texel() const { return head ? head->texel_size() : 0.f; }
+
+    // The optical depth of the hair behind p along the light, as far as the head: the hair
+    // whose back-scattered light reaches p. +inf without a hair map (hair as deep as it
+    // comes).
+    float depth_behind(const Vec3f& p) const {
+        if (!hair) return std::numeric_limits<float>::infinity();
+        // Beyond the hair's box the map's column is summed whole: 10 m is as far as any.
+        const float d = std::min(head ? head->distance_to_surface(p) : INFINITY, 1000.f);
+        return std::max(0.f, hair->optical_depth(p + d * travel) - hair->optical_depth(p));
+    }
 };
 
 Vec3f camera_to_world(const Camera& cam, const Vec3f& d) {
@@ -244,7 +255,8 @@ float lobe_shadow(const Scene& scene, float shadow) {
 // strand's), or Kajiya-Kay.
 Vec3f shade_hair(const Scene& scene, const Vec3f& p, const Vec3f& t, const Vec3f& color,
                  float shadow, float rim_shadow, const HairLobeSet& lobes,
-                 const FiberStrand& fiber_strand) {
+                 const FiberStrand& fiber_strand, float key_depth_behind = INFINITY,
+                 float rim_depth_behind = INFINITY) {
     const RenderOptions& o = *scene.options;
     const Lights& l = scene.lights;
     const Vec3f e = (scene.camera.eye - p).normalized();
@@ -255,11 +267,11 @@ Vec3f shade_hair(const Scene& scene, const Vec3f& p, const Vec3f& t, const Vec3f
         const FiberScattering::View view = fiber.view(t, e);
         // Returns a Vec3f: deduced, it would be Eigen's expression `kPi * out`, which refers
         // to the local `out` after the lambda has returned.
-        auto light = [&](const Vec3f& dir, float fibres) -> Vec3f {
+        auto light = [&](const Vec3f& dir, float fibres, float behind) -> Vec3f {
             // What comes straight through the fibres in front (e^−n), and what they scatter
             // on to the point.
             const float direct = std::exp(-fibres);
-            Vec3f out = fiber.multiple(view, dir, fiber_strand.albedo, fibres);
+            Vec3f out = fiber.multiple(view, dir, fiber_strand.albedo, fibres, behind);
             if (direct > 1.f / 4096.f) out += direct * fiber.eval(view, dir, fiber_strand.sigma_a);
             return kPi * out;
         };
@@ -267,13 +279,15 @@ Vec3f shade_hair(const Scene& scene, const Vec3f& p, const Vec3f& t, const Vec3f
         // shadow_opacity per fibre (the head's shadow counted as deep hair: none arrives).
         const float key_fibres =
             -std::log(std::max(shadow, 1e-6f)) / std::max(o.shadow_opacity, 1e-3f);
+        const float key_behind = key_depth_behind / std::max(o.shadow_opacity, 1e-3f);
+        const float rim_behind = rim_depth_behind / std::max(o.rim_shadow_opacity, 1e-3f);
         Vec3f c = l.ambient.cwiseProduct(color) +
-                  l.key_color.cwiseProduct(light(l.key_dir, key_fibres)) +
-                  l.fill_color.cwiseProduct(light(l.fill_dir, 0.f));
+                  l.key_color.cwiseProduct(light(l.key_dir, key_fibres, key_behind)) +
+                  l.fill_color.cwiseProduct(light(l.fill_dir, 0.f, key_behind));
         if (l.rim && rim_shadow > kRimInvisible) {
             const float rim_fibres =
                 -std::log(std::max(rim_shadow, 1e-6f)) / std::max(o.rim_shadow_opacity, 1e-3f);
-            c += l.rim_color.cwiseProduct(light(l.rim_dir, rim_fibres));
+            c += l.rim_color.cwiseProduct(light(l.rim_dir, rim_fibres, rim_behind));
         }
         return c;
     }
@@ -624,6 +638,11 @@ size_t tessellate_strands(const Scene& scene, const HeadBlocks& head,
             float shadow0 = 1.f, shadow1 = 1.f;
             int rim_a = -1, rim_b = -1;  // control points of the rim's current span
             float rim0 = 1.f, rim1 = 1.f, rim_scale = 1.f;
+            // For the fibre model, the hair's depth behind each point along the key and the rim
+            // light, looked up beside their shadows.
+            const bool behind = scene.fiber && o.shadows;
+            float behind0 = INFINITY, behind1 = INFINITY, rim_behind0 = INFINITY,
+                  rim_behind1 = INFINITY;
             const int last = static_cast<int>(p.size()) - 1;
             for (size_t j = 0; j < n; ++j) {
                 if (v[j].z <= kNear) continue;
@@ -632,15 +651,21 @@ size_t tessellate_strands(const Scene& scene, const HeadBlocks& head,
                 if (!drawn) continue;
                 const StrandSample& sample = samples[j];
                 if (sample.segment != segment) {
-                    shadow0 = sample.segment == segment + 1 && segment >= 0
-                                  ? shadow1
-                                  : key.visibility(p[sample.segment]);
+                    const bool next = sample.segment == segment + 1 && segment >= 0;
+                    shadow0 = next ? shadow1 : key.visibility(p[sample.segment]);
+                    if (behind) behind0 = next ? behind1 : key.depth_behind(p[sample.segment]);
                     segment = sample.segment;
                     shadow1 = p.size() > 1 ? key.visibility(p[segment + 1]) : shadow0;
+                    if (behind) behind1 = p.size() > 1 ? key.depth_behind(p[segment + 1]) : behind0;
                     if (rim && (rim_a < 0 || segment < rim_a || segment >= rim_b)) {
                         const int a = segment & ~1, b = std::min(a + 2, last);
-                        rim0 = a == rim_b && rim_a >= 0 ? rim1 : rim_light.visibility(p[a]);
+                        const bool on = a == rim_b && rim_a >= 0;
+                        rim0 = on ? rim1 : rim_light.visibility(p[a]);
                         rim1 = b > a ? rim_light.visibility(p[b]) : rim0;
+                        if (behind) {
+                            rim_behind0 = on ? rim_behind1 : rim_light.depth_behind(p[a]);
+                            rim_behind1 = b > a ? rim_light.depth_behind(p[b]) : rim_behind0;
+                        }
                         rim_a = a;
                         rim_b = b;
                         rim_scale = 1.f / static_cast<float>(std::max(1, b - a));
@@ -649,8 +674,13 @@ size_t tessellate_strands(const Scene& scene, const HeadBlocks& head,
                 const float shadow = shadow0 + (shadow1 - shadow0) * sample.u;
                 const float rim_u = (static_cast<float>(segment - rim_a) + sample.u) * rim_scale;
                 const float rim_shadow = rim0 + (rim1 - rim0) * rim_u;
-                v[j].rgb |= pack_color(shade_hair(scene, sample.p, sample.t, color, shadow,
-                                                  rim_shadow, lobes, fiber_strand));
+                // Interpolated where both ends are finite (hair within the maps).
+                auto lerp = [](float a, float b, float u) {
+                    return std::isinf(a) || std::isinf(b) ? std::min(a, b) : a + (b - a) * u;
+                };
+                v[j].rgb |= pack_color(shade_hair(
+                    scene, sample.p, sample.t, color, shadow, rim_shadow, lobes, fiber_strand,
+                    lerp(behind0, behind1, sample.u), lerp(rim_behind0, rim_behind1, rim_u)));
             }
             if (n > 0) v[n - 1].rgb |= kLastOfStrand;
         },
@@ -890,6 +920,7 @@ RgbImage render(const Hair& hair, const Mesh* head, const RenderOptions& o, Rend
         auto cast = [&](const Vec3f& dir, int resolution, int slices, float opacity, int stride,
                         int head_resolution, LightShadow& out) {
             const LightFrame frame = LightFrame::towards(dir);
+            out.travel = frame.w;
             if (hair.point_count() > 0) {
                 OpacityShadowMapOptions so;
                 so.resolution = resolution;

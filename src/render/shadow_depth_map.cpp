@@ -84,6 +84,16 @@ ShadowDepthMap::ShadowDepthMap(const Mesh& mesh, const LightFrame& light, const 
         }
 }
 
+float ShadowDepthMap::distance_to_surface(const Vec3f& p) const {
+    constexpr float kNone = std::numeric_limits<float>::infinity();
+    if (depth_.empty()) return kNone;
+    const Vec3f l = light_.to_light_space(p);
+    const int x = floor_to_int((l.x() - lo_.x()) / texel_),
+              y = floor_to_int((l.y() - lo_.y()) / texel_);
+    if (x < 0 || y < 0 || x >= n_ || y >= n_) return kNone;
+    return std::max(0.f, depth_[static_cast<size_t>(y) * n_ + x] - l.z());
+}
+
 float ShadowDepthMap::visibility(const Vec3f& p, float bias) const {
     if (depth_.empty()) return 1.f;
     const Vec3f l = light_.to_light_space(p);

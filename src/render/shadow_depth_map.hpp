@@ -22,6 +22,10 @@ class ShadowDepthMap {
     // 1 for an empty map.
     float visibility(const Vec3f& p, float bias = 0.05f) const;
 
+    // How far behind p (cm, along the light) the head's surface nearest the light lies, at
+    // the texel nearest p: 0 where p is behind it, +inf where no head is in line.
+    float distance_to_surface(const Vec3f& p) const;
+
     float texel_size() const { return texel_; }  // cm
 
   private:

@@ -142,5 +142,26 @@ TEST(FiberScattering, LightHairTransmitsTowardTheEyeOppositeTheLight) {
               0.1f * fiber.eval(t, light, behind, blonde).x());
 }
 
+// Dual scattering's back-scatter sums the fibres behind a point: light hair (forward albedo
+// near 1) takes many layers to send back all it will, dark hair only the first few; with no
+// hair behind, only the point's own return of the light scattered on to it is left.
+TEST(FiberScattering, BackScatterGrowsWithTheHairBehind) {
+    const FiberScattering fiber;
+    const Vec3f t = Vec3f::UnitX();
+    const FiberScattering::View view = fiber.view(t, direction(-0.2f, 0.4f));
+    const Vec3f light = direction(0.3f, 0.f);
+    const auto back = [&](const Vec3f& sigma_a, float behind) {
+        return fiber.multiple(view, light, fiber.albedo(sigma_a), 0.f, behind).x();
+    };
+    const Vec3f blonde = melanin_absorption({0.05f, 0.03f}), dark = melanin_absorption({2.f, 0.f});
+    EXPECT_EQ(back(blonde, 0.f), 0.f);
+    EXPECT_LT(back(blonde, 1.f), back(blonde, 4.f));
+    EXPECT_LT(back(blonde, 4.f), 0.9f * back(blonde, INFINITY));
+    EXPECT_NEAR(back(blonde, 200.f), back(blonde, INFINITY), 1e-3f * back(blonde, INFINITY));
+    EXPECT_GT(back(dark, 4.f), 0.97f * back(dark, INFINITY));
+    // Behind defaults to hair without end.
+    EXPECT_EQ(fiber.multiple(view, light, fiber.albedo(blonde), 0.f).x(), back(blonde, INFINITY));
+}
+
 }  // namespace
 }  // namespace wisp

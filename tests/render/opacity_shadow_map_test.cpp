@@ -168,6 +168,12 @@ TEST(ShadowDepthMap, SphereShadowsBehindItself) {
     EXPECT_NEAR(map.visibility(Vec3f(0, 5.05f, 0)), 1.f, 1e-6f);  // its own lit surface
     EXPECT_NEAR(map.visibility(Vec3f(0, -7, 0)), 0.f, 1e-6f);
     EXPECT_NEAR(map.visibility(Vec3f(8, -7, 0)), 1.f, 1e-6f);
+    // The way to the lit surface along the light (down −y), none beside the sphere, and none
+    // from behind it.
+    EXPECT_NEAR(map.distance_to_surface(Vec3f(0, 7, 0)), 2.f, 0.1f);
+    EXPECT_NEAR(map.distance_to_surface(Vec3f(3, 7, 0)), 3.f, 0.1f);  // surface at y = 4
+    EXPECT_EQ(map.distance_to_surface(Vec3f(8, 7, 0)), INFINITY);
+    EXPECT_EQ(map.distance_to_surface(Vec3f(0, -7, 0)), 0.f);
 }
 
 }  // namespace
