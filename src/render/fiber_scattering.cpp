@@ -1,7 +1,9 @@
 #include "render/fiber_scattering.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <mutex>
 
 namespace wisp {
@@ -159,6 +161,11 @@ inline float fast_acos(float x) {
     return x >= 0.f ? r : kPi - r;
 }
 
+// asin to within 7·10⁻⁵ rad, by fast_acos.
+inline float fast_asin(float x) {
+    return 0.5f * kPi - fast_acos(x);
+}
+
 // d'Eon et al.'s longitudinal lobe M_p for variance v (the von Mises–Fisher distribution on θ),
 // normalized over ∫ M cos θ_i dθ_i = 1.
 float longitudinal_scattering(float sin_i, float cos_i, float sin_o, float cos_o, float v) {
@@ -288,6 +295,7 @@ FiberScattering::View FiberScattering::view(const Vec3f& tangent, const Vec3f& t
     v.t = tangent;
     v.sin_o = std::clamp(tangent.dot(to_eye), -1.f, 1.f);
     v.cos_o = std::sqrt(std::max(0.f, 1.f - v.sin_o * v.sin_o));
+    v.theta_o = fast_asin(v.sin_o);
     v.op = to_eye - v.sin_o * tangent;
     v.op2 = v.op.squaredNorm();
     const float fy = std::abs(v.sin_o) * (kThetaO - 1);
@@ -337,13 +345,13 @@ Vec3f FiberScattering::eval(const View& v, const Vec3f& to_light, const Vec3f& s
     };
     const float rest = rest_at(rest_), f = rest_at(rest_f_), l = rest_at(rest_l_);
     const float m_rest = longitudinal(3, sin_i) * (1.f / (2.f * kPi));
-    Vec3f out = Vec3f::Zero();
-    for (int k = 0; k < 3; ++k) {
-        const float t = std::exp(-sigma_a[k] * l);
-        out[k] = r + tt * std::exp(-sigma_a[k] * l_tt) + trt * std::exp(-sigma_a[k] * l_trt) +
-                 m_rest * rest * t * t * t * (1.f - f) / (1.f - f * t);
-    }
-    return out;
+    // The three channels at once: Eigen's exp of four floats is one SSE polynomial.
+    const Eigen::Array4f minus_sigma(-sigma_a[0], -sigma_a[1], -sigma_a[2], 0.f);
+    const Eigen::Array4f t = (minus_sigma * l).exp();
+    const Eigen::Array4f out = r + tt * (minus_sigma * l_tt).exp() +
+                               trt * (minus_sigma * l_trt).exp() +
+                               (m_rest * rest * (1.f - f)) * t * t * t / (1.f - f * t);
+    return {out[0], out[1], out[2]};
 }
 
 FiberScattering::Albedo FiberScattering::albedo(const Vec3f& sigma_a) const {
@@ -371,22 +379,28 @@ Vec3f FiberScattering::multiple(const View& v, const Vec3f& to_light, const Albe
                                 float behind) const {
     const float sin_i = std::clamp(v.t.dot(to_light), -1.f, 1.f);
     const float cos_i = std::sqrt(std::max(0.f, 1.f - sin_i * sin_i));
-    // θ_h = (θ_i + θ_o)/2, θ_d = (θ_o − θ_i)/2, from the sines.
-    const float theta_i = std::asin(sin_i), theta_o = std::asin(v.sin_o);
-    const float theta_h = 0.5f * (theta_i + theta_o);
-    const float cos_d = std::cos(0.5f * (theta_o - theta_i));
+    // θ_h = (θ_i + θ_o)/2; cos² θ_d, θ_d = (θ_o − θ_i)/2, is (1 + cos(θ_o − θ_i))/2.
+    const float theta_h = 0.5f * (fast_asin(sin_i) + v.theta_o);
+    const float cos_d2 = 0.5f * (1.f + cos_i * v.cos_o + sin_i * v.sin_o);
     const float n = std::max(0.f, fibres);
     // The longitudinal spread: the fibres' back-scattering, widened by each forward pass.
     const float variance = back_variance_ + n * forward_variance_;
-    const float g =
-        std::exp(-0.5f * theta_h * theta_h / variance) / std::sqrt(2.f * kPi * variance);
-    const float shape = cos_i * g / (kPi * std::max(cos_d * cos_d, 1e-3f));
-    const float direct = std::exp(-n);
-    Vec3f out = Vec3f::Zero();
+    // Four exponentials at a time (Eigen's exp of four floats is one SSE polynomial): ā_f^n per
+    // channel and e^−n; ā_f^2m per channel (0 for hair without end, whose exponent is −∞)
+    // and the spread's Gaussian.
+    const float m2 = 2.f * std::max(0.f, behind);
+    const Eigen::Array4f e1 =
+        Eigen::Array4f(n * a.log_forward[0], n * a.log_forward[1], n * a.log_forward[2], -n).exp();
+    const Eigen::Array4f e2 =
+        Eigen::Array4f(m2 * a.log_forward[0], m2 * a.log_forward[1], m2 * a.log_forward[2],
+                       -0.5f * theta_h * theta_h / variance)
+            .exp();
+    const float g = e2[3] / std::sqrt(2.f * kPi * variance);
+    const float shape = cos_i * g / (kPi * std::max(cos_d2, 1e-3f));
+    const float direct = e1[3];
+    Vec3f out;
     for (int k = 0; k < 3; ++k) {
-        const float through = std::exp(n * a.log_forward[k]);  // ā_f^n
-        // 1 − ā_f^2m (1 for hair without end, where exp gives 0).
-        const float layers = 1.f - std::exp(2.f * std::max(0.f, behind) * a.log_forward[k]);
+        const float through = e1[k], layers = 1.f - e2[k];
         // Back-scattered by the fibres behind the point, of the light that reached it; and
         // the forward-scattered light that reached it (beyond what came straight through),
         // sent back by the fibre itself.

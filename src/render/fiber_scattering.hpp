@@ -88,9 +88,10 @@ class FiberScattering {
         Vec3f t;      // unit tangent, root to tip
         float sin_o;  // t·ω_o
         float cos_o;
-        Vec3f op;     // ω_o's projection on the plane normal to t
-        float op2;    // its squared length
-        int row = 0;  // the |sin θ_o| row of the azimuthal tables, and its weight
+        float theta_o;  // asin(sin_o)
+        Vec3f op;       // ω_o's projection on the plane normal to t
+        float op2;      // its squared length
+        int row = 0;    // the |sin θ_o| row of the azimuthal tables, and its weight
         float row_w = 0;
         int m_col = 0;  // the sin θ_o column of the longitudinal tables, and its weight
         float m_col_w = 0;

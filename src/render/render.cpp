@@ -130,14 +130,20 @@ struct LightShadow {
     }
     float head_texel() const { return head ? head->texel_size() : 0.f; }
 
-    // The optical depth of the hair behind p along the light, as far as the head: the hair
-    // whose back-scattered light reaches p. +inf without a hair map (hair as deep as it
-    // comes).
-    float depth_behind(const Vec3f& p) const {
-        if (!hair) return std::numeric_limits<float>::infinity();
+    // visibility(p) and the optical depth of the hair behind p along the light as far as the
+    // head (the hair whose back-scattered light reaches p; +inf without a hair map: hair as
+    // deep as it comes), from one lookup of the hair's map at p.
+    float visibility_and_behind(const Vec3f& p, float& depth_behind) const {
+        float v = 1.f;
+        if (head) v *= head->visibility(p);
+        depth_behind = 0.f;  // in the head's shadow: no light to scatter back
+        if (!hair) depth_behind = std::numeric_limits<float>::infinity();
+        if (!hair || v == 0.f) return v;
+        const float tau = hair->optical_depth(p);
         // Beyond the hair's box the map's column is summed whole: 10 m is as far as any.
         const float d = std::min(head ? head->distance_to_surface(p) : INFINITY, 1000.f);
-        return std::max(0.f, hair->optical_depth(p + d * travel) - hair->optical_depth(p));
+        depth_behind = std::max(0.f, hair->optical_depth(p + d * travel) - tau);
+        return v * std::exp(-tau);
     }
 };
 
@@ -651,21 +657,23 @@ size_t tessellate_strands(const Scene& scene, const HeadBlocks& head,
                 if (!drawn) continue;
                 const StrandSample& sample = samples[j];
                 if (sample.segment != segment) {
-                    const bool next = sample.segment == segment + 1 && segment >= 0;
-                    shadow0 = next ? shadow1 : key.visibility(p[sample.segment]);
-                    if (behind) behind0 = next ? behind1 : key.depth_behind(p[sample.segment]);
+                    // The lights' visibility (and for the fibre model, the hair behind).
+                    auto look = [&](const LightShadow& light, const Vec3f& q, float& depth) {
+                        return behind ? light.visibility_and_behind(q, depth) : light.visibility(q);
+                    };
+                    if (!(sample.segment == segment + 1 && segment >= 0)) {
+                        shadow1 = look(key, p[sample.segment], behind1);
+                    }
+                    shadow0 = shadow1;
+                    behind0 = behind1;
                     segment = sample.segment;
-                    shadow1 = p.size() > 1 ? key.visibility(p[segment + 1]) : shadow0;
-                    if (behind) behind1 = p.size() > 1 ? key.depth_behind(p[segment + 1]) : behind0;
+                    if (p.size() > 1) shadow1 = look(key, p[segment + 1], behind1);
                     if (rim && (rim_a < 0 || segment < rim_a || segment >= rim_b)) {
                         const int a = segment & ~1, b = std::min(a + 2, last);
-                        const bool on = a == rim_b && rim_a >= 0;
-                        rim0 = on ? rim1 : rim_light.visibility(p[a]);
-                        rim1 = b > a ? rim_light.visibility(p[b]) : rim0;
-                        if (behind) {
-                            rim_behind0 = on ? rim_behind1 : rim_light.depth_behind(p[a]);
-                            rim_behind1 = b > a ? rim_light.depth_behind(p[b]) : rim_behind0;
-                        }
+                        if (!(a == rim_b && rim_a >= 0)) rim1 = look(rim_light, p[a], rim_behind1);
+                        rim0 = rim1;
+                        rim_behind0 = rim_behind1;
+                        if (b > a) rim1 = look(rim_light, p[b], rim_behind1);
                         rim_a = a;
                         rim_b = b;
                         rim_scale = 1.f / static_cast<float>(std::max(1, b - a));
