@@ -1,10 +1,10 @@
 #include "render/fiber_scattering.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
-#include <cstdint>
 #include <mutex>
+
+#include "core/parallel.hpp"
 
 namespace wisp {
 
@@ -186,7 +186,7 @@ FiberScattering::FiberScattering(const FiberParams& params) : params_(params) {
     // Chiang et al. 2016 eqs. 7 and 8: the variance and the logistic scale that give lobes
     // that look as rough as β says.
     const double v0 = std::pow(0.726 * bm + 0.812 * bm * bm + 3.7 * std::pow(bm, 20), 2);
-    const double v[4] = {v0, 0.25 * v0, 4 * v0, 4 * v0};
+    const double v[3] = {v0, 0.25 * v0, 4 * v0};
     const double s =
         std::sqrt(M_PI / 8) * (0.265 * bn + 1.194 * bn * bn + 5.372 * std::pow(bn, 22));
     const double alpha = params.alpha * M_PI / 180;
@@ -205,15 +205,15 @@ FiberScattering::FiberScattering(const FiberParams& params) : params_(params) {
     rest_.assign(kThetaO, 0.f);
     rest_f_.assign(kThetaO, 0.f);
     rest_l_.assign(kThetaO, 0.f);
-    std::vector<double> n(3 * kPhi), nl(3 * kPhi);
-    for (int row = 0; row < kThetaO; ++row) {
+    // Rows apart (each writes only its own entries: the same tables at any thread count).
+    parallel_for(kThetaO, [&](size_t row_index) {
+        const int row = static_cast<int>(row_index);
+        std::vector<double> n(3 * kPhi), nl(3 * kPhi);
         const double sin_o = std::min(0.9999, static_cast<double>(row) / (kThetaO - 1));
         const double cos_o = std::sqrt(1 - sin_o * sin_o);
         // The fibre seen in the plane normal to it: the index for the projected path (Bravais).
         const double eta_p = std::sqrt(eta * eta - sin_o * sin_o) / cos_o;
         const double sin_t = sin_o / eta, cos_t = std::sqrt(1 - sin_t * sin_t);
-        std::fill(n.begin(), n.end(), 0.0);
-        std::fill(nl.begin(), nl.end(), 0.0);
         double rest = 0, rest_f = 0, rest_l = 0, weight = 0;
         for (int k = 0; k < kH; ++k) {
             const double gamma_o = M_PI * ((k + 0.5) / kH - 0.5);
@@ -249,7 +249,7 @@ FiberScattering::FiberScattering(const FiberParams& params) : params_(params) {
         rest_[row] = static_cast<float>(rest / weight);
         rest_f_[row] = static_cast<float>(rest_f / weight);
         rest_l_[row] = static_cast<float>(rest_l / weight);
-    }
+    });
 
     // The albedos' shares, from row 0 (light and eye across the fibre): φ < π/2 is back.
     for (int p = 0; p < 3; ++p) {
@@ -277,17 +277,18 @@ FiberScattering::FiberScattering(const FiberParams& params) : params_(params) {
     back_variance_ = static_cast<float>(0.5 * (v[0] + v[2]));
     forward_variance_ = static_cast<float>(v[1]);
 
-    // The longitudinal tables, on sin θ ∈ [−1, 1] nodes.
-    m_.assign(4 * kM * kM, 0.f);
-    for (int p = 0; p < 4; ++p)
-        for (int i = 0; i < kM; ++i) {
-            const float sin_i = -1.f + 2.f * i / (kM - 1), cos_i = std::sqrt(1 - sin_i * sin_i);
-            for (int o = 0; o < kM; ++o) {
-                const float sin_o = -1.f + 2.f * o / (kM - 1), cos_o = std::sqrt(1 - sin_o * sin_o);
-                m_[(static_cast<size_t>(p) * kM + i) * kM + o] =
-                    longitudinal_scattering(sin_i, cos_i, sin_o, cos_o, static_cast<float>(v[p]));
-            }
+    // The longitudinal tables, on sin θ ∈ [−1, 1] nodes, rows apart. The rest (p ≥ 3) has
+    // TRT's variance: it reads TRT's table, untilted.
+    m_.assign(3 * kM * kM, 0.f);
+    parallel_for(3 * kM, [&](size_t k) {
+        const int p = static_cast<int>(k) / kM, i = static_cast<int>(k) % kM;
+        const float sin_i = -1.f + 2.f * i / (kM - 1), cos_i = std::sqrt(1 - sin_i * sin_i);
+        for (int o = 0; o < kM; ++o) {
+            const float sin_o = -1.f + 2.f * o / (kM - 1), cos_o = std::sqrt(1 - sin_o * sin_o);
+            m_[k * kM + o] =
+                longitudinal_scattering(sin_i, cos_i, sin_o, cos_o, static_cast<float>(v[p]));
         }
+    });
 }
 
 FiberScattering::View FiberScattering::view(const Vec3f& tangent, const Vec3f& to_eye) const {
@@ -344,7 +345,7 @@ Vec3f FiberScattering::eval(const View& v, const Vec3f& to_light, const Vec3f& s
         return t[v.row] + (t[v.row + 1] - t[v.row]) * rest_w;
     };
     const float rest = rest_at(rest_), f = rest_at(rest_f_), l = rest_at(rest_l_);
-    const float m_rest = longitudinal(3, sin_i) * (1.f / (2.f * kPi));
+    const float m_rest = longitudinal(2, sin_i) * (1.f / (2.f * kPi));
     // The three channels at once: Eigen's exp of four floats is one SSE polynomial.
     const Eigen::Array4f minus_sigma(-sigma_a[0], -sigma_a[1], -sigma_a[2], 0.f);
     const Eigen::Array4f t = (minus_sigma * l).exp();

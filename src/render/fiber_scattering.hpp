@@ -142,7 +142,7 @@ class FiberScattering {
     // #kThetaO: the rest (p ≥ 3) without absorption, the mean Fresnel factor f̄ and the mean
     // path l̄ through the fibre: A_3 ≈ F̄₃ · T³ (1 − f̄) / (1 − f̄ T), T = e^−σa·l̄.
     std::vector<float> rest_, rest_f_, rest_l_;
-    // #4·kM·kM: M_p at (p, sin θ_i row, sin θ_o column); p = 3 is untilted with v_2.
+    // #3·kM·kM: M_p at (p, sin θ_i row, sin θ_o column).
     std::vector<float> m_;
     // For albedo(), at θ_o = 0: per path p, the share of N̄_p sent forward and back, and the
     // mean path inside the fibre of each.
