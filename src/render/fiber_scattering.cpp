@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <mutex>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "core/parallel.hpp"
 
@@ -161,6 +164,34 @@ inline float fast_acos(float x) {
     return x >= 0.f ? r : kPi - r;
 }
 
+// e^x of four floats to within 2·10⁻⁷ of it, 0 below −87 (where it is under 10⁻³⁷) and for
+// NaN: 2^i · e^r with r = x − i·ln 2 in [−ln 2/2, ln 2/2] (ln 2 in two parts, so that r is
+// exact) and e^r by its Taylor series to r⁶. A third of the instructions of Eigen's exp,
+// which handles what the shading never asks (denormals, overflow); plain SSE2 arithmetic, so
+// the same bits on every x86-64.
+inline Eigen::Array4f exp4(const Eigen::Array4f& x_in) {
+#if defined(__SSE2__)
+    const __m128 lo = _mm_set1_ps(-87.f);
+    __m128 x = _mm_loadu_ps(x_in.data());
+    const __m128 inside = _mm_cmpgt_ps(x, lo);  // false for NaN and below −87
+    x = _mm_min_ps(_mm_max_ps(x, lo), _mm_set1_ps(88.f));
+    const __m128i i = _mm_cvtps_epi32(_mm_mul_ps(x, _mm_set1_ps(1.44269504f)));  // nearest
+    const __m128 fi = _mm_cvtepi32_ps(i);
+    const __m128 r = _mm_add_ps(_mm_sub_ps(x, _mm_mul_ps(fi, _mm_set1_ps(0.693359375f))),
+                                _mm_mul_ps(fi, _mm_set1_ps(2.12194440e-4f)));
+    __m128 p = _mm_set1_ps(1.f / 720.f);
+    for (const float c : {1.f / 120.f, 1.f / 24.f, 1.f / 6.f, 0.5f, 1.f, 1.f})
+        p = _mm_add_ps(_mm_mul_ps(p, r), _mm_set1_ps(c));
+    const __m128 two_i =
+        _mm_castsi128_ps(_mm_slli_epi32(_mm_add_epi32(i, _mm_set1_epi32(127)), 23));
+    Eigen::Array4f out;
+    _mm_storeu_ps(out.data(), _mm_and_ps(inside, _mm_mul_ps(p, two_i)));
+    return out;
+#else
+    return (x_in > -87.f).select(x_in.min(88.f).exp(), 0.f);
+#endif
+}
+
 // asin to within 7·10⁻⁵ rad, by fast_acos.
 inline float fast_asin(float x) {
     return 0.5f * kPi - fast_acos(x);
@@ -200,8 +231,8 @@ FiberScattering::FiberScattering(const FiberParams& params) : params_(params) {
     // samples the fibre's edges, where the exit azimuth moves fastest, as densely as its
     // middle).
     constexpr int kH = 256;
-    n_.assign(3 * kThetaO * kPhi, 0.f);
-    l_.assign(3 * kThetaO * kPhi, 0.f);
+    std::vector<float> n_table(3 * kThetaO * kPhi),
+        l_table(3 * kThetaO * kPhi);  // N̄_p, L̄_p at (p, row, φ)
     rest_.assign(kThetaO, 0.f);
     rest_f_.assign(kThetaO, 0.f);
     rest_l_.assign(kThetaO, 0.f);
@@ -241,15 +272,25 @@ FiberScattering::FiberScattering(const FiberParams& params) : params_(params) {
         for (int p = 0; p < 3; ++p)
             for (int j = 0; j < kPhi; ++j) {
                 const size_t at = (static_cast<size_t>(p) * kThetaO + row) * kPhi + j;
-                n_[at] = static_cast<float>(n[p * kPhi + j]);
-                l_[at] = n[p * kPhi + j] > 0
-                             ? static_cast<float>(nl[p * kPhi + j] / n[p * kPhi + j])
-                             : 0.f;
+                n_table[at] = static_cast<float>(n[p * kPhi + j]);
+                l_table[at] = n[p * kPhi + j] > 0
+                                  ? static_cast<float>(nl[p * kPhi + j] / n[p * kPhi + j])
+                                  : 0.f;
             }
         rest_[row] = static_cast<float>(rest / weight);
         rest_f_[row] = static_cast<float>(rest_f / weight);
         rest_l_[row] = static_cast<float>(rest_l / weight);
     });
+
+    azimuthal_.resize(2 * kThetaO * kPhi);
+    for (int row = 0; row < kThetaO; ++row)
+        for (int j = 0; j < kPhi; ++j) {
+            const size_t at = static_cast<size_t>(row) * kPhi + j, stride = kThetaO * kPhi;
+            azimuthal_[2 * at] = {n_table[at], n_table[stride + at], n_table[2 * stride + at],
+                                  l_table[stride + at]};
+            azimuthal_[2 * at + 1] = {l_table[2 * stride + at], rest_[row], rest_f_[row],
+                                      rest_l_[row]};
+        }
 
     // The albedos' shares, from row 0 (light and eye across the fibre): φ < π/2 is back.
     for (int p = 0; p < 3; ++p) {
@@ -259,8 +300,8 @@ FiberScattering::FiberScattering(const FiberParams& params) : params_(params) {
             const double dphi = M_PI / (kPhi - 1);
             const double phi = (j + 0.5) * dphi;
             const size_t at = static_cast<size_t>(p) * kThetaO * kPhi + j;
-            const double value = dphi * (n_[at] + n_[at + 1]);  // 2 · ½ (a + b) dφ
-            const double path = 0.5 * (l_[at] + l_[at + 1]);
+            const double value = dphi * (n_table[at] + n_table[at + 1]);  // 2 · ½ (a + b) dφ
+            const double path = 0.5 * (l_table[at] + l_table[at + 1]);
             if (phi < 0.5 * M_PI) {
                 back += value;
                 back_l += value * path;
@@ -318,12 +359,15 @@ Vec3f FiberScattering::eval(const View& v, const Vec3f& to_light, const Vec3f& s
     const float fx = fast_acos(cos_phi) * (1.f / kPi) * (kPhi - 1);
     const int col = std::min(static_cast<int>(fx), kPhi - 2);
     const float wx = fx - static_cast<float>(col), wy = v.row_w;
-    auto azimuthal = [&](const std::vector<float>& table, int p) {
-        const float* a = &table[(static_cast<size_t>(p) * kThetaO + v.row) * kPhi + col];
-        const float* b = a + kPhi;
-        const float top = a[0] + (a[1] - a[0]) * wx, bottom = b[0] + (b[1] - b[0]) * wx;
+    // The azimuthal tables' eight values at once, bilinearly.
+    const Eigen::Array4f* a = &azimuthal_[2 * (static_cast<size_t>(v.row) * kPhi + col)];
+    const Eigen::Array4f* b = a + 2 * kPhi;
+    auto azimuthal = [&](int k) -> Eigen::Array4f {
+        const Eigen::Array4f top = a[k] + (a[k + 2] - a[k]) * wx;
+        const Eigen::Array4f bottom = b[k] + (b[k + 2] - b[k]) * wx;
         return top + (bottom - top) * wy;
     };
+    const Eigen::Array4f lobes = azimuthal(0), more = azimuthal(1);
     auto longitudinal = [&](int p, float sin_ip) {
         const float fi = (std::clamp(sin_ip, -1.f, 1.f) + 1.f) * 0.5f * (kM - 1);
         const int i = std::min(static_cast<int>(fi), kM - 2);
@@ -335,22 +379,17 @@ Vec3f FiberScattering::eval(const View& v, const Vec3f& to_light, const Vec3f& s
         return top + (bottom - top) * wi;
     };
     auto tilted = [&](int p) { return sin_i * tilt_cos_[p] + cos_i * tilt_sin_[p]; };
-    const float r = longitudinal(0, tilted(0)) * azimuthal(n_, 0);
-    const float tt = longitudinal(1, tilted(1)) * azimuthal(n_, 1);
-    const float trt = longitudinal(2, tilted(2)) * azimuthal(n_, 2);
-    const float l_tt = azimuthal(l_, 1), l_trt = azimuthal(l_, 2);
+    const float r = longitudinal(0, tilted(0)) * lobes[0];
+    const float tt = longitudinal(1, tilted(1)) * lobes[1];
+    const float trt = longitudinal(2, tilted(2)) * lobes[2];
+    const float l_tt = lobes[3], l_trt = more[0];
     // The rest: F̄₃ · T³ (1 − f̄) / (1 − f̄ T), spread evenly over the azimuth.
-    const float rest_w = v.row_w;
-    auto rest_at = [&](const std::vector<float>& t) {
-        return t[v.row] + (t[v.row + 1] - t[v.row]) * rest_w;
-    };
-    const float rest = rest_at(rest_), f = rest_at(rest_f_), l = rest_at(rest_l_);
+    const float rest = more[1], f = more[2], l = more[3];
     const float m_rest = longitudinal(2, sin_i) * (1.f / (2.f * kPi));
-    // The three channels at once: Eigen's exp of four floats is one SSE polynomial.
+    // The three channels at once.
     const Eigen::Array4f minus_sigma(-sigma_a[0], -sigma_a[1], -sigma_a[2], 0.f);
-    const Eigen::Array4f t = (minus_sigma * l).exp();
-    const Eigen::Array4f out = r + tt * (minus_sigma * l_tt).exp() +
-                               trt * (minus_sigma * l_trt).exp() +
+    const Eigen::Array4f t = exp4(minus_sigma * l);
+    const Eigen::Array4f out = r + tt * exp4(minus_sigma * l_tt) + trt * exp4(minus_sigma * l_trt) +
                                (m_rest * rest * (1.f - f)) * t * t * t / (1.f - f * t);
     return {out[0], out[1], out[2]};
 }
@@ -386,16 +425,15 @@ Vec3f FiberScattering::multiple(const View& v, const Vec3f& to_light, const Albe
     const float n = std::max(0.f, fibres);
     // The longitudinal spread: the fibres' back-scattering, widened by each forward pass.
     const float variance = back_variance_ + n * forward_variance_;
-    // Four exponentials at a time (Eigen's exp of four floats is one SSE polynomial): ā_f^n per
+    // Four exponentials at a time: ā_f^n per
     // channel and e^−n; ā_f^2m per channel (0 for hair without end, whose exponent is −∞)
     // and the spread's Gaussian.
     const float m2 = 2.f * std::max(0.f, behind);
     const Eigen::Array4f e1 =
-        Eigen::Array4f(n * a.log_forward[0], n * a.log_forward[1], n * a.log_forward[2], -n).exp();
+        exp4(Eigen::Array4f(n * a.log_forward[0], n * a.log_forward[1], n * a.log_forward[2], -n));
     const Eigen::Array4f e2 =
-        Eigen::Array4f(m2 * a.log_forward[0], m2 * a.log_forward[1], m2 * a.log_forward[2],
-                       -0.5f * theta_h * theta_h / variance)
-            .exp();
+        exp4(Eigen::Array4f(m2 * a.log_forward[0], m2 * a.log_forward[1], m2 * a.log_forward[2],
+                            -0.5f * theta_h * theta_h / variance));
     const float g = e2[3] / std::sqrt(2.f * kPi * variance);
     const float shape = cos_i * g / (kPi * std::max(cos_d2, 1e-3f));
     const float direct = e1[3];
