@@ -295,7 +295,8 @@ std::string read_file(const std::filesystem::path& path, const ReadLimits& limit
     const uint64_t cap = limits.max_bytes + 1;  // one byte more tells a file over the limit
     std::string bytes(
         static_cast<size_t>(std::min<uint64_t>(std::max<uint64_t>(hint + 1, 1 << 16), cap)), '\0');
-    size_t got = 0, scanned = 0;  // bytes read; bytes checked for NUL
+    size_t got = 0, scanned = 0;          // bytes read; bytes checked for NUL
+    size_t nul = std::string_view::npos;  // the first NUL: where the text ends
     bool magic_checked = limits.magic.empty();
     for (;;) {
         if (got == bytes.size()) {
@@ -310,16 +311,31 @@ std::string read_file(const std::filesystem::path& path, const ReadLimits& limit
             if (std::string_view(bytes.data(), limits.magic.size()) != limits.magic) break;
         }
         if (limits.text && magic_checked) {
-            if (const void* nul = std::memchr(bytes.data() + scanned, '\0', got - scanned))
-                fail(path.string(), ": byte ", static_cast<const char*>(nul) - bytes.data(),
-                     " is a NUL byte, which ", limits.what, " (text) never holds");
+            nul =
+                check_nul_padding(path, limits, std::string_view(bytes.data(), got), scanned, nul);
             scanned = got;
         }
     }
     if (std::ferror(f.get())) fail(path.string(), ": read failed: ", std::strerror(errno));
     if (got > limits.max_bytes) too_large();
-    bytes.resize(got);
+    bytes.resize(nul != std::string_view::npos ? nul : got);
     return bytes;
+}
+
+size_t check_nul_padding(const std::filesystem::path& path, const ReadLimits& limits,
+                         std::string_view bytes, size_t from, size_t nul) {
+    if (nul == std::string_view::npos) {
+        nul = bytes.find('\0', from);
+        if (nul == std::string_view::npos) return nul;
+        from = nul;
+    }
+    const bool padding = nul > 0 && bytes.size() - nul <= kMaxNulPadding &&
+                         std::all_of(bytes.begin() + static_cast<std::ptrdiff_t>(from), bytes.end(),
+                                     [](char c) { return c == '\0'; });
+    if (!padding)
+        fail(path.string(), ": byte ", nul, " is a NUL byte, which ", limits.what,
+             " (text) never holds");
+    return nul;
 }
 
 }  // namespace wisp

@@ -67,15 +67,27 @@ void write_file_atomic(const std::filesystem::path& path,
 
 // What a reader accepts of a file, checked while it reads, not from the file's size (endless
 // files such as /dev/zero or a pipe report 0): at most max_bytes; for text formats no NUL
-// byte; and, when magic is given, reading stops at the first byte that differs from it and
-// returns what was read, so that the format's parser reports it. docs/formats.md lists
-// each format's limit.
+// byte, but for NUL padding that ends the file (text_nul_padding); and, when magic is given,
+// reading stops at the first byte that differs from it and returns what was read, so that
+// the format's parser reports it. docs/formats.md lists each format's limit.
 struct ReadLimits {
     uint64_t max_bytes = uint64_t(4) << 30;
     std::string_view what = "a file";  // "a style file": named in the messages
     bool text = false;
     std::string_view magic = {};
 };
+
+// Text that exporters pad with NUL bytes to a block (three.js's LeePerrySmith.obj ends in
+// one) is read as the text before them, as Blender and three.js read it: up to this many
+// bytes of padding, after some text. Any other NUL (at byte 0, followed by text, or more
+// padding than this, as /dev/zero is) makes a text file fail at the NUL.
+constexpr uint64_t kMaxNulPadding = 65536;
+
+// For a text file's bytes [0, size) read so far, `nul` its first NUL byte (or npos, looked
+// for from `from`): fails naming `path` unless [nul, size) may be padding. Returns the first
+// NUL's position (npos: none yet), which the next call takes as `nul`.
+size_t check_nul_padding(const std::filesystem::path& path, const ReadLimits& limits,
+                         std::string_view bytes, size_t from, size_t nul);
 
 // Reads a whole file within `limits`; throws wisp::Error naming the file if it cannot, or if
 // the file breaks a limit.

@@ -33,16 +33,20 @@ FileBytes::FileBytes(const std::filesystem::path& path, const ReadLimits& limits
     }
     ::madvise(map_, map_size_, MADV_SEQUENTIAL);
     view_ = std::string_view(static_cast<const char*>(map_), map_size_);
-    // read_file's check: text holds no NUL byte (a file that does not start with the magic
-    // is left to its parser, which reports its first line).
-    if (limits.text && (limits.magic.empty() || view_.starts_with(limits.magic)))
-        if (const void* nul = std::memchr(view_.data(), '\0', view_.size())) {
-            const auto at = static_cast<const char*>(nul) - view_.data();
+    // read_file's check: text holds no NUL byte but for padding at its end, which is cut off
+    // (a file that does not start with the magic is left to its parser, which reports its
+    // first line).
+    if (limits.text && (limits.magic.empty() || view_.starts_with(limits.magic))) {
+        size_t nul = std::string_view::npos;
+        try {
+            nul = check_nul_padding(path, limits, view_, 0, nul);
+        } catch (...) {
             ::munmap(map_, map_size_);
             map_ = nullptr;
-            fail(path.string(), ": byte ", at, " is a NUL byte, which ", limits.what,
-                 " (text) never holds");
+            throw;
         }
+        if (nul != std::string_view::npos) view_ = view_.substr(0, nul);
+    }
 }
 
 FileBytes::~FileBytes() {

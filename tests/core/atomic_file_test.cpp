@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <csignal>
+#include <fstream>
 
 #include "core/error.hpp"
 
@@ -153,6 +154,17 @@ TEST(AtomicFile, ReadLimitsAreCheckedWhileReading) {
         EXPECT_EQ(std::string(e.what()),
                   "/dev/zero: larger than 1048576 bytes, the limit for an image file "
                   "(docs/formats.md)");
+    }
+    // NUL padding that ends a text file is cut off; padding longer than kMaxNulPadding (as
+    // /dev/zero's endless NULs after byte 0 would be) is not padding.
+    {
+        const auto padded = std::filesystem::temp_directory_path() / "wisp_nul_padding.txt";
+        const std::string text = "name = \"x\"\n";
+        std::ofstream(padded, std::ios::binary) << text << std::string(100, '\0');
+        EXPECT_EQ(read_file(padded, {1 << 20, "a style file", true}), text);
+        std::ofstream(padded, std::ios::binary) << text << std::string(kMaxNulPadding + 1, '\0');
+        EXPECT_THROW(read_file(padded, {1 << 20, "a style file", true}), Error);
+        std::filesystem::remove(padded);
     }
     // A wrong magic stops reading at once: the format's parser names what it found.
     EXPECT_EQ(read_file("/dev/zero", {1 << 20, "a PLY file", false, "ply"}).substr(0, 3),

@@ -95,6 +95,20 @@ TEST(ObjMesh, BadFilesNameTheFile) {
         Error);
 }
 
+// Exporters that pad a file to a block end it in NUL bytes (three.js's LeePerrySmith.obj has
+// one): read as the text before them, as Blender and three.js read it. A NUL with text after
+// it, or no text before it, is not padding.
+TEST(ObjMesh, TrailingNulPaddingIsReadAsTheEndOfTheText) {
+    const std::string tri = "v 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nf 1 2 3\r\n";
+    const Mesh m = read_obj_mesh(write_text("padded.obj", tri + std::string(4096, '\0')));
+    EXPECT_EQ(m.faces.size(), 1u);
+    expect_error(
+        write_text("inner.obj", "v 0 0 0\nv 1 0 0\n" + std::string(1, '\0') + "v 0 1 0\nf 1 2 3\n"),
+        "byte 16 is a NUL byte");
+    expect_error(write_text("nul_first.obj", std::string(8, '\0') + tri), "byte 0 is a NUL byte");
+    expect_error(write_text("long_pad.obj", tri + std::string(70000, '\0')), "is a NUL byte");
+}
+
 TEST(ObjMesh, RoundTripKeepsScalpGroupAndUvs) {
     const Mesh head = builtin_head_mesh();
     const fs::path p = temp_dir() / "head.obj";
