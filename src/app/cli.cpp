@@ -311,6 +311,18 @@ Style resolve_style(const std::string& path, const std::string& preset) {
     return load_preset(preset.empty() ? "default" : preset);
 }
 
+// generate_hairstyle, its errors named by the style they come from (its file, or its preset):
+// what fails once the style and the head are read is the style's values on that head.
+HairstyleResult generate_named(const Style& style, const Head& head, const std::string& path,
+                               const std::string& preset) {
+    try {
+        return generate_hairstyle(style, head);
+    } catch (const Error& e) {
+        fail(path.empty() ? "preset '" + (preset.empty() ? "default" : preset) + "'" : path, ": ",
+             e.what());
+    }
+}
+
 uint64_t parse_seed(const std::string& text) {
     if (text == "random") {
         std::random_device device;
@@ -386,7 +398,7 @@ int run_generate(const GenerateArgs& args) {
     info(args.quiet,
          cat("wisp: ", style.wisps, " wisps, ", style.strands, " strands on the ", head.source,
              " (scalp ", static_cast<int>(head.scalp->area()), " cm²), seed ", style.seed));
-    HairstyleResult result = generate_hairstyle(style, head);
+    HairstyleResult result = generate_named(style, head, args.style_path, args.preset);
     times.insert(times.end(), result.times.begin(), result.times.end());
 
     HairWriteOptions options;
@@ -564,7 +576,7 @@ int run_animate(const AnimateArgs& args) {
     if (from_style) {
         info(args.quiet, cat("wisp: ", style.wisps, " wisps, ", style.strands, " strands on the ",
                              head.source, ", seed ", style.seed));
-        HairstyleResult generated = generate_hairstyle(style, head);
+        HairstyleResult generated = generate_named(style, head, args.input, args.preset);
         rest = std::move(generated.hair);
         held = std::move(generated.solve.held_length);
         times.emplace_back("generate", watch.ms());

@@ -455,6 +455,12 @@ TEST(Cli, HostileInputsFailWithOneLineNamingTheFile) {
     write(head_zero, "[head]\nobj = \"/dev/zero\"\n");
     expect_failure("generate " + head_zero.string() + " -o " + (d.path / "x.hair").string(),
                    "/dev/zero: byte 0 is a NUL byte, which a head OBJ file (text) never holds");
+    // What fails once the style is read names the style.
+    const fs::path huge = d.path / "huge.toml";
+    write(huge, "name = \"huge\"\n[maps]\nlength = 400\n");
+    expect_failure(
+        "generate -q " + huge.string() + " --strands 500 -o " + (d.path / "x.hair").string(),
+        "huge.toml: the solver's grid would span");
     EXPECT_FALSE(fs::exists(d.path / "x.hair"));
 }
 
