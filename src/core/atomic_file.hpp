@@ -67,7 +67,7 @@ void write_file_atomic(const std::filesystem::path& path,
 
 // What a reader accepts of a file, checked while it reads, not from the file's size (endless
 // files such as /dev/zero or a pipe report 0): at most max_bytes; for text formats no NUL
-// byte, but for NUL padding that ends the file (text_nul_padding); and, when magic is given,
+// byte, but for NUL padding that ends the file (kMaxNulPadding); and, when magic is given,
 // reading stops at the first byte that differs from it and returns what was read, so that
 // the format's parser reports it. docs/formats.md lists each format's limit.
 struct ReadLimits {
