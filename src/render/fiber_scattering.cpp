@@ -233,9 +233,9 @@ FiberScattering::FiberScattering(const FiberParams& params) : params_(params) {
     constexpr int kH = 256;
     std::vector<float> n_table(3 * kThetaO * kPhi),
         l_table(3 * kThetaO * kPhi);  // N̄_p, L̄_p at (p, row, φ)
-    rest_.assign(kThetaO, 0.f);
-    rest_f_.assign(kThetaO, 0.f);
-    rest_l_.assign(kThetaO, 0.f);
+    // Per row, the rest (p ≥ 3) without absorption, the mean Fresnel factor f̄ and the mean
+    // path l̄ through the fibre: A_3 ≈ F̄₃ · T³ (1 − f̄) / (1 − f̄ T), T = e^−σa·l̄.
+    std::vector<float> rest_table(kThetaO), rest_f_table(kThetaO), rest_l_table(kThetaO);
     // Rows apart (each writes only its own entries: the same tables at any thread count).
     parallel_for(kThetaO, [&](size_t row_index) {
         const int row = static_cast<int>(row_index);
@@ -277,9 +277,9 @@ FiberScattering::FiberScattering(const FiberParams& params) : params_(params) {
                                   ? static_cast<float>(nl[p * kPhi + j] / n[p * kPhi + j])
                                   : 0.f;
             }
-        rest_[row] = static_cast<float>(rest / weight);
-        rest_f_[row] = static_cast<float>(rest_f / weight);
-        rest_l_[row] = static_cast<float>(rest_l / weight);
+        rest_table[row] = static_cast<float>(rest / weight);
+        rest_f_table[row] = static_cast<float>(rest_f / weight);
+        rest_l_table[row] = static_cast<float>(rest_l / weight);
     });
 
     azimuthal_.resize(2 * kThetaO * kPhi);
@@ -288,8 +288,8 @@ FiberScattering::FiberScattering(const FiberParams& params) : params_(params) {
             const size_t at = static_cast<size_t>(row) * kPhi + j, stride = kThetaO * kPhi;
             azimuthal_[2 * at] = {n_table[at], n_table[stride + at], n_table[2 * stride + at],
                                   l_table[stride + at]};
-            azimuthal_[2 * at + 1] = {l_table[2 * stride + at], rest_[row], rest_f_[row],
-                                      rest_l_[row]};
+            azimuthal_[2 * at + 1] = {l_table[2 * stride + at], rest_table[row], rest_f_table[row],
+                                      rest_l_table[row]};
         }
 
     // The albedos' shares, from row 0 (light and eye across the fibre): φ < π/2 is back.
@@ -397,10 +397,12 @@ Vec3f FiberScattering::eval(const View& v, const Vec3f& to_light, const Vec3f& s
 FiberScattering::Albedo FiberScattering::albedo(const Vec3f& sigma_a) const {
     Albedo a;
     // The rest (p ≥ 3) at row 0, split evenly between forward and back.
-    const float t_rest_l = rest_l_[0], f = rest_f_[0];
+    // The rest's terms at row 0, from the azimuthal table's second set (any column).
+    const Eigen::Array4f& rest0 = azimuthal_[1];
+    const float t_rest_l = rest0[3], f = rest0[2];
     for (int k = 0; k < 3; ++k) {
         const float t = std::exp(-sigma_a[k] * t_rest_l);
-        const float rest = 0.5f * rest_[0] * t * t * t * (1.f - f) / (1.f - f * t);
+        const float rest = 0.5f * rest0[1] * t * t * t * (1.f - f) / (1.f - f * t);
         float fwd = rest, back = rest;
         for (int p = 0; p < 3; ++p) {
             fwd += forward_[p] * std::exp(-sigma_a[k] * forward_path_[p]);
@@ -425,9 +427,8 @@ Vec3f FiberScattering::multiple(const View& v, const Vec3f& to_light, const Albe
     const float n = std::max(0.f, fibres);
     // The longitudinal spread: the fibres' back-scattering, widened by each forward pass.
     const float variance = back_variance_ + n * forward_variance_;
-    // Four exponentials at a time: ā_f^n per
-    // channel and e^−n; ā_f^2m per channel (0 for hair without end, whose exponent is −∞)
-    // and the spread's Gaussian.
+    // Four exponentials at a time: ā_f^n per channel and e^−n; ā_f^2m per channel (0 for hair
+    // without end, whose exponent is −∞) and the spread's Gaussian.
     const float m2 = 2.f * std::max(0.f, behind);
     const Eigen::Array4f e1 =
         exp4(Eigen::Array4f(n * a.log_forward[0], n * a.log_forward[1], n * a.log_forward[2], -n));

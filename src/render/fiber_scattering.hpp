@@ -138,11 +138,10 @@ class FiberScattering {
     // sin and cos of the shift of θ_i for R (+2α), TT (−α) and TRT (−4α).
     float tilt_sin_[3], tilt_cos_[3];
     // #2·kThetaO·kPhi: at (row, φ column) two sets of four, (N̄_R, N̄_TT, N̄_TRT, L̄_TT) and
-    // (L̄_TRT, and the row's rest, f̄ and l̄ below), interpolated together.
+    // (L̄_TRT, and the row's rest p ≥ 3 without absorption, its mean Fresnel factor f̄ and its
+    // mean path l̄ through the fibre: A_3 ≈ F̄₃ · T³ (1 − f̄) / (1 − f̄ T), T = e^−σa·l̄),
+    // interpolated together.
     std::vector<Eigen::Array4f> azimuthal_;
-    // #kThetaO: the rest (p ≥ 3) without absorption, the mean Fresnel factor f̄ and the mean
-    // path l̄ through the fibre: A_3 ≈ F̄₃ · T³ (1 − f̄) / (1 − f̄ T), T = e^−σa·l̄.
-    std::vector<float> rest_, rest_f_, rest_l_;
     // #3·kM·kM: M_p at (p, sin θ_i row, sin θ_o column).
     std::vector<float> m_;
     // For albedo(), at θ_o = 0: per path p, the share of N̄_p sent forward and back, and the

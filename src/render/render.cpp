@@ -289,6 +289,7 @@ Vec3f shade_hair(const Scene& scene, const Vec3f& p, const Vec3f& t, const Vec3f
         const float rim_behind = rim_depth_behind / std::max(o.rim_shadow_opacity, 1e-3f);
         Vec3f c = l.ambient.cwiseProduct(color) +
                   l.key_color.cwiseProduct(light(l.key_dir, key_fibres, key_behind)) +
+                  // The fill casts no shadow: the hair behind is the key's.
                   l.fill_color.cwiseProduct(light(l.fill_dir, 0.f, key_behind));
         if (l.rim && rim_shadow > kRimInvisible) {
             const float rim_fibres =
