@@ -37,6 +37,12 @@ inline float smoothstep(float e0, float e1, float x) {
     return t * t * (3.f - 2.f * t);
 }
 
+// v / |v|, or `fallback` when |v| is not above min_norm or not finite.
+inline Vec3f unit_or(const Vec3f& v, const Vec3f& fallback, float min_norm = 1e-6f) {
+    const float n = v.norm();
+    return n > min_norm && std::isfinite(n) ? Vec3f(v / n) : fallback;
+}
+
 // A unit vector perpendicular to the unit vector v, chosen deterministically.
 inline Vec3f any_perpendicular(const Vec3f& v) {
     const Vec3f a = std::abs(v.x()) < 0.9f ? Vec3f::UnitX() : Vec3f::UnitY();

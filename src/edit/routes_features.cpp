@@ -29,14 +29,6 @@ constexpr int kBlankMaskSide = 128;
 constexpr int kMinPictureSide = 16;
 constexpr int kMaxPictureSide = 1024;
 
-void put_u32(std::string& out, uint32_t v) {
-    out.append(reinterpret_cast<const char*>(&v), 4);
-}
-
-void put_f32(std::string& out, float v) {
-    out.append(reinterpret_cast<const char*>(&v), 4);
-}
-
 // [x, y, z] of finite numbers within ±1e6, or throws naming `field`.
 Vec3f json_vec3(const nlohmann::json& j, const char* field) {
     if (!j.contains(field) || !j[field].is_array() || j[field].size() != 3)

@@ -3,7 +3,6 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <cstring>
 
@@ -16,19 +15,6 @@
 #include "groom/style_toml.hpp"
 
 namespace wisp {
-namespace {
-
-static_assert(std::endian::native == std::endian::little,
-              "the wire format is little-endian: add byte swaps for this machine");
-
-void put_u32(std::string& out, uint32_t v) {
-    out.append(reinterpret_cast<const char*>(&v), 4);
-}
-void put_f32(std::string& out, float v) {
-    out.append(reinterpret_cast<const char*>(&v), 4);
-}
-
-}  // namespace
 
 std::vector<uint32_t> strand_order(size_t n) {
     std::vector<uint32_t> order(n);

@@ -1,6 +1,7 @@
 #pragma once
 // What the editor's server sends the browser: strands and the head as little-endian binary
 // arrays, and the style schema as JSON (also `wisp schema`).
+#include <bit>
 #include <cstdint>
 #include <filesystem>
 #include <span>
@@ -16,6 +17,17 @@
 #include "groom/toml_json.hpp"  // toml_value_to_json, json_to_toml_value
 
 namespace wisp {
+
+static_assert(std::endian::native == std::endian::little,
+              "the wire format is little-endian: add byte swaps for this machine");
+
+// One number of the wire format appended to `out`.
+inline void put_u32(std::string& out, uint32_t v) {
+    out.append(reinterpret_cast<const char*>(&v), 4);
+}
+inline void put_f32(std::string& out, float v) {
+    out.append(reinterpret_cast<const char*>(&v), 4);
+}
 
 // A permutation of [0, n): strand order[i] is sent i-th, so that any prefix of what is sent
 // is a uniform random subset (Fisher–Yates on a fixed stream: the same n, the same order).

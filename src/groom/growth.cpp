@@ -13,11 +13,6 @@ Vec3f tangent(const Vec3f& v, const Vec3f& r) {
     return v - v.dot(r) * r;
 }
 
-Vec3f unit_or(const Vec3f& v, const Vec3f& fallback) {
-    const float n = v.norm();
-    return n > 1e-6f ? Vec3f(v / n) : fallback;
-}
-
 Vec3f lerp(const Vec3f& a, const Vec3f& b, float t) {
     return (1.f - t) * a + t * b;
 }

@@ -28,11 +28,6 @@ ConstraintSpec trajectory_constraint(ConstraintSpec::Kind kind, std::vector<Vec3
     return c;
 }
 
-Vec3f unit_or(const Vec3f& v, const Vec3f& fallback) {
-    const float n = v.norm();
-    return n > 1e-12f && std::isfinite(n) ? Vec3f(v / n) : fallback;
-}
-
 }  // namespace
 
 std::vector<GroupSpec> tie_groups(const TieSpec& spec) {
@@ -46,7 +41,7 @@ std::vector<GroupSpec> tie_groups(const TieSpec& spec) {
 std::vector<Vec3f> braid_trajectory(const BraidSpec& spec, int strand, int samples) {
     samples = std::max(samples, 2);
     const int strands = std::max(spec.strands, 1);
-    const Vec3f axis = unit_or(spec.axis, -Vec3f::UnitY());
+    const Vec3f axis = unit_or(spec.axis, -Vec3f::UnitY(), 1e-12f);
     // The width direction is the part of `side` across the axis; the depth direction makes
     // strands pass over and under each other where they cross.
     const Frame frame = frame_from(axis, spec.side);
@@ -90,7 +85,7 @@ std::vector<GroupSpec> braid_groups(const BraidSpec& spec) {
 std::vector<GroupSpec> updo_groups(const UpdoSpec& spec) {
     // The bun's plane: `up` is world up projected onto it, so the spiral leaves the tie
     // point upward whatever the facing.
-    const Vec3f facing = unit_or(spec.facing, -Vec3f::UnitZ());
+    const Vec3f facing = unit_or(spec.facing, -Vec3f::UnitZ(), 1e-12f);
     const Frame frame = frame_from(facing, Vec3f::UnitY());
     const Vec3f up = frame.n, across = frame.b;
     // r = bun_radius·√t: a Fermat spiral, so the first turn is already wide enough for wisps

@@ -39,7 +39,6 @@ using S = Stage;
 // Bounds that keep a hostile or mistyped file from asking for absurd work or memory;
 // style_toml.cpp holds the ones that are not a single field's range.
 constexpr double kMaxStrands = 10'000'000;
-constexpr double kMaxCoordinate = 1e4;  // cm or head units
 constexpr double kPi = 3.1416;          // prototype.roll's bound, as documented
 
 const std::vector<StyleField>& fields() {
@@ -291,8 +290,8 @@ const std::vector<StyleField>& fields() {
          .type = T::kDirection,
          .stage = S::kMasters,
          .panel = "growth",
-         .lo = -kMaxCoordinate,
-         .hi = kMaxCoordinate,
+         .lo = -kMaxStyleCoordinate,
+         .hi = kMaxStyleCoordinate,
          .doc = "the crown whorl's direction from the scalp's centre",
          .ref = WISP_REF(growth.whorl)},
         {.path = "growth.whorl_turn",
@@ -406,8 +405,8 @@ const std::vector<StyleField>& fields() {
          .panel = "prototype",
          .paper = "§2.2",
          .unit = "cm",
-         .lo = -kMaxCoordinate,
-         .hi = kMaxCoordinate,
+         .lo = -kMaxStyleCoordinate,
+         .hi = kMaxStyleCoordinate,
          .doc = "your prototype strand, root first (shape = \"polyline\")",
          .ref = WISP_REF(prototype.polyline)},
         {.path = "prototype.window",
@@ -875,8 +874,8 @@ const std::vector<StyleField>& fields() {
          .stage = S::kMembers,
          .panel = "cut",
          .paper = "§6.2",
-         .lo = -kMaxCoordinate,
-         .hi = kMaxCoordinate,
+         .lo = -kMaxStyleCoordinate,
+         .hi = kMaxStyleCoordinate,
          .doc = "points toward the hair that is cut off",
          .ref = WISP_REF(cut.normal)},
         {.path = "cut.offset",
@@ -885,8 +884,8 @@ const std::vector<StyleField>& fields() {
          .panel = "cut",
          .paper = "§6.2",
          .unit = "head units",
-         .lo = -kMaxCoordinate,
-         .hi = kMaxCoordinate,
+         .lo = -kMaxStyleCoordinate,
+         .hi = kMaxStyleCoordinate,
          .doc = "the plane's distance along the normal from the scalp centre",
          .ref = WISP_REF(cut.offset)},
         {.path = "cut.head_relative",
@@ -1189,7 +1188,7 @@ const Sections& sections() {
 #define WISP_SECTION_DEFAULT(spec, member) []() -> double { return spec{}.member; }
 
 const std::vector<SectionField>& section_fields() {
-    constexpr double kInf = kMaxCoordinate;
+    constexpr double kInf = kMaxStyleCoordinate;
     static const std::vector<SectionField> table = {
         {.section = "braid",
          .key = "strands",

@@ -48,6 +48,10 @@ enum class Stage : uint8_t {
     kNone,     // feeds no grooming stage (the name, animation)
 };
 inline constexpr int kStageCount = 6;  // kHead … kColor
+
+// The largest coordinate or radius (cm or head units) a style may give, the reader's and the
+// schema's bound.
+inline constexpr double kMaxStyleCoordinate = 1e4;
 const char* stage_name(Stage stage);
 
 // A field's storage in Style, for the field types with one place to live.

@@ -44,7 +44,6 @@ constexpr size_t kMaxTrajectoryPoints = 10'000;
 constexpr size_t kMaxGroups = 1024;  // constraint groups after expansion
 constexpr size_t kMaxQueue = 256;    // constraints per group
 constexpr size_t kMaxFieldTerms = 64;
-constexpr double kMaxCoordinate = 1e4;  // cm or head units
 // Messages quote at most this much of a field name, and are at most kMaxMessage long.
 constexpr size_t kMaxQuotedField = 200;
 constexpr size_t kMaxMessage = 1000;
@@ -246,7 +245,7 @@ class Parser {
              const std::vector<std::pair<std::string, E>>& options) const;
     fs::path path(const toml::node& node, const std::string& field) const;
     bool boolean(const toml::node& node, const std::string& field) const;
-    // A point or direction [x, y, z] with finite coordinates within ±kMaxCoordinate;
+    // A point or direction [x, y, z] with finite coordinates within ±kMaxStyleCoordinate;
     // `direction`: it must not be the zero vector.
     Vec3f vec3(const toml::node& node, const std::string& field, bool direction) const;
     std::vector<Vec3f> points(const toml::node& node, const std::string& field) const;
@@ -441,7 +440,7 @@ Vec3f Parser::vec3(const toml::node& node, const std::string& field, bool direct
                   " [x, y, z], got " + describe(node) +
                   (xyz ? cat(" of ", xyz->size(), " values") : std::string()));
     Vec3f v;
-    const Range range{-kMaxCoordinate, kMaxCoordinate};
+    const Range range{-kMaxStyleCoordinate, kMaxStyleCoordinate};
     for (int c = 0; c < 3; ++c)
         v[c] = static_cast<float>(real((*xyz)[c], cat(field, "[", c, "]"), range));
     if (direction && !(v.norm() > 1e-6f))
@@ -1054,7 +1053,7 @@ Selection Parser::selection(const toml::table& table, const std::string& path, i
         if (!half->get("normal")) error(*half, field + ".normal", "required");
         s.kind = Selection::Kind::kHalfSpace;
         s.normal = vec3(*half->get("normal"), field + ".normal", true);
-        opt_real(half, field, "offset", s.offset, Range{-kMaxCoordinate, kMaxCoordinate});
+        opt_real(half, field, "offset", s.offset, Range{-kMaxStyleCoordinate, kMaxStyleCoordinate});
     } else if (const toml::node* node = table.get("wisps")) {
         const std::string field = path + ".wisps";
         const toml::array* ids = node->as_array();
@@ -1129,7 +1128,7 @@ ConstraintSpec Parser::constraint(const toml::table& table, const std::string& p
     // Tolerance radii hug the target; a direction's influence radius reaches further.
     const float unit = c.head_relative ? 1.f : 10.f;
     c.radius = (c.kind == Kind::kDirection ? 0.4f : 0.1f) * unit;
-    opt_real(&table, path, "radius", c.radius, Range{0, kMaxCoordinate, true});
+    opt_real(&table, path, "radius", c.radius, Range{0, kMaxStyleCoordinate, true});
     opt_real(&table, path, "weight", c.weight, Range{0, 1});
     c.hold = is_point;
     opt_bool(&table, path, "hold", c.hold);
@@ -1176,7 +1175,7 @@ std::vector<GroupSpec> Parser::tie(const toml::table& table, const std::string& 
     TieSpec spec;
     spec.selection = selection(table, path, wisps, true);
     opt_vec3(&table, path, "point", spec.point, false);
-    opt_real(&table, path, "radius", spec.radius, Range{0, kMaxCoordinate, true});
+    opt_real(&table, path, "radius", spec.radius, Range{0, kMaxStyleCoordinate, true});
     opt_real(&table, path, "weight", spec.weight, Range{0, 1});
     return tie_groups(spec);
 }
@@ -1234,7 +1233,7 @@ std::vector<GroupSpec> Parser::comb(const toml::table& table, const std::string&
     if (!trajectory) error(table, path + ".trajectory", "required: the comb's path, ≥ 2 points");
     spec.trajectory = points(*trajectory, path + ".trajectory");
     opt_bool(&table, path, "smooth", spec.smooth);
-    opt_real(&table, path, "radius", spec.radius, Range{0, kMaxCoordinate, true});
+    opt_real(&table, path, "radius", spec.radius, Range{0, kMaxStyleCoordinate, true});
     opt_real(&table, path, "weight", spec.weight, Range{0, 1});
     return comb_groups(spec);
 }

@@ -28,7 +28,8 @@ namespace {
 using io_detail::append_number;
 using io_detail::kShortestFloatRoom;
 
-void append_vec(std::string& out, const Vec3f& v) {
+// Appends "(x, y, z)", USD's tuple form.
+void append_tuple(std::string& out, const Vec3f& v) {
     out += '(';
     append_number(out, v.x());
     out += ", ";
@@ -262,9 +263,9 @@ Box3 extent_of(const Hair& hair, bool z_up = false, int precision = 0) {
 
 void append_extent(std::string& out, const Box3& b) {
     out += '[';
-    append_vec(out, b.lo);
+    append_tuple(out, b.lo);
     out += ", ";
-    append_vec(out, b.hi);
+    append_tuple(out, b.hi);
     out += ']';
 }
 
@@ -374,7 +375,7 @@ void color_primvar(Out& o, const Hair& hair, const char* declaration) {
     out += declaration;
     if (hair.colors.empty()) {
         out += " = [";
-        append_vec(out, hair.default_color);
+        append_tuple(out, hair.default_color);
         out += "] (\n            interpolation = \"constant\"\n        )\n";
         return;
     }
@@ -466,7 +467,7 @@ void head_prim(Out& o, const Mesh& mesh, std::span<const uint32_t> scalp, bool z
         out += decl;
         for (size_t i = 0; i < v.size(); ++i) {
             if (i) out += ", ";
-            append_vec(out, turn ? to_layer(v[i], z_up) : v[i]);
+            append_tuple(out, turn ? to_layer(v[i], z_up) : v[i]);
             if ((i & 65535) == 65535) o.flush();
         }
         out += ']';
