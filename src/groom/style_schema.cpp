@@ -39,7 +39,7 @@ using S = Stage;
 // Bounds that keep a hostile or mistyped file from asking for absurd work or memory;
 // style_toml.cpp holds the ones that are not a single field's range.
 constexpr double kMaxStrands = 10'000'000;
-constexpr double kPi = 3.1416;          // prototype.roll's bound, as documented
+constexpr double kPi = 3.1416;  // prototype.roll's bound, as documented
 
 const std::vector<StyleField>& fields() {
     static const std::vector<StyleField> table = {
