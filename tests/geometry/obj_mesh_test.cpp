@@ -109,6 +109,87 @@ TEST(ObjMesh, TrailingNulPaddingIsReadAsTheEndOfTheText) {
     expect_error(write_text("long_pad.obj", tri + std::string(70000, '\0')), "is a NUL byte");
 }
 
+// Files the exporters users have write (tests/data/obj, made by the scripts beside them).
+const fs::path kObjData = fs::path(WISP_SOURCE_DIR) / "tests/data/obj";
+
+// Blender 3.4's exporter: o, s, usemtl (its .mtl not shipped), vt and vn of their own counts,
+// quads and triangles; Y up and -Z forward, as wisp's head space wants.
+TEST(ObjMesh, ReadsWhatBlenderWrites) {
+    const Mesh m = read_obj_mesh(kObjData / "blender_sphere.obj", 10.f);
+    EXPECT_EQ(m.vertices.size(), 16u * 7u + 2u);
+    EXPECT_EQ(m.faces.size(), 16u * 6u * 2u + 2u * 16u);  // quads in two, the poles' triangles
+    ASSERT_EQ(m.group_names, std::vector<std::string>{"Head"});
+    ASSERT_EQ(m.material_names, (std::vector<std::string>{"skin", "scalp"}));
+    EXPECT_FALSE(m.uvs.empty());
+    EXPECT_NEAR(m.bounds().hi.y(), 10.f, 1e-4f);
+    // Blender's top (its +Z, the faces given "scalp") is wisp's +Y.
+    size_t scalp = 0;
+    for (size_t f = 0; f < m.faces.size(); ++f) {
+        if (m.face_material[f] != 1) continue;
+        ++scalp;
+        const Vec3i& t = m.faces[f];
+        EXPECT_GT((m.vertices[t[0]] + m.vertices[t[1]] + m.vertices[t[2]]).y() / 3.f, 2.f)
+            << "face " << f;
+    }
+    EXPECT_EQ(scalp, 16u * 2u * 2u + 16u);  // two rings of quads and the pole's triangles
+}
+
+// three.js's OBJExporter: v/vt/vn on every corner, a Unicode object name, no materials.
+TEST(ObjMesh, ReadsWhatThreeJsWrites) {
+    const Mesh m = read_obj_mesh(kObjData / "threejs_sphere.obj");
+    EXPECT_EQ(m.vertices.size(), 17u * 9u);
+    EXPECT_EQ(m.faces.size(), 16u * 8u * 2u - 2u * 16u);
+    ASSERT_EQ(m.group_names, std::vector<std::string>{"T\xc3\xaate_\xe9\xa0\xad"});  // Tête_頭
+    EXPECT_EQ(m.face_uvs.size(), m.faces.size());
+    EXPECT_NEAR(m.bounds().hi.y(), 1.f, 1e-6f);
+}
+
+// What other exporters and hand edits put in OBJ files, all of which Blender and three.js
+// read: CRLF, tabs, comments on their own lines and after data, s/l/vp/cstype-free lines
+// that carry nothing for a mesh, vt with a third coordinate, more normals than vertices,
+// polygons of any size, negative indices, Unicode group names, a missing .mtl.
+TEST(ObjMesh, ToleratesWhatRealExportersWrite) {
+    const Mesh m = read_obj_mesh(write_text("quirks.obj",
+                                            "# made by hand\r\n"
+                                            "mtllib nowhere.mtl\r\n"
+                                            "o Kopf \xc3\xbc\r\n"
+                                            "v 0 0 0\r\n"
+                                            "v\t1 0 0  # a comment after data\r\n"
+                                            "v 1 1 0\r\n"
+                                            "v 0 1 0\r\n"
+                                            "v 0.5 1.5 0 1.0\r\n"  // w, as some writers add
+                                            "vt 0 0 0\r\nvt 1 0 0\r\nvt 1 1 0\r\n"
+                                            "vn 0 0 1\r\nvn 0 0 1\r\nvn 0 0 1\r\nvn 0 0 1\r\n"
+                                            "vn 0 0 1\r\nvn 0 0 1\r\nvn 0 0 1\r\n"
+                                            "\r\n"
+                                            "g scalp\r\n"
+                                            "s off\r\n"
+                                            "usemtl \xe5\xa4\xb4\xe7\x9a\xae\r\n"  // 头皮
+                                            "# a comment between faces\r\n"
+                                            "f 1/1/1 2/2/2 3/3/3 4/1/4 5/2/5\r\n"  // a pentagon
+                                            "s 1\r\n"
+                                            "l 1 2\r\n"
+                                            "f -5//-1 -4//-2 -1//-3\r\n"));
+    EXPECT_EQ(m.vertices.size(), 5u);
+    ASSERT_EQ(m.faces.size(), 3u + 1u);
+    EXPECT_EQ(m.faces[3], Vec3i(0, 1, 4));
+    for (size_t f = 0; f < m.faces.size(); ++f)
+        EXPECT_EQ(m.group_names.at(m.face_group.at(f)), "scalp") << "face " << f;
+    EXPECT_EQ(m.material_names, std::vector<std::string>{"\xe5\xa4\xb4\xe7\x9a\xae"});
+}
+
+// What is not an OBJ file at all, or asks for more than any head holds: refused, naming the
+// file and what is wrong.
+TEST(ObjMesh, RefusesWhatIsNotAnObjFile) {
+    std::string png = "\x89PNG\r\n\x1a\n";
+    png += std::string("\0\0\0\rIHDR", 8) + "garbage";
+    expect_error(write_text("picture.obj", png), "picture.obj");
+    expect_error(write_text("index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999\n"),
+                 "index.obj:4:");
+    expect_error(write_text("negative.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n"),
+                 "negative.obj:4:");
+}
+
 TEST(ObjMesh, RoundTripKeepsScalpGroupAndUvs) {
     const Mesh head = builtin_head_mesh();
     const fs::path p = temp_dir() / "head.obj";
