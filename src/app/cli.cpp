@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -313,14 +314,32 @@ Style resolve_style(const std::string& path, const std::string& preset) {
 
 // generate_hairstyle, its errors named by the style they come from (its file, or its preset):
 // what fails once the style and the head are read is the style's values on that head.
-HairstyleResult generate_named(const Style& style, const Head& head, const std::string& path,
-                               const std::string& preset) {
+// Runs `work` on a style read from `path` (or the preset `preset`): an error it throws names
+// the style first, so that a message about the head or the grid says which style asked.
+template <typename Work>
+auto with_style_named(const std::string& path, const std::string& preset, Work&& work) {
     try {
-        return generate_hairstyle(style, head);
+        return work();
     } catch (const Error& e) {
         fail(path.empty() ? "preset '" + (preset.empty() ? "default" : preset) + "'" : path, ": ",
              e.what());
     }
+}
+
+HairstyleResult generate_named(const Style& style, const Head& head, const std::string& path,
+                               const std::string& preset) {
+    return with_style_named(path, preset, [&] { return generate_hairstyle(style, head); });
+}
+
+// A picture's file: PNG is the one format the renderer writes, so another extension is a
+// mistake to report before the work, not a PNG under a misleading name.
+void check_png_output(const std::string& path, const char* option) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (ext != ".png")
+        throw CLI::ValidationError(
+            option, "writes PNG pictures: give a name ending in .png, got '" + path + "'");
 }
 
 uint64_t parse_seed(const std::string& text) {
@@ -387,13 +406,15 @@ int run_generate(const GenerateArgs& args) {
     std::optional<PngArgs> png;
     if (!args.png.empty()) {
         png = png_args(args.views, args.size, args.look, "--views");
+        check_png_output(args.png, "--png");
         check_writable(args.png);
     }
     if (!args.stats.empty()) check_writable(args.stats);
     const ThreadLimit limit(args.threads);
 
     Stopwatch watch;
-    const Head head = load_head(style.head);
+    const Head head =
+        with_style_named(args.style_path, args.preset, [&] { return load_head(style.head); });
     StageTimes times{{"head", watch.ms()}};
     info(args.quiet,
          cat("wisp: ", style.wisps, " wisps, ", style.strands, " strands on the ", head.source,
@@ -533,12 +554,17 @@ int run_animate(const AnimateArgs& args) {
     Stopwatch total;
     const ThreadLimit limit(args.threads);
     // Every argument and output is checked before the work starts.
-    for (const std::string& out : args.outputs)
-        check_hair_output(numbered(out, 0));
+    for (const std::string& out : args.outputs) {
+        hair_format_from_path(out);  // the name given, not frame 0's, in its message
+        check_writable(numbered(out, 0));
+    }
     const PngArgs png = png_args(args.view, args.size, args.look, "--view");
     if (png.views.size() != 1)
         throw CLI::ValidationError("--view", "animate renders one view, got '" + args.view + "'");
-    if (!args.png.empty()) check_writable(numbered(args.png, 0));
+    if (!args.png.empty()) {
+        check_png_output(args.png, "--png");
+        check_writable(numbered(args.png, 0));
+    }
     if (!args.mp4.empty()) check_writable(args.mp4);
     if (!args.stats.empty()) check_writable(args.stats);
     std::vector<Tie> ties;
@@ -566,7 +592,9 @@ int run_animate(const AnimateArgs& args) {
     args.head.apply(style);
 
     Stopwatch watch;
-    const Head head = load_head(style.head);
+    const Head head = from_style ? with_style_named(args.input, args.preset,
+                                                    [&] { return load_head(style.head); })
+                                 : load_head(style.head);
     const HeadFrame frame = head_frame(*head.scalp);
     const Motion motion = load_motion(args.motion, frame);  // its errors before the work
     StageTimes times{{"head", watch.ms()}};
@@ -898,6 +926,7 @@ int run_cli(int argc, char** argv) {
         if (*render_cmd) {
             const ThreadLimit limit(render_threads);
             const PngArgs png = png_args(render_view, render_size, render_look, "--view");
+            check_png_output(render_out, "--output");
             check_writable(render_out);
             const Hair hair = read_hair(render_in);
             HeadSpec spec;

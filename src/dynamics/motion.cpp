@@ -776,9 +776,15 @@ Motion parse_motion(const std::string& text, const std::string& source, const He
 }
 
 Motion load_motion(const std::string& preset_or_path, const HeadFrame& head) {
+    std::string names;
     for (const std::string& n : motion_preset_names()) {
         if (n == preset_or_path) return motion_preset(n, head);
+        names += (names.empty() ? "" : ", ") + n;
     }
+    std::error_code ec;
+    if (!std::filesystem::exists(preset_or_path, ec))
+        fail(excerpt(preset_or_path), ": neither a motion preset (", names,
+             ") nor a motion file (no such file)");
     return read_motion(preset_or_path, head);
 }
 

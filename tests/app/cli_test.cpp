@@ -556,3 +556,108 @@ TEST(Cli, ArgumentsAreCheckedBeforeTheWork) {
     quick("animate --preset short --mp4 " + (d.path / "x.mp4").string() + " --view sideways", 2);
     quick("render " + out + " -o " + (d.path / "r.png").string() + " --size 5x5", 2);
 }
+
+// The error sweep: each command's ways to fail on what a user gives it, each refused with
+// one line that names the input (file, and line or field where there is one) and what is
+// wrong, exit 1 for a bad input and 2 for a bad argument, and no output file left.
+TEST(Cli, EveryCommandsErrorsNameTheirInput) {
+    Dir d;
+    const fs::path err = d.path / "err.txt";
+    const auto in = [&](const std::string& name, const std::string& text) {
+        write(d.path / name, text);
+        return (d.path / name).string();
+    };
+    const std::string ok = in("ok.toml", "name = \"s\"\n[roots]\nwisps = 30\nstrands = 300\n");
+    const std::string hair = (d.path / "ok.hair").string();
+    ASSERT_EQ(run("generate -q " + ok + " -o " + hair), 0);
+    const std::string trunc = in("trunc.hair", slurp(hair).substr(0, 300));
+    const std::string tri = in("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    const std::string bad_obj = in("bad.obj", "v 0 0 0\nv 1 0 0\nf 1 2 9\n");
+    const std::string bad_png = in("bad.png", "not a png\n");
+    const std::string x = (d.path / "x").string();
+    struct Case {
+        std::string args;
+        int code;
+        std::string says;
+    };
+    const Case cases[] = {
+        // generate: the style, its head, its maps, the outputs.
+        {"generate " + in("syntax.toml", "[roots\n") + " -o " + x + ".hair", 1,
+         "syntax.toml:1:7: TOML syntax error"},
+        {"generate " + in("unknown.toml", "[roots]\nwispz = 3\n") + " -o " + x + ".hair", 1,
+         "unknown.toml:2: unknown field 'roots.wispz' (did you mean 'roots.wisps'?)"},
+        {"generate " + in("range.toml", "[roots]\nwisps = -3\n") + " -o " + x + ".hair", 1,
+         "range.toml:2: field 'roots.wisps': must be ≥ 1, got -3"},
+        {"generate --preset nosuch -o " + x + ".hair", 1, "unknown preset 'nosuch'"},
+        {"generate " + (d.path / "missing.toml").string() + " -o " + x + ".hair", 2,
+         "missing.toml"},
+        {"generate -q " + ok + " --head " + bad_obj + " -o " + x + ".hair", 1,
+         "ok.toml: " + bad_obj + ":3: vertex index 9 is out of range"},
+        {"generate -q " + in("head.toml", "[head]\nobj = \"" + bad_obj + "\"\n") + " -o " + x +
+             ".hair",
+         1, "head.toml: " + bad_obj + ":3: vertex index 9"},
+        {"generate -q " + ok + " --head " + tri + " --scalp group:nosuch -o " + x + ".hair", 1,
+         "tri.obj: scalp by group: no face group or material named 'nosuch'"},
+        {"generate -q " + ok + " --scalp mask:" + bad_png + " -o " + x + ".hair", 1,
+         "bad.png: not a readable image"},
+        {"generate -q " + ok + " --scalp mask:" + x + ".none -o " + x + ".hair", 2,
+         "x.none is not a file"},
+        {"generate -q " + ok + " -o " + x + ".xyz", 1, "x.xyz: unknown hair file extension"},
+        {"generate -q " + ok + " -o " + x + ".hair --png " + x + ".jpg", 2,
+         "--png: writes PNG pictures: give a name ending in .png, got '" + x + ".jpg'"},
+        {"generate -q " + ok + " -o /proc/wisp/x.hair", 1, "/proc/wisp/x.hair: cannot"},
+        // render, convert, info: the hair file, the head, the output.
+        {"render -q " + x + ".hair -o " + x + ".png", 1, "x.hair: cannot open"},
+        {"render -q " + trunc + " -o " + x + ".png", 1,
+         "trunc.hair: byte 300: header declares 300 strands"},
+        {"render -q " + hair + " --head " + bad_obj + " -o " + x + ".png", 1,
+         "bad.obj:3: vertex index 9"},
+        {"render -q " + hair + " -o " + x + ".xyz", 2,
+         "--output: writes PNG pictures: give a name ending in .png"},
+        {"convert " + hair + " " + x + ".xyz", 1, "x.xyz: unknown hair file extension"},
+        {"convert " + trunc + " " + x + ".ply", 1, "trunc.hair: byte 300"},
+        {"info " + in("junk.hair", "HAIR\x01"), 1, "junk.hair: byte"},
+        // animate: the style or hair, the motion, the outputs.
+        {"animate -q " + ok + " --frames 2 --motion " +
+             in("syntax.json", "{\"format\": \"wisp-motion\", ") + " -o " + x + ".usda",
+         1, "syntax.json"},
+        {"animate -q " + ok + " --frames 2 --motion " + in("field.json", "{\"frames\": 3}") +
+             " -o " + x + ".usda",
+         1, "field.json: frames: unknown field"},
+        {"animate -q " + ok + " --frames 2 --motion dance -o " + x + ".usda", 1,
+         "dance: neither a motion preset (lean, shake, nod, jump, run, still) nor a motion "
+         "file"},
+        {"animate -q " + trunc + " --frames 2 -o " + x + ".usda", 1, "trunc.hair: byte 300"},
+        {"animate -q " + ok + " --frames 2 -o " + x + ".xyz", 1,
+         x + ".xyz: unknown hair file extension"},
+        {"animate -q " + ok + " --frames 2 --png " + x + "_####.jpg", 2,
+         "--png: writes PNG pictures"},
+        {"animate -q " + in("ahead.toml", "[head]\nobj = \"" + bad_obj + "\"\n") +
+             " --frames 2 -o " + x + ".usda",
+         1, "ahead.toml: " + bad_obj + ":3"},
+        // dataset: the spec and the folder.
+        {"dataset plan " + in("spec.toml", "samples = [") + " -o " + x + "_ds", 1,
+         "spec.toml:1:12: TOML syntax error"},
+        {"dataset plan " + in("spec2.toml", "[dataset]\n") + " -o " + x + "_ds", 1,
+         "spec2.toml:1: field 'dataset': unknown field"},
+        {"dataset verify " + d.path.string(), 1, d.path.string() + ": no dataset.json"},
+        {"dataset run " + d.path.string(), 1, d.path.string() + ": no dataset.json"},
+        // edit: the style it starts from.
+        {"edit " + (d.path / "syntax.toml").string(), 1, "syntax.toml:1:7: TOML syntax error"},
+        // head: the output.
+        {"head -o /proc/wisp/h.obj", 1, "/proc/wisp/h.obj: cannot"},
+    };
+    for (const Case& c : cases) {
+        EXPECT_EQ(run_capturing(c.args, err), c.code) << c.args;
+        const std::string said = slurp(err);
+        EXPECT_NE(said.find(c.says), std::string::npos) << c.args << "\n" << said;
+        // One line, and for some usage errors CLI11's hint to --help.
+        const size_t hint = said.find("\nRun with --help for more information.\n");
+        EXPECT_EQ(std::count(said.begin(), said.end(), '\n'), hint == std::string::npos ? 1 : 2)
+            << c.args << "\n"
+            << said;
+        EXPECT_FALSE(fs::exists(x + ".hair") || fs::exists(x + ".usda") || fs::exists(x + ".png") ||
+                     fs::exists(x + "_ds"))
+            << c.args;
+    }
+}
