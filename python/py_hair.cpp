@@ -148,6 +148,7 @@ size_t strand_index(const Hair& hair, long long i) {
 py::array resampled(const Hair& hair, long long n, int threads) {
     if (n < 2 || n > 4096)
         throw py::value_error(cat("resampled: n must be 2 to 4096 points per strand, got ", n));
+    hair.validate("Hair");  // its arrays are writable views: no NaN resampled into the output
     const size_t N = hair.strand_count();
     for (size_t s = 0; s < N; ++s)
         if (hair.strand_size(s) == 0)

@@ -125,6 +125,9 @@ void bind_render(py::module_& m) {
         "render",
         [](const Hair& hair, const HeadPtr& head, const std::string& view, int width, int height,
            const py::object& threads, bool alpha, const py::kwargs& kw) {
+            // Its arrays are writable numpy views: a NaN or a far-off point set through them
+            // would size the renderer's grids from nonsense.
+            hair.validate("Hair");
             const RenderOptions o = render_options(view, width, height, kw);
             const int n = thread_count(threads);
             if (!alpha) {

@@ -344,6 +344,7 @@ the array, the master and what was expected.)")
             settings.fps = fps;
             Hair rest;
             if (hair_in) {
+                hair_in->validate("Hair");  // its arrays are writable views
                 rest = *hair_in;
             } else {
                 HairstyleResult r =
@@ -431,6 +432,7 @@ the array, the master and what was expected.)")
     m.def(
         "stage_color",
         [](const PyStyle& s, Hair& hair, const py::object& threads) {
+            hair.validate("Hair");
             run_released(thread_count(threads), [&] {
                 color_stage(s.style, hair);
                 return 0;

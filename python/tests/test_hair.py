@@ -1,4 +1,5 @@
 """wisp.Hair: numpy views (no copy), validation of arrays from Python, files."""
+import re
 import sys
 
 import numpy as np
@@ -149,3 +150,21 @@ def test_read_gives_cli_arrays(exe, tmp_path, ext):
     again = tmp_path / f"again.{ext}"
     read.write(str(again))
     assert wisp.read(str(again)).point_count == read.point_count
+
+
+@pytest.mark.parametrize("field, value, message", [
+    ("points", np.nan, "Hair: point 1 is not finite (strand 0, its point 1)"),
+    ("points", 1e9, "Hair: point 1 (strand 0, its point 1) is at"),
+    ("widths", np.inf, "Hair: width 1 is negative or not finite"),
+])
+def test_values_set_through_the_views_are_checked_before_use(field, value, message):
+    # The arrays are writable views, so a NaN can reach the hair after from_arrays checked it:
+    # everything that reads the hair checks it again (render once crashed the interpreter).
+    p = np.zeros((4, 3), np.float32)
+    p[:, 1] = np.arange(4)
+    hair = wisp.Hair.from_arrays(p, [0, 4], widths=np.full(4, 0.01, np.float32))
+    getattr(hair, field)[1] = value
+    for use in (lambda: wisp.render(hair, size=64, head=False), lambda: hair.resampled(8),
+                lambda: wisp.stages.color(wisp.Style(), hair)):
+        with pytest.raises(wisp.Error, match=re.escape(message)):
+            use()
