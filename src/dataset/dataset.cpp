@@ -407,10 +407,32 @@ fs::path spec_copy(const fs::path& dir) {
     return dir / "spec.toml";
 }
 
+// Loads every head the samples can draw (each base style with each [[head]]), so that a head
+// that is missing, is not a mesh, or lacks the scalp group it names fails the plan, naming
+// its line, not every sample of a run (or of a Slurm array) later.
+void check_heads(const DatasetSpec& spec) {
+    for (const BaseStyle& base : spec.bases)
+        for (const HeadChoice& head : spec.heads) {
+            const std::string where = cat(spec.source, ":", head.line);
+            try {
+                Style style = base.style;
+                for (const auto& [path, value] : head.fields)
+                    set_style_field(style, path, value, where, spec.base_dir);
+                cached_head(style);
+            } catch (const Error& e) {
+                fail(head.line > 0 ? where : spec.source, ": head '", head.name, "' (base ",
+                     base.name, "): ", e.what());
+            } catch (const toml::parse_error& e) {
+                fail(where, ": head '", head.name, "': ", e.description());
+            }
+        }
+}
+
 }  // namespace
 
 uint64_t plan_dataset(const fs::path& spec_path, const fs::path& dir) {
     const DatasetSpec spec = load_dataset_spec(spec_path);
+    check_heads(spec);
     ReadLimits limits;
     limits.what = "a dataset spec";
     limits.text = true;

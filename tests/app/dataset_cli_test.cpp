@@ -234,4 +234,28 @@ TEST(DatasetCli, BadSpecsAndUsage) {
     EXPECT_NE(script.find("--task-id \"$SLURM_ARRAY_TASK_ID\" --tasks 4"), std::string::npos);
 }
 
+// A head no sample could load fails the plan, naming its [[head]] line, before any sample
+// (or a Slurm array of them) is made: a missing file, an endless one, a mesh without the
+// scalp group the head names.
+TEST(DatasetCli, PlanLoadsEveryHeadItCanDraw) {
+    Dir d;
+    const fs::path tri = d.path / "tri.obj", err = d.path / "err.txt";
+    std::ofstream(tri) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    const std::pair<std::string, std::string> heads[] = {
+        {"obj = \"" + (d.path / "none.obj").string() + "\"", "none.obj: cannot open"},
+        {"obj = \"/dev/zero\"", "/dev/zero: byte 0 is a NUL byte"},
+        {"obj = \"" + tri.string() + "\"\nscalp = { method = \"group\", group = \"top\" }",
+         "no face group or material named 'top'"},
+    };
+    for (const auto& [fields, says] : heads) {
+        const fs::path spec = d.path / "spec.toml", dir = d.path / "ds";
+        std::ofstream(spec) << "samples = 2\n[[head]]\nname = \"mine\"\n" << fields << "\n";
+        EXPECT_EQ(run("dataset plan " + spec.string() + " -o " + dir.string(), err), 1) << fields;
+        const std::string said = slurp(err);
+        EXPECT_NE(said.find(spec.string() + ":2: head 'mine'"), std::string::npos) << said;
+        EXPECT_NE(said.find(says), std::string::npos) << said;
+        EXPECT_FALSE(fs::exists(dir / "dataset.json"));
+    }
+}
+
 }  // namespace
