@@ -88,6 +88,7 @@ int run_command(const DatasetCommands& a) {
     RunOptions options;
     options.slice = run_slice(a, &from);
     options.jobs = a.jobs;
+    options.verify = a.verify_done;
     const ThreadLimit limit(a.threads);
     if (!a.quiet && !from.empty())
         std::cerr << "wisp: task " << options.slice.index << " of " << options.slice.count << " ("
@@ -130,8 +131,10 @@ int run_command(const DatasetCommands& a) {
     progress.reset();
     if (!a.quiet)
         std::cerr
-            << "wisp: " << s.made << " made, " << s.skipped << " done before, " << s.failed
-            << " failed of " << total << " in this slice ("
+            << "wisp: " << s.made << " made"
+            << (s.remade ? cat(" (", s.remade, " of them damaged before)") : std::string()) << ", "
+            << s.skipped << " done before, " << s.failed << " failed of " << total
+            << " in this slice ("
             << seconds_text(
                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count())
             << ")\n";
@@ -146,6 +149,9 @@ int status_command(const DatasetCommands& a, bool verify) {
     if (!s.missing.empty()) std::cout << "missing " << index_ranges(s.missing) << '\n';
     for (const std::string& p : s.problems)
         std::cout << "  " << p << '\n';
+    if (s.corrupt > 0)
+        std::cerr << "wisp: `wisp dataset run " << a.dir
+                  << " --verify` makes the damaged samples again\n";
     if (verify) return s.done == s.samples ? 0 : 1;
     return 0;
 }
@@ -213,6 +219,9 @@ void add_dataset_commands(CLI::App& app, DatasetCommands& a) {
     a.run->add_option("--threads", a.threads, "Worker threads (0 = all cores)")
         ->check(CLI::Range(0, 1024));
     a.run->add_option("--times", a.times, "Append each sample's stage times (JSON lines)");
+    a.run->add_flag("--verify", a.verify_done,
+                    "Check the CRC-32 of every finished sample's files and make the damaged "
+                    "ones again (without it, only a missing file or a changed size is caught)");
     a.run->add_flag("-q,--quiet", a.quiet, "Print nothing but errors");
 
     a.status = a.dataset->add_subcommand("status", "Count done, pending and failed samples");

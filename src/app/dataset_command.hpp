@@ -19,6 +19,7 @@ struct DatasetCommands {
     int jobs = 1, threads = 0;
     std::string times;  // --times FILE: the run's per-sample stage times as JSON lines
     bool quiet = false;
+    bool verify_done = false;  // run --verify
     // slurm
     int throttle = 0, cpus = 0;
     std::string partition, time;

@@ -480,6 +480,40 @@ DatasetSpec load_planned_spec(const fs::path& dir) {
     }
 }
 
+namespace {
+
+// What is wrong with a sample folder that has its complete.json: "" when nothing. Every file
+// it lists must be there with its size; with `checksums`, with its CRC-32 too (which reads
+// the files: `verify`, or `run --verify`).
+std::string sample_problem(const fs::path& folder, bool checksums) {
+    ReadLimits limits;
+    limits.max_bytes = 1 << 20;
+    limits.what = "complete.json";
+    limits.text = true;
+    std::error_code ec;
+    try {
+        const nlohmann::json j = nlohmann::json::parse(read_file(folder / "complete.json", limits));
+        for (const auto& [f, entry] : j.at("files").items()) {
+            const uint64_t bytes = entry.at("bytes").get<uint64_t>();
+            if (!fs::exists(folder / f, ec)) return f + " is missing";
+            if (!checksums) {
+                if (fs::file_size(folder / f, ec) != bytes || ec)
+                    return f + " does not match its size";
+                continue;
+            }
+            uint64_t size = 0;
+            const uint32_t crc = file_crc(folder / f, &size);
+            if (size != bytes || crc != entry.at("crc32").get<uint32_t>())
+                return f + " does not match its size or CRC-32";
+        }
+    } catch (const std::exception& e) {
+        return std::string("complete.json: ") + e.what();
+    }
+    return "";
+}
+
+}  // namespace
+
 RunSummary run_dataset(const fs::path& dir, const RunOptions& options) {
     const DatasetSpec spec = load_planned_spec(dir);
     const Slice slice = options.slice;
@@ -503,6 +537,14 @@ RunSummary run_dataset(const fs::path& dir, const RunOptions& options) {
             const fs::path failed = samples / (name + ".failed");
             std::error_code ec;
             bool skipped = fs::exists(folder / "complete.json", ec);
+            bool remade = false;
+            if (skipped && !sample_problem(folder, options.verify).empty()) {
+                // A sample that lost or changed a file since it was made is made again; its
+                // marker goes first, so that no run takes the folder for a finished one.
+                fs::remove(folder / "complete.json", ec);
+                skipped = false;
+                remade = true;
+            }
             bool ok = true;
             std::vector<std::pair<std::string, double>> times;
             std::string why;
@@ -527,6 +569,7 @@ RunSummary run_dataset(const fs::path& dir, const RunOptions& options) {
                 ++summary.made;
             else
                 ++summary.failed;
+            summary.remade += remade && ok ? 1 : 0;
             if (!ok && options.on_failure) options.on_failure(k, why);
             if (ok && !skipped && options.on_times) options.on_times(k, times);
             if (options.on_sample) options.on_sample(done, todo.size(), k, skipped);
@@ -556,28 +599,7 @@ DatasetStatus dataset_status(const fs::path& dir, bool checksums) {
         const fs::path folder = samples / name;
         std::error_code ec;
         if (fs::exists(folder / "complete.json", ec)) {
-            std::string problem;
-            if (checksums) {
-                try {
-                    const nlohmann::json j =
-                        nlohmann::json::parse(read_file(folder / "complete.json", limits));
-                    for (const auto& [f, entry] : j.at("files").items()) {
-                        if (!fs::exists(folder / f, ec)) {
-                            problem = f + " is missing";
-                            break;
-                        }
-                        uint64_t size = 0;
-                        const uint32_t crc = file_crc(folder / f, &size);
-                        if (size != entry.at("bytes").get<uint64_t>() ||
-                            crc != entry.at("crc32").get<uint32_t>()) {
-                            problem = f + " does not match its size or CRC-32";
-                            break;
-                        }
-                    }
-                } catch (const std::exception& e) {
-                    problem = std::string("complete.json: ") + e.what();
-                }
-            }
+            const std::string problem = sample_problem(folder, checksums);
             if (problem.empty()) {
                 ++s.done;
                 continue;

@@ -83,6 +83,9 @@ struct Slice {
 struct RunOptions {
     Slice slice;
     int jobs = 1;  // samples made at once
+    // A finished sample is made again when a file it lists is missing or of another size;
+    // with verify, also when a file's CRC-32 differs (which reads every finished file).
+    bool verify = false;
     // Told after each sample of the slice (done so far, of total, whether it was skipped).
     std::function<void(uint64_t done, uint64_t total, uint64_t k, bool skipped)> on_sample;
     // Told each made sample's stage times (the run's log; never written into the sample).
@@ -93,6 +96,7 @@ struct RunOptions {
 
 struct RunSummary {
     uint64_t made = 0, skipped = 0, failed = 0;
+    uint64_t remade = 0;  // of made: finished before, but found damaged
 };
 
 // `wisp dataset run`: makes the slice's unfinished samples.

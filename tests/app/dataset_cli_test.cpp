@@ -234,6 +234,42 @@ TEST(DatasetCli, BadSpecsAndUsage) {
     EXPECT_NE(script.find("--task-id \"$SLURM_ARRAY_TASK_ID\" --tasks 4"), std::string::npos);
 }
 
+// A finished sample that is damaged afterwards is made again: by any run when a file is
+// missing or changed size, by `run --verify` when only its bytes changed (a CRC mismatch,
+// which `verify` reports). The remade files equal the first ones.
+TEST(DatasetCli, DamagedSamplesAreMadeAgain) {
+    Dir d;
+    const fs::path dir = d.path / "ds", err = d.path / "err.txt";
+    ASSERT_EQ(run("dataset plan " + kSpec.string() + " -o " + dir.string()), 0);
+    ASSERT_EQ(run("dataset run " + dir.string()), 0);
+    const auto before = tree(dir / "samples");
+    fs::path sample;
+    for (const auto& e : fs::directory_iterator(dir / "samples"))
+        if (e.path().filename().string()[0] != '.') sample = std::max(sample, e.path());
+    fs::path file;
+    for (const auto& e : fs::directory_iterator(sample))
+        if (e.path().filename() != "complete.json") file = std::max(file, e.path());
+    const std::string bytes = slurp(file);
+    ASSERT_FALSE(bytes.empty());
+
+    // Truncated: a plain run sees the size and makes the sample again.
+    std::ofstream(file, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+    ASSERT_EQ(run("dataset run " + dir.string(), err), 0);
+    EXPECT_NE(slurp(err).find("(1 of them damaged before)"), std::string::npos) << slurp(err);
+    EXPECT_EQ(tree(dir / "samples"), before);
+
+    // One byte flipped, same size: verify reports it, a plain run keeps it, --verify remakes it.
+    std::string flipped = bytes;
+    flipped[flipped.size() / 2] ^= 0x20;
+    std::ofstream(file, std::ios::binary) << flipped;
+    EXPECT_EQ(run("dataset verify " + dir.string(), err), 1);
+    ASSERT_EQ(run("dataset run " + dir.string()), 0);
+    EXPECT_EQ(slurp(file), flipped);
+    ASSERT_EQ(run("dataset run " + dir.string() + " --verify", err), 0);
+    EXPECT_EQ(tree(dir / "samples"), before);
+    EXPECT_EQ(run("dataset verify " + dir.string()), 0);
+}
+
 // A head no sample could load fails the plan, naming its [[head]] line, before any sample
 // (or a Slurm array of them) is made: a missing file, an endless one, a mesh without the
 // scalp group the head names.
