@@ -188,7 +188,8 @@ Build one with Head.builtin() or Head.from_obj(path, scale=, scalp=).)")
             "The built-in procedural head and shoulders (docs/style.md [head])")
         .def_static(
             "from_obj",
-            [](const std::string& path, const py::object& scale, const py::object& scalp) {
+            [](const std::filesystem::path& path, const py::object& scale,
+               const py::object& scalp) {
                 require_file(path, "head OBJ");
                 // The head's fields set through the style schema: its checks and messages.
                 Style style;
@@ -222,11 +223,16 @@ Build one with Head.builtin() or Head.from_obj(path, scale=, scalp=).)")
 [head.scalp] fields ({"method": "mask", "mask": "scalp.png"}).)")
         .def_static(
             "from_style",
-            [](const PyStyle& s) {
-                return std::make_shared<Head>(
-                    run_released(0, [&] { return load_head(s.style.head); }));
+            [](const py::object& style) {
+                // wisp.Style (the Python class around the extension's style) or that style.
+                const py::object s = py::hasattr(style, "_s") ? style.attr("_s") : style;
+                if (!py::isinstance<PyStyle>(s))
+                    throw py::type_error(cat("Head.from_style: expected a wisp.Style, got ",
+                                             py::str(py::type::of(style).attr("__name__"))));
+                const Style& st = s.cast<const PyStyle&>().style;
+                return std::make_shared<Head>(run_released(0, [&] { return load_head(st.head); }));
             },
-            "The head a style's [head] section names")
+            py::arg("style"), "The head a style's [head] section names")
         .def_property_readonly("source", [](const Head& h) { return h.source; })
         .def_property_readonly(
             "vertices",
@@ -278,7 +284,7 @@ Build one with Head.builtin() or Head.from_obj(path, scale=, scalp=).)")
             "0.5), the lowest hairline on the circle of radius 0.5 about it")
         .def(
             "write_obj",
-            [](const Head& h, const std::string& path) {
+            [](const Head& h, const std::filesystem::path& path) {
                 run_released(0, [&] {
                     write_obj_mesh(path, *h.mesh);
                     return 0;
@@ -413,8 +419,9 @@ wisp_ids N integers (-1: none), or None)")
             "Raises wisp.Error if the arrays disagree in size or hold non-finite values")
         .def(
             "write",
-            [](py::object self, const std::string& path, bool obj_segments, bool z_up, int resample,
-               HeadPtr head) {
+            [](py::object self, const std::filesystem::path& file, bool obj_segments, bool z_up,
+               int resample, HeadPtr head) {
+                const std::string path = file.string();
                 const Hair& h = self.cast<const Hair&>();
                 if (resample < 0)
                     throw py::value_error(cat("resample: expected >= 0 points, got ", resample));
@@ -446,7 +453,8 @@ wisp_ids N integers (-1: none), or None)")
 
     m.def(
         "read",
-        [](const std::string& path) {
+        [](const std::filesystem::path& file) {
+            const std::string path = file.string();
             hair_format_from_path(path);
             require_file(path, "hair file");
             return run_released(0, [&] { return read_hair(path); });

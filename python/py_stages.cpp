@@ -3,6 +3,7 @@
 #include "bindings.hpp"
 #include "core/error.hpp"
 #include "dynamics/animate.hpp"
+#include "dynamics/motion.hpp"
 #include "geometry/mesh_distance.hpp"
 #include "groom/master.hpp"
 #include "groom/style_schema.hpp"
@@ -379,6 +380,7 @@ the array, the master and what was expected.)")
         py::arg("style"), py::arg("hair"), py::arg("head"), py::arg("motion"), py::arg("frames"),
         py::arg("fps"), py::arg("seed"), py::arg("threads"), py::arg("ties"), py::arg("on_frame"));
 
+    m.def("motion_names", &motion_preset_names, "The motion presets' names");
     m.def(
         "check_ties", [](const py::object& ties) { ties_from(ties); }, py::arg("ties"),
         "Raises TypeError or ValueError naming the tie if `ties` is not a sequence of (x, y, z) "

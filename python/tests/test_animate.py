@@ -37,8 +37,11 @@ def test_bad_arguments(small_hair):
         wisp.animate(small_hair, fps=-1)
     with pytest.raises(TypeError):
         wisp.animate("default")
-    with pytest.raises(ValueError, match="no-such-motion"):
-        list(wisp.animate(small_hair, motion="no-such-motion", frames=2))
+    # An unknown motion is refused when animate is called, not when the first frame is taken.
+    with pytest.raises(ValueError, match="'no-such-motion' is neither a motion preset"):
+        wisp.animate(small_hair, motion="no-such-motion", frames=2)
+    with pytest.raises(TypeError, match="motion must be"):
+        wisp.animate(small_hair, motion=3, frames=2)
 
 
 def _tie_at(hair, strand=0, joint=10):

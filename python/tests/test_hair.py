@@ -168,3 +168,22 @@ def test_values_set_through_the_views_are_checked_before_use(field, value, messa
                 lambda: wisp.stages.color(wisp.Style(), hair)):
         with pytest.raises(wisp.Error, match=re.escape(message)):
             use()
+
+
+def test_paths_may_be_pathlib(small_hair, tmp_path):
+    # Every function that takes a file takes a str or an os.PathLike, as Python's own do.
+    import pathlib
+    path = tmp_path / "h.hair"
+    assert isinstance(path, pathlib.Path)
+    small_hair.write(path)
+    assert len(wisp.read(path)) == len(small_hair)
+    head = wisp.Head.builtin()
+    head.write_obj(tmp_path / "head.obj")
+    assert wisp.Head.from_obj(tmp_path / "head.obj").faces.shape == head.faces.shape
+
+
+def test_head_from_style_takes_a_style():
+    style = wisp.Style()
+    assert wisp.Head.from_style(style).faces.shape[0] > 1000
+    with pytest.raises(TypeError, match="Head.from_style: expected a wisp.Style, got int"):
+        wisp.Head.from_style(3)

@@ -151,3 +151,14 @@ def test_render_alpha_is_coverage(small_hair, head):
     assert 0 < (hair_only[..., 3] > 0).sum() < (a > 0).sum()
     with pytest.raises(TypeError, match="alpha"):
         wisp.render(small_hair, size=32, alpha="yes")
+
+
+def test_wrong_types_are_named():
+    style = wisp.Style()
+    head = wisp.Head.builtin()
+    with pytest.raises(TypeError, match="stages.roots: style must be a wisp.Style, got int"):
+        wisp.stages.roots(3, head)
+    with pytest.raises(TypeError, match="stages.color: hair must be a wisp.Hair, got int"):
+        wisp.stages.color(style, 3)
+    with pytest.raises(TypeError, match="stages.masters: roots must be a wisp.Roots, got str"):
+        wisp.stages.masters(style, head, "roots")

@@ -251,6 +251,15 @@ def _repr_png_(self):
 Hair._repr_png_ = _repr_png_
 
 
+def _check_types(where, **args):
+    """A TypeError naming ``where`` and the argument for a value that is not of its wisp type
+    (rather than the extension's own signature, with its internal names)."""
+    for name, (value, cls) in args.items():
+        if not isinstance(value, cls):
+            raise TypeError(f"{where}: {name} must be a wisp.{cls.__name__}, got "
+                            + type(value).__name__)
+
+
 class stages:
     """The pipeline's stages one at a time (DESIGN.md), for research use: each takes the
     outputs before it, so any one can be inspected or replaced. ``generate`` is
@@ -262,27 +271,35 @@ class stages:
     @staticmethod
     def roots(style: Style, head: Head, threads=None) -> Roots:
         """Master and member roots on the scalp (§2.3)."""
+        _check_types("stages.roots", style=(style, Style), head=(head, Head))
         return _wisp.stage_roots(style._s, head, threads)
 
     @staticmethod
     def masters(style: Style, head: Head, roots: Roots, threads=None) -> Masters:
         """Master strands synthesized from the prototype (§2.2), unsolved."""
+        _check_types("stages.masters", style=(style, Style), head=(head, Head),
+                     roots=(roots, Roots))
         return _wisp.stage_masters(style._s, head, roots, threads)
 
     @staticmethod
     def solve(style: Style, head: Head, roots: Roots, masters: Masters, threads=None):
         """The styling field, density collisions and constraints (§3, §4, Algorithm 1) on a
         copy of masters: returns (solved Masters, solver stats dict)."""
+        _check_types("stages.solve", style=(style, Style), head=(head, Head),
+                     roots=(roots, Roots), masters=(masters, Masters))
         return _wisp.stage_solve(style._s, head, roots, masters, threads)
 
     @staticmethod
     def members(style: Style, head: Head, roots: Roots, masters: Masters, threads=None) -> Hair:
         """Every member strand (§2.1), cut and pushed out of the head; no colours yet."""
+        _check_types("stages.members", style=(style, Style), head=(head, Head),
+                     roots=(roots, Roots), masters=(masters, Masters))
         return _wisp.stage_members(style._s, head, roots, masters, threads)
 
     @staticmethod
     def color(style: Style, hair: Hair, threads=None) -> Hair:
         """A colour per strand (§5), in place; returns hair."""
+        _check_types("stages.color", style=(style, Style), hair=(hair, Hair))
         _wisp.stage_color(style._s, hair, threads)
         return hair
 
@@ -369,8 +386,8 @@ def animate(style_or_hair, motion: str = "lean", frames: int = 48, fps: float = 
     held rigidly to the head from its root to there, like a ponytail's tie. Returns an
     Animation: iterate it for Frame tuples (index, time, points, head_rotation,
     head_translation); its ``stats`` are set once the last frame is taken. Argument errors
-    raise here; an unknown motion, or a tie that passes near no strand, raises when the first
-    frame is taken."""
+    raise here, an unknown motion among them; a motion file that does not read, or a tie that
+    passes near no strand, raises when the first frame is taken."""
     if isinstance(style_or_hair, Style):
         style, hair = style_or_hair, None
     elif isinstance(style_or_hair, Hair):
@@ -388,6 +405,14 @@ def animate(style_or_hair, motion: str = "lean", frames: int = 48, fps: float = 
         raise ValueError(f"fps: expected a number in (0, 1000], got {fps!r}")
     if head is not None and not isinstance(head, Head):
         raise TypeError("animate: head must be a wisp.Head or None")
+    if isinstance(motion, os.PathLike):
+        motion = os.fspath(motion)
+    if not isinstance(motion, str):
+        raise TypeError("animate: motion must be a preset name or a motion file path, got "
+                        + type(motion).__name__)
+    if motion not in _wisp.motion_names() and not os.path.isfile(motion):
+        raise ValueError(f"motion: {motion!r} is neither a motion preset ("
+                         + ", ".join(_wisp.motion_names()) + ") nor a motion file")
     _wisp.check_ties(ties)
 
     def run(on_frame):

@@ -43,10 +43,10 @@ class Head:
     @staticmethod
     def builtin() -> Head: ...
     @staticmethod
-    def from_obj(path: str, scale: float = 1.0,
+    def from_obj(path: str | PathLike[str], scale: float = 1.0,
                  scalp: str | dict[str, Any] | None = None) -> Head: ...
     @staticmethod
-    def from_style(style: Any) -> Head: ...
+    def from_style(style: Style) -> Head: ...
     @property
     def source(self) -> str: ...
     @property
@@ -66,7 +66,7 @@ class Head:
         """cm²"""
     def scalp_uv(self, points: npt.ArrayLike) -> Float32Array:
         """points N×3 cm → N×2 float32 scalp UV."""
-    def write_obj(self, path: str) -> None: ...
+    def write_obj(self, path: str | PathLike[str]) -> None: ...
 
 class Hair:
     """Strands as flat arrays; every array property is a view of the Hair's memory."""
@@ -116,7 +116,7 @@ class Hair:
         """2×3 float32 [min, max], cm."""
     def copy(self) -> Hair: ...
     def validate(self) -> None: ...
-    def write(self, path: str, *, obj_segments: bool = False, z_up: bool = False,
+    def write(self, path: str | PathLike[str], *, obj_segments: bool = False, z_up: bool = False,
               resample: int = 0) -> None:
         """.usda .hair .obj .ply .data .rib .pbrt .npz, by extension."""
     def _repr_png_(self) -> bytes: ...
@@ -160,7 +160,7 @@ class Masters:
         joints at the roots); frames and control points recomputed."""
     def __len__(self) -> int: ...
 
-def read(path: str) -> Hair:
+def read(path: str | PathLike[str]) -> Hair:
     """.usda .hair .obj .ply .data; FileNotFoundError if missing, Error if malformed."""
 
 def generate(style: Style | None = None, head: Head | None = None, seed: int | None = None,
@@ -211,7 +211,7 @@ class Animation:
     rest: Hair | None
     def __iter__(self) -> Iterator[Frame]: ...
 
-def animate(style_or_hair: Style | Hair, motion: str = "lean", frames: int = 48,
+def animate(style_or_hair: Style | Hair, motion: str | PathLike[str] = "lean", frames: int = 48,
             fps: float = 24, head: Head | None = None, seed: int | None = None,
             threads: int | None = None,
             ties: Sequence[Sequence[float]] | npt.ArrayLike | None = None) -> Animation:
