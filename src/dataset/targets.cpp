@@ -58,6 +58,14 @@ TargetMaps draw_targets(const Hair& hair, const Mesh* head, const Camera& camera
         }
     }
 
+    // The hair, in front of the head: each segment stepped one pixel at a time along its
+    // major axis; a step covers w·ℓ·√(1 + s²) of its pixel (w the strand's projected width in
+    // pixels, ℓ ≤ 1 the step's length on the major axis, s the slope), at most all of it. A
+    // pixel's hair coverage is 1 − Π(1 − c) over the steps in it, so a lone strand far thinner
+    // than a pixel covers little of it and a clump of them covers it, as in the picture.
+    const std::vector<float> head_depth = m.depth;
+    std::vector<float> clear(n, 1.f);  // the share of the pixel no hair covers
+    const bool widths = !hair.widths.empty();
     for (size_t s = 0; s + 1 < hair.offsets.size(); ++s)
         for (uint32_t i = hair.offsets[s]; i + 1 < hair.offsets[s + 1]; ++i) {
             const Vec3f p = camera.project(hair.points[i]);
@@ -68,9 +76,16 @@ TargetMaps draw_targets(const Hair& hair, const Mesh* head, const Camera& camera
             float theta = std::atan2(-dy, dx);
             if (theta < 0) theta += static_cast<float>(M_PI);
             if (theta >= static_cast<float>(M_PI)) theta -= static_cast<float>(M_PI);
-            const float steps_f = std::ceil(std::max(std::abs(dx), std::abs(dy)));
+            const float major = std::max(std::abs(dx), std::abs(dy));
+            const float steps_f = std::ceil(major);
             if (!std::isfinite(steps_f) || steps_f > 1e5f) continue;
             const int steps = std::max(1, static_cast<int>(steps_f));
+            const float minor = std::min(std::abs(dx), std::abs(dy));
+            const float along =
+                major / steps *
+                std::sqrt(1.f + (major > 0 ? minor * minor / (major * major) : 0.f));
+            const float w0 = widths ? hair.widths[i] : hair.default_width;
+            const float w1 = widths ? hair.widths[i + 1] : hair.default_width;
             for (int k = 0; k < steps; ++k) {
                 const float t = (k + 0.5f) / steps;
                 const int x = static_cast<int>(std::floor(p.x() + dx * t));
@@ -78,16 +93,25 @@ TargetMaps draw_targets(const Hair& hair, const Mesh* head, const Camera& camera
                 if (x < 0 || y < 0 || x >= m.width || y >= m.height) continue;
                 const float z = 1.f / ((1.f - t) / p.z() + t / q.z());
                 const size_t at = static_cast<size_t>(y) * m.width + x;
+                if (z >= head_depth[at]) continue;
+                const float w = ((1.f - t) * w0 + t * w1) * camera.focal_pixels / z;
+                clear[at] *= 1.f - std::min(1.f, w * along);
                 if (z < m.depth[at]) {
                     m.depth[at] = z;
-                    m.hair[at] = 1;
                     m.orientation[at] = theta;
                 }
             }
         }
-    // The head is drawn first, so a hair flag, once set, marks the nearest surface.
-    for (float& d : m.depth)
-        if (d == far) d = 0.f;
+    // Hair where it covers at least half the pixel; elsewhere what lies behind it, the head
+    // or nothing.
+    for (size_t i = 0; i < n; ++i) {
+        m.hair[i] = clear[i] <= 0.5f;
+        if (!m.hair[i]) {
+            m.depth[i] = head_depth[i];
+            m.orientation[i] = 0.f;
+        }
+        if (m.depth[i] == far) m.depth[i] = 0.f;
+    }
     return m;
 }
 

@@ -7,14 +7,17 @@
 //                it for photographs. Encoded in an RGB PNG as R = 255 on hair, G =
 //                (1 + cos 2θ)/2, B = (1 + sin 2θ)/2 (θ and θ + π are one orientation);
 //                black off the hair.
-//   mask         #H×W  255 where hair is the nearest surface, else 0 (a gray PNG as RGB)
+//   mask         #H×W  255 where hair in front of the head covers at least half the pixel,
+//                else 0 (a gray PNG as RGB)
 //   depth        #H×W  float32 distance in cm along the camera's forward axis to the nearest
 //                surface, hair or head; 0 where the ray meets neither (a .npy array)
 //
 // The head is rasterized as triangles at pixel centres; every strand segment between
-// consecutive control points as a one-pixel line (DDA, one sample per pixel on its major
-// axis) tested against the depth buffer. Strands are drawn in order with a strict depth
-// test, so the maps are the same at any thread count.
+// consecutive control points as a line (DDA, one sample per pixel on its major axis) whose
+// samples in front of the head each cover the share of their pixel that the strand's
+// projected width gives; a pixel is hair where they cover at least half of it, with the
+// nearest strand's orientation and depth there. Strands are drawn in order on one thread, so
+// the maps are the same at any thread count.
 #include <cstdint>
 #include <filesystem>
 #include <vector>
@@ -30,7 +33,7 @@ struct TargetMaps {
     int width = 0, height = 0;
     std::vector<float> depth;        // #H·W, row-major, top row first; 0: background
     std::vector<float> orientation;  // #H·W, θ in [0, π); meaningful where hair is set
-    std::vector<uint8_t> hair;       // #H·W, 1 where hair is the nearest surface
+    std::vector<uint8_t> hair;       // #H·W, 1 where hair covers at least half the pixel
 };
 
 // Draws the maps of hair (and head, if not null) seen by `camera`.

@@ -13,12 +13,24 @@ Camera front() {
     return look_at(Vec3f(0, 0, 50), Vec3f(0, 0, 0), Vec3f::UnitY(), 30.f, 64, 64);
 }
 
-Hair straight(const Vec3f& from, const Vec3f& to, int points = 16) {
+// The camera's focal length in pixels: 32 / tan(15°).
+constexpr float kFocal = 119.43f;
+
+// A straight strand; width in cm (0.5 cm: 1.2 pixels wide at 50 cm).
+Hair straight(const Vec3f& from, const Vec3f& to, int points = 16, float width = 0.5f) {
     Hair h;
     for (int i = 0; i < points; ++i)
         h.points.push_back(from + (to - from) * (float(i) / (points - 1)));
     h.offsets.push_back(static_cast<uint32_t>(h.points.size()));
+    h.default_width = width;
     return h;
+}
+
+int hair_pixels(const TargetMaps& m) {
+    int n = 0;
+    for (uint8_t h : m.hair)
+        n += h;
+    return n;
 }
 
 // The mean orientation over hair pixels, as the doubled angle (θ and θ + π agree).
@@ -107,6 +119,33 @@ TEST(Targets, HairBehindTheHeadIsHidden) {
     }
     EXPECT_GT(hair, 10);
     EXPECT_GT(head, 500);
+}
+
+// The mask follows coverage, as a picture does: a strand a tenth of a pixel wide alone covers
+// no pixel by half, ten of them side by side within a pixel cover it (1 − 0.9¹⁰ ≈ 0.65), and
+// a strand wider than a pixel covers its line.
+TEST(Targets, TheMaskIsWhereHairCoversHalfThePixel) {
+    const float tenth = 0.1f * 50.f / kFocal;  // cm: a tenth of a pixel at 50 cm
+    const TargetMaps thin =
+        draw_targets(straight({-5, 0, 0}, {5, 0, 0}, 16, tenth), nullptr, front());
+    EXPECT_EQ(hair_pixels(thin), 0);
+    for (float d : thin.depth)
+        EXPECT_EQ(d, 0.f);  // nothing counted as hair: no depth
+    Hair clump;
+    for (int k = 0; k < 10; ++k) {
+        const Hair one = straight({-5, 0.001f * k, 0}, {5, 0.001f * k, 0}, 16, tenth);
+        clump.points.insert(clump.points.end(), one.points.begin(), one.points.end());
+        clump.offsets.push_back(static_cast<uint32_t>(clump.points.size()));
+    }
+    clump.default_width = tenth;
+    const TargetMaps clumped = draw_targets(clump, nullptr, front());
+    const int line = hair_pixels(draw_targets(straight({-5, 0, 0}, {5, 0, 0}), nullptr, front()));
+    EXPECT_GT(line, 20);
+    EXPECT_GE(hair_pixels(clumped), line - 2);
+    // Three of them do not (a pixel gets one or two steps of a strand, so at most 1 − 0.9⁶).
+    clump.points.resize(3 * 16);
+    clump.offsets.resize(4);
+    EXPECT_EQ(hair_pixels(draw_targets(clump, nullptr, front())), 0);
 }
 
 }  // namespace
