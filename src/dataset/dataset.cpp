@@ -306,7 +306,8 @@ void write_sample(const DatasetSpec& spec, uint64_t k, const fs::path& folder,
             const TargetMaps maps = draw_targets(hair, head.mesh.get(), cam);
             if (spec.output.orientation)
                 write_png(tmp / (prefix + "_orientation.png"), orientation_image(maps));
-            if (spec.output.mask) write_png(tmp / (prefix + "_mask.png"), mask_image(maps));
+            if (spec.output.mask)
+                write_file_atomic(tmp / (prefix + "_mask.png"), encode_gray_png(mask_image(maps)));
             if (spec.output.depth)
                 write_file_atomic(tmp / (prefix + "_depth.npy"),
                                   encode_npy(npy_array("depth",

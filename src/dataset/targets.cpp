@@ -102,14 +102,11 @@ TargetMaps draw_targets(const Hair& hair, const Mesh* head, const Camera& camera
                 }
             }
         }
-    // Hair where it covers at least half the pixel; elsewhere what lies behind it, the head
-    // or nothing.
+    // Hair where it covers at least half the pixel. The depth stays the nearest surface any
+    // strand or the head puts there: a depth map of the geometry, to be read with the mask.
     for (size_t i = 0; i < n; ++i) {
         m.hair[i] = clear[i] <= 0.5f;
-        if (!m.hair[i]) {
-            m.depth[i] = head_depth[i];
-            m.orientation[i] = 0.f;
-        }
+        if (!m.hair[i]) m.orientation[i] = 0.f;
         if (m.depth[i] == far) m.depth[i] = 0.f;
     }
     return m;
@@ -128,11 +125,11 @@ RgbImage orientation_image(const TargetMaps& maps) {
     return image;
 }
 
-RgbImage mask_image(const TargetMaps& maps) {
-    RgbImage image{maps.width, maps.height, {}};
-    image.rgb.assign(static_cast<size_t>(maps.width) * maps.height * 3, 0);
+GrayImage mask_image(const TargetMaps& maps) {
+    GrayImage image{maps.width, maps.height, {}};
+    image.values.assign(maps.hair.size(), 0.f);
     for (size_t i = 0; i < maps.hair.size(); ++i)
-        if (maps.hair[i]) image.rgb[3 * i] = image.rgb[3 * i + 1] = image.rgb[3 * i + 2] = 255;
+        if (maps.hair[i]) image.values[i] = 1.f;
     return image;
 }
 

@@ -8,15 +8,16 @@
 //                (1 + cos 2θ)/2, B = (1 + sin 2θ)/2 (θ and θ + π are one orientation);
 //                black off the hair.
 //   mask         #H×W  255 where hair in front of the head covers at least half the pixel,
-//                else 0 (a gray PNG as RGB)
+//                else 0 (an 8-bit gray PNG)
 //   depth        #H×W  float32 distance in cm along the camera's forward axis to the nearest
-//                surface, hair or head; 0 where the ray meets neither (a .npy array)
+//                surface, the head or any strand drawn over the pixel (however little of it
+//                the strand covers); 0 where there is neither (a .npy array)
 //
 // The head is rasterized as triangles at pixel centres; every strand segment between
 // consecutive control points as a line (DDA, one sample per pixel on its major axis) whose
 // samples in front of the head each cover the share of their pixel that the strand's
 // projected width gives; a pixel is hair where they cover at least half of it, with the
-// nearest strand's orientation and depth there. Strands are drawn in order on one thread, so
+// nearest strand's orientation there. Strands are drawn in order on one thread, so
 // the maps are the same at any thread count.
 #include <cstdint>
 #include <filesystem>
@@ -41,6 +42,6 @@ TargetMaps draw_targets(const Hair& hair, const Mesh* head, const Camera& camera
 
 // The encodings above.
 RgbImage orientation_image(const TargetMaps& maps);
-RgbImage mask_image(const TargetMaps& maps);
+GrayImage mask_image(const TargetMaps& maps);
 
 }  // namespace wisp

@@ -77,12 +77,13 @@ TEST(Targets, OrientationOfStrandsOfKnownDirection) {
 
 TEST(Targets, EncodingMaskAndDepth) {
     const TargetMaps m = draw_targets(straight({-5, 0, 0}, {5, 0, 0}), nullptr, front());
-    const RgbImage o = orientation_image(m), mask = mask_image(m);
+    const RgbImage o = orientation_image(m);
+    const GrayImage mask = mask_image(m);
     int hair = 0;
     for (size_t i = 0; i < m.hair.size(); ++i) {
         if (!m.hair[i]) {
             EXPECT_EQ(o.rgb[3 * i], 0);
-            EXPECT_EQ(mask.rgb[3 * i], 0);
+            EXPECT_EQ(mask.values[i], 0.f);
             EXPECT_EQ(m.depth[i], 0.f);
             continue;
         }
@@ -90,7 +91,7 @@ TEST(Targets, EncodingMaskAndDepth) {
         EXPECT_EQ(o.rgb[3 * i], 255);      // R: on hair
         EXPECT_EQ(o.rgb[3 * i + 1], 255);  // G: (1 + cos 0) / 2
         EXPECT_EQ(o.rgb[3 * i + 2], 128);  // B: (1 + sin 0) / 2
-        EXPECT_EQ(mask.rgb[3 * i], 255);
+        EXPECT_EQ(mask.values[i], 1.f);
         EXPECT_NEAR(m.depth[i], 50.f, 1e-3f);  // the strand lies in the plane z = 0
     }
     EXPECT_GT(hair, 10);
@@ -129,8 +130,10 @@ TEST(Targets, TheMaskIsWhereHairCoversHalfThePixel) {
     const TargetMaps thin =
         draw_targets(straight({-5, 0, 0}, {5, 0, 0}, 16, tenth), nullptr, front());
     EXPECT_EQ(hair_pixels(thin), 0);
+    int with_depth = 0;  // the depth map still has the strand, as geometry
     for (float d : thin.depth)
-        EXPECT_EQ(d, 0.f);  // nothing counted as hair: no depth
+        with_depth += d > 0;
+    EXPECT_GT(with_depth, 20);
     Hair clump;
     for (int k = 0; k < 10; ++k) {
         const Hair one = straight({-5, 0.001f * k, 0}, {5, 0.001f * k, 0}, 16, tenth);
