@@ -670,7 +670,7 @@ std::string slurm_script(const fs::path& dir, const SlurmOptions& o) {
     s += "# Resubmitting it (or single tasks: sbatch --array=3,7 ...) makes what is missing.\n";
     s += "#SBATCH --job-name=wisp-dataset\n";
     s += cat("#SBATCH --array=0-", o.tasks - 1, o.throttle > 0 ? cat("%", o.throttle) : "", "\n");
-    s += "#SBATCH --output=" + (abs / "slurm" / "task-%a.log").string() + "\n";
+    s += "#SBATCH --output=" + (abs / "slurm" / "task-%A_%a.log").string() + "\n";
     if (!o.partition.empty()) s += "#SBATCH --partition=" + o.partition + "\n";
     if (!o.time.empty()) s += "#SBATCH --time=" + o.time + "\n";
     if (o.cpus_per_task > 0) s += cat("#SBATCH --cpus-per-task=", o.cpus_per_task, "\n");

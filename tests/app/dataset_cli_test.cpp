@@ -231,6 +231,8 @@ TEST(DatasetCli, BadSpecsAndUsage) {
     ASSERT_EQ(run("dataset slurm " + dir.string() + " --tasks 4 --throttle 2"), 0);
     const std::string script = slurp(dir / "slurm" / "array.sbatch");
     EXPECT_NE(script.find("#SBATCH --array=0-3%2"), std::string::npos) << script;
+    // Logs named by the job as well as the task: a resubmitted array keeps the first logs.
+    EXPECT_NE(script.find("/slurm/task-%A_%a.log\n"), std::string::npos) << script;
     EXPECT_NE(script.find("--task-id \"$SLURM_ARRAY_TASK_ID\" --tasks 4"), std::string::npos);
 }
 
