@@ -133,8 +133,9 @@ int run_command(const DatasetCommands& a) {
         std::cerr
             << "wisp: " << s.made << " made"
             << (s.remade ? cat(" (", s.remade, " of them damaged before)") : std::string()) << ", "
-            << s.skipped << " done before, " << s.failed << " failed of " << total
-            << " in this slice ("
+            << s.skipped << " done before, "
+            << (s.elsewhere ? cat(s.elsewhere, " left to another run, ") : std::string())
+            << s.failed << " failed of " << total << " in this slice ("
             << seconds_text(
                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count())
             << ")\n";

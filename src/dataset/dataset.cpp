@@ -2,13 +2,16 @@
 
 #include <archive.h>
 #include <archive_entry.h>
+#include <fcntl.h>
 #include <signal.h>
 #include <unistd.h>
 #include <zlib.h>
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <mutex>
 #include <set>
@@ -132,6 +135,11 @@ nlohmann::json vec(const Vec3f& v) {
     return {v.x(), v.y(), v.z()};
 }
 
+// Whether process `pid` of this host is running.
+bool process_alive(long pid) {
+    return pid > 0 && (kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM);
+}
+
 // Temporary folders of sample `name` left by runs on this host that are no longer alive
 // (killed mid-sample) are removed; those of live runs are left alone.
 void remove_stale_temporaries(const fs::path& samples, const std::string& name) {
@@ -140,9 +148,72 @@ void remove_stale_temporaries(const fs::path& samples, const std::string& name) 
     for (const auto& entry : fs::directory_iterator(samples, ec)) {
         const std::string f = entry.path().filename().string();
         if (f.rfind(prefix, 0) != 0) continue;
-        const long pid = std::strtol(f.c_str() + prefix.size(), nullptr, 10);
-        if (pid > 0 && (kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM)) continue;
+        if (process_alive(std::strtol(f.c_str() + prefix.size(), nullptr, 10))) continue;
         fs::remove_all(entry.path(), ec);
+    }
+}
+
+// A run's claim on sample `name` while it makes it: the file `.NAME.claim-HOST`, created
+// exclusively (O_EXCL), holding the run's pid. Two runs started on one folder of this host so
+// share its samples instead of each making all of them. A claim whose process is gone (a run
+// killed mid-sample) is taken over. Claims of other hosts are not seen: their liveness cannot
+// be told, and runs on several machines take disjoint slices.
+class SampleClaim {
+  public:
+    SampleClaim(const fs::path& samples, const std::string& name)
+        : path_(samples / cat(".", name, ".claim-", host_name())) {
+        for (int attempt = 0; attempt < 2 && !held_; ++attempt) {
+            const int fd = ::open(path_.c_str(), O_CREAT | O_EXCL | O_WRONLY | O_CLOEXEC, 0644);
+            if (fd >= 0) {
+                const std::string pid = std::to_string(getpid()) + "\n";
+                const bool wrote =
+                    ::write(fd, pid.data(), pid.size()) == static_cast<ssize_t>(pid.size());
+                ::close(fd);
+                if (!wrote) fail(path_.string(), ": cannot write: ", std::strerror(errno));
+                held_ = true;
+                break;
+            }
+            if (errno != EEXIST) fail(path_.string(), ": cannot create: ", std::strerror(errno));
+            if (!stale(path_)) return;
+            std::error_code ec;
+            fs::remove(path_, ec);
+        }
+    }
+    ~SampleClaim() {
+        std::error_code ec;
+        if (held_) fs::remove(path_, ec);
+    }
+    SampleClaim(const SampleClaim&) = delete;
+    SampleClaim& operator=(const SampleClaim&) = delete;
+    bool held() const { return held_; }
+
+    // A claim whose process is gone, or one left empty for over a minute (its run died
+    // between creating and writing it).
+    static bool stale(const fs::path& claim) {
+        std::ifstream in(claim);
+        long pid = 0;
+        if (in >> pid) return !process_alive(pid);
+        std::error_code ec;
+        const auto age = fs::file_time_type::clock::now() - fs::last_write_time(claim, ec);
+        return !ec && age > std::chrono::minutes(1);
+    }
+
+  private:
+    fs::path path_;
+    bool held_ = false;
+};
+
+// This host's claims whose runs are gone (killed between publishing a sample and removing
+// the claim), removed when a run starts.
+void remove_stale_claims(const fs::path& samples) {
+    const std::string suffix = ".claim-" + host_name();
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(samples, ec)) {
+        const std::string f = entry.path().filename().string();
+        if (f.size() > suffix.size() &&
+            f.compare(f.size() - suffix.size(), suffix.size(), suffix) == 0 &&
+            SampleClaim::stale(entry.path()))
+            fs::remove(entry.path(), ec);
     }
 }
 
@@ -245,24 +316,18 @@ std::string sample_name(uint64_t samples, uint64_t k) {
     return std::string(s.size() < static_cast<size_t>(digits) ? digits - s.size() : 0, '0') + s;
 }
 
-void write_sample(const DatasetSpec& spec, uint64_t k, const fs::path& folder,
+bool write_sample(const DatasetSpec& spec, uint64_t k, const fs::path& folder,
                   std::vector<std::pair<std::string, double>>* times) {
     Stopwatch watch;
     const auto lap = [&](const std::string& stage) {
         if (times) times->emplace_back(stage, watch.ms());
         watch = Stopwatch();
     };
-    const SampleDraw draw = draw_sample(spec, k);
-    const std::shared_ptr<const Head> head_ptr = cached_head(draw.style);
-    const Head& head = *head_ptr;
-    lap("head");
-    const HairstyleResult result = generate_hairstyle(draw.style, head);
-    const Hair& hair = result.hair;
-    lap("generate");
-
     const fs::path parent = folder.parent_path();
     const std::string name = folder.filename().string();
     fs::create_directories(parent);
+    const SampleClaim claim(parent, name);
+    if (!claim.held()) return false;  // another run on this host is making it
     remove_stale_temporaries(parent, name);
     const fs::path tmp = parent / cat(".", name, ".tmp-", host_name(), "-", getpid());
     fs::remove_all(tmp);
@@ -276,6 +341,14 @@ void write_sample(const DatasetSpec& spec, uint64_t k, const fs::path& folder,
             if (!path.empty()) fs::remove_all(path, ec);
         }
     } cleanup{tmp};
+
+    const SampleDraw draw = draw_sample(spec, k);
+    const std::shared_ptr<const Head> head_ptr = cached_head(draw.style);
+    const Head& head = *head_ptr;
+    lap("head");
+    const HairstyleResult result = generate_hairstyle(draw.style, head);
+    const Hair& hair = result.hair;
+    lap("generate");
 
     write_file_atomic(tmp / "style.toml", "# wisp dataset sample " + std::to_string(k) +
                                               ": `wisp generate style.toml`"
@@ -395,11 +468,12 @@ void write_sample(const DatasetSpec& spec, uint64_t k, const fs::path& folder,
     if (ec) {
         // Another run published the sample first (the same bytes), or a folder without a
         // marker is in the way: keep a complete one, replace anything else.
-        if (fs::exists(folder / "complete.json")) return;
+        if (fs::exists(folder / "complete.json")) return true;
         fs::remove_all(folder);
         fs::rename(tmp, folder);
     }
     cleanup.path.clear();
+    return true;
 }
 
 namespace {
@@ -525,6 +599,7 @@ RunSummary run_dataset(const fs::path& dir, const RunOptions& options) {
         todo.push_back(k);
     const fs::path samples = dir / "samples";
     fs::create_directories(samples);
+    remove_stale_claims(samples);
 
     RunSummary summary;
     std::mutex mutex;
@@ -546,13 +621,13 @@ RunSummary run_dataset(const fs::path& dir, const RunOptions& options) {
                 skipped = false;
                 remade = true;
             }
-            bool ok = true;
+            bool ok = true, elsewhere = false;
             std::vector<std::pair<std::string, double>> times;
             std::string why;
             if (!skipped) {
                 try {
-                    write_sample(spec, k, folder, &times);
-                    fs::remove(failed, ec);
+                    elsewhere = !write_sample(spec, k, folder, &times);
+                    if (!elsewhere) fs::remove(failed, ec);
                 } catch (const std::exception& e) {
                     ok = false;
                     why = e.what();
@@ -564,13 +639,16 @@ RunSummary run_dataset(const fs::path& dir, const RunOptions& options) {
             }
             const std::lock_guard lock(mutex);
             ++done;
-            if (skipped)
+            if (elsewhere) {
+                ++summary.elsewhere;
+                skipped = true;
+            } else if (skipped)
                 ++summary.skipped;
             else if (ok)
                 ++summary.made;
             else
                 ++summary.failed;
-            summary.remade += remade && ok ? 1 : 0;
+            summary.remade += remade && ok && !elsewhere ? 1 : 0;
             if (!ok && options.on_failure) options.on_failure(k, why);
             if (ok && !skipped && options.on_times) options.on_times(k, times);
             if (options.on_sample) options.on_sample(done, todo.size(), k, skipped);

@@ -63,8 +63,10 @@ std::string sample_name(uint64_t samples, uint64_t k);
 //   cameras.npz           the same as arrays: K #C×3×3, world_to_camera #C×4×4 (float64),
 //                         image_size #C×2 (int32 width, height), fov_y_degrees #C
 //   cam<c>.png, cam<c>_orientation.png, cam<c>_mask.png, cam<c>_depth.npy   per camera
-// `times`, if given, receives the stages' wall times in ms (for the run's log).
-void write_sample(const DatasetSpec& spec, uint64_t k, const std::filesystem::path& folder,
+// `times`, if given, receives the stages' wall times in ms (for the run's log). Returns
+// false, having made nothing, when another live run on this host holds the sample's claim
+// (`.NNNNNN.claim-HOST`, created exclusively while a run makes the sample).
+bool write_sample(const DatasetSpec& spec, uint64_t k, const std::filesystem::path& folder,
                   std::vector<std::pair<std::string, double>>* times = nullptr);
 
 // `wisp dataset plan`: checks the spec, draws every sample, writes dataset.json, spec.toml
@@ -96,7 +98,8 @@ struct RunOptions {
 
 struct RunSummary {
     uint64_t made = 0, skipped = 0, failed = 0;
-    uint64_t remade = 0;  // of made: finished before, but found damaged
+    uint64_t remade = 0;     // of made: finished before, but found damaged
+    uint64_t elsewhere = 0;  // left to another run on this host that was making them
 };
 
 // `wisp dataset run`: makes the slice's unfinished samples.

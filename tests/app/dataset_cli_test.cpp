@@ -272,6 +272,34 @@ TEST(DatasetCli, DamagedSamplesAreMadeAgain) {
     EXPECT_EQ(run("dataset verify " + dir.string()), 0);
 }
 
+// Two runs started at once on one folder share its samples (each leaves to the other what
+// the other is making) instead of each making all of them, and the samples equal one run's.
+TEST(DatasetCli, TwoRunsOnOneFolderShareItsSamples) {
+    Dir d;
+    const fs::path dir = d.path / "ds", whole = d.path / "whole";
+    ASSERT_EQ(run("dataset plan " + kSpec.string() + " -o " + dir.string()), 0);
+    const std::string both = "(" + std::string(WISP_EXE) + " dataset run " + dir.string() +
+                             " --threads 1 2>" + (d.path / "a.txt").string() + " & " +
+                             std::string(WISP_EXE) + " dataset run " + dir.string() +
+                             " --threads 1 2>" + (d.path / "b.txt").string() + "; wait)";
+    ASSERT_EQ(std::system(both.c_str()), 0);
+    const auto made = [&](const fs::path& log) {
+        const std::string text = slurp(log);
+        const size_t at = text.rfind("wisp: ");
+        return at == std::string::npos ? -1 : std::atoi(text.c_str() + at + 6);
+    };
+    const int a = made(d.path / "a.txt"), b = made(d.path / "b.txt");
+    ASSERT_GE(a, 0) << slurp(d.path / "a.txt");
+    ASSERT_GE(b, 0) << slurp(d.path / "b.txt");
+    // 8 samples: without sharing, both make all 8; two runs that look at one sample at the
+    // same moment may both make it, rarely.
+    EXPECT_LE(a + b, 8 + 2) << slurp(d.path / "a.txt") << slurp(d.path / "b.txt");
+    EXPECT_EQ(run("dataset verify " + dir.string()), 0);
+    ASSERT_EQ(run("dataset plan " + kSpec.string() + " -o " + whole.string()), 0);
+    ASSERT_EQ(run("dataset run " + whole.string()), 0);
+    EXPECT_EQ(tree(dir / "samples"), tree(whole / "samples"));
+}
+
 // A head no sample could load fails the plan, naming its [[head]] line, before any sample
 // (or a Slurm array of them) is made: a missing file, an endless one, a mesh without the
 // scalp group the head names.
