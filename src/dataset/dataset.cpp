@@ -327,7 +327,8 @@ bool write_sample(const DatasetSpec& spec, uint64_t k, const fs::path& folder,
     const std::string name = folder.filename().string();
     fs::create_directories(parent);
     const SampleClaim claim(parent, name);
-    if (!claim.held()) return false;  // another run on this host is making it
+    // Another run on this host is making it, or made it since this run looked.
+    if (!claim.held() || fs::exists(folder / "complete.json")) return false;
     remove_stale_temporaries(parent, name);
     const fs::path tmp = parent / cat(".", name, ".tmp-", host_name(), "-", getpid());
     fs::remove_all(tmp);

@@ -65,7 +65,8 @@ std::string sample_name(uint64_t samples, uint64_t k);
 //   cam<c>.png, cam<c>_orientation.png, cam<c>_mask.png, cam<c>_depth.npy   per camera
 // `times`, if given, receives the stages' wall times in ms (for the run's log). Returns
 // false, having made nothing, when another live run on this host holds the sample's claim
-// (`.NNNNNN.claim-HOST`, created exclusively while a run makes the sample).
+// (`.NNNNNN.claim-HOST`, created exclusively while a run makes the sample) or has finished
+// the sample since.
 bool write_sample(const DatasetSpec& spec, uint64_t k, const std::filesystem::path& folder,
                   std::vector<std::pair<std::string, double>>* times = nullptr);
 
