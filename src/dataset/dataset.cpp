@@ -127,6 +127,12 @@ uint32_t file_crc(const fs::path& path, uint64_t* size) {
     return static_cast<uint32_t>(crc);
 }
 
+// The limits of a small text file of the dataset's own (dataset.json, complete.json, a
+// sample's .failed note).
+ReadLimits small_text(std::string_view what) {
+    return {.max_bytes = 1 << 20, .what = what, .text = true};
+}
+
 void write_json_file(const fs::path& path, const nlohmann::json& j) {
     write_file_atomic(path, j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
 }
@@ -543,10 +549,7 @@ DatasetSpec load_planned_spec(const fs::path& dir) {
              ": no dataset.json: not a planned dataset (run `wisp dataset plan "
              "SPEC.toml -o ",
              dir.string(), "` first)");
-    ReadLimits limits;
-    limits.max_bytes = 1 << 20;
-    limits.what = "dataset.json";
-    limits.text = true;
+    const ReadLimits limits = small_text("dataset.json");
     nlohmann::json j;
     try {
         j = nlohmann::json::parse(read_file(info, limits));
@@ -562,10 +565,7 @@ namespace {
 // it lists must be there with its size; with `checksums`, with its CRC-32 too (which reads
 // the files: `verify`, or `run --verify`).
 std::string sample_problem(const fs::path& folder, bool checksums) {
-    ReadLimits limits;
-    limits.max_bytes = 1 << 20;
-    limits.what = "complete.json";
-    limits.text = true;
+    const ReadLimits limits = small_text("complete.json");
     std::error_code ec;
     try {
         const nlohmann::json j = nlohmann::json::parse(read_file(folder / "complete.json", limits));
@@ -670,10 +670,7 @@ DatasetStatus dataset_status(const fs::path& dir, bool checksums) {
     DatasetStatus s;
     s.samples = spec.samples;
     const fs::path samples = dir / "samples";
-    ReadLimits limits;
-    limits.max_bytes = 1 << 20;
-    limits.what = "complete.json";
-    limits.text = true;
+    const ReadLimits limits = small_text("a sample's .failed note");
     for (uint64_t k = 0; k < spec.samples; ++k) {
         const std::string name = sample_name(spec.samples, k);
         const fs::path folder = samples / name;
