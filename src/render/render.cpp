@@ -687,9 +687,9 @@ size_t tessellate_strands(const Scene& scene, const HeadBlocks& head,
                 auto lerp = [](float a, float b, float u) {
                     return std::isinf(a) || std::isinf(b) ? std::min(a, b) : a + (b - a) * u;
                 };
-                v[j].rgb |= pack_color(shade_hair(
+                v[j].rgb |= pack_color(roll_off_highlights(shade_hair(
                     scene, sample.p, sample.t, color, shadow, rim_shadow, lobes, fiber_strand,
-                    lerp(behind0, behind1, sample.u), lerp(rim_behind0, rim_behind1, rim_u)));
+                    lerp(behind0, behind1, sample.u), lerp(rim_behind0, rim_behind1, rim_u))));
             }
             if (n > 0) v[n - 1].rgb |= kLastOfStrand;
         },
@@ -818,9 +818,11 @@ void render_tile(const Scene& scene, const HeadGeometry& head, const Bins<uint32
                     int same = -1;
                     for (int r = 0; r < s && same < 0; ++r)
                         if (f[r] == f[s]) same = r;
-                    shaded[s] = same >= 0 ? shaded[same]
-                                          : shade_head(scene, head, static_cast<uint32_t>(f[s]),
-                                                       x + 0.5f, y + 0.5f);
+                    shaded[s] =
+                        same >= 0
+                            ? shaded[same]
+                            : roll_off_highlights(shade_head(
+                                  scene, head, static_cast<uint32_t>(f[s]), x + 0.5f, y + 0.5f));
                 }
                 for (const Vec3f& c : shaded)
                     under += c;
@@ -846,6 +848,17 @@ void render_tile(const Scene& scene, const HeadGeometry& head, const Bins<uint32
 }
 
 }  // namespace
+
+Vec3f roll_off_highlights(const Vec3f& linear) {
+    const float m = linear.maxCoeff();
+    if (!(m > kHighlightKnee)) return linear;
+    // x ↦ r·x / (x + r) above the knee: slope 1 there, approaching r far above, so highlights
+    // a few times brighter than the display still differ.
+    constexpr float r = 1.f - kHighlightKnee;
+    const float x = m - kHighlightKnee;
+    const float shoulder = kHighlightKnee + r * x / (x + r);
+    return linear * (shoulder / m);
+}
 
 const std::vector<std::string>& shading_names() {
     static const std::vector<std::string> names{"hair", "fiber", "kajiya-kay"};

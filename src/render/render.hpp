@@ -130,6 +130,15 @@ struct RenderStats {
     size_t head_triangles = 0;  // front-facing head triangles binned
 };
 
+// The display's response to shaded light (linear RGB), as a film's shoulder: colours whose
+// largest channel is at most kHighlightKnee pass unchanged; above it the largest channel
+// rolls off toward 1 (continuous in value and slope at the knee) and the others keep their
+// ratio to it. A highlight brighter than the display so keeps its hue, where clipping channel
+// by channel turns the orange-brown light through brown hair yellow. render() applies it to
+// every shaded colour of hair and head before compositing, so the background shows as given.
+constexpr float kHighlightKnee = 0.8f;
+Vec3f roll_off_highlights(const Vec3f& linear);
+
 // The box that named views frame: the hair and the part of the head above the hair's
 // lowest point less 4 cm, or above 26 cm below the head's top if that is lower (so that the
 // face shows under short hair, and a bust mesh's shoulders do not shrink it); the whole head

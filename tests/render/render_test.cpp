@@ -454,6 +454,52 @@ TEST(Render, FiberPictureShowsTheModelsRadiance) {
     }
 }
 
+// The display's shoulder: colours up to the knee pass unchanged; above it the largest channel
+// rises ever more slowly toward 1, without a kink at the knee, and the channels keep their
+// ratios (a hue, not a clipped one).
+TEST(Render, HighlightsRollOffKeepingTheirHue) {
+    const Vec3f dim(0.8f, 0.5f, 0.2f);
+    EXPECT_EQ(roll_off_highlights(dim), dim);
+    const Vec3f orange(1.f, 0.6f, 0.25f);
+    float last = kHighlightKnee;
+    for (float scale : {1.001f, 1.2f, 1.5f, 2.f, 4.f}) {
+        const Vec3f shown = roll_off_highlights(scale * orange);
+        EXPECT_GT(shown.x(), last) << scale;
+        EXPECT_LT(shown.x(), 1.f) << scale;
+        EXPECT_NEAR(shown.y() / shown.x(), 0.6f, 1e-5f) << scale;
+        EXPECT_NEAR(shown.z() / shown.x(), 0.25f, 1e-5f) << scale;
+        last = shown.x();
+    }
+    EXPECT_LE(roll_off_highlights(1e6f * orange).x(), 1.f);
+    // Slope 1 at the knee: just above it, the value has barely moved off the identity.
+    const float d = 1e-3f;
+    EXPECT_NEAR(roll_off_highlights(Vec3f(kHighlightKnee + d, 0, 0)).x(), kHighlightKnee + d,
+                0.02f * d);
+}
+
+// Brown hair lit from behind glows orange where the light comes through its fibres: brighter
+// than the display, that light is shown as a brighter orange, never with its red and green
+// clipped and its blue left, the yellow of blonde hair.
+TEST(Render, BacklitBrownHairKeepsItsHueInTheHighlights) {
+    Hair hair = small_scene().hair;
+    for (Vec3f& c : hair.colors)
+        c = Vec3f(0.037f, 0.022f, 0.013f);  // dark brown
+    RenderOptions o = small_options("back");
+    o.width = o.height = 128;
+    o.background = Vec3f::Zero();
+    o.shading = RenderOptions::Shading::kFiber;
+    o.rim.color *= 4.f;  // a strong back light, to take the hair's glow past the display's 1
+    const RgbImage image = render(hair, nullptr, o);
+    int bright = 0, yellow = 0;
+    for (size_t i = 0; i < image.rgb.size(); i += 3) {
+        const uint8_t* px = &image.rgb[i];
+        bright += px[0] >= 200;
+        yellow += px[0] >= 250 && px[1] >= 250 && px[2] < 200;
+    }
+    EXPECT_GT(bright, 20) << "the back light never took the hair near the display's 1";
+    EXPECT_EQ(yellow, 0) << "of " << bright << " bright pixels";
+}
+
 // Pieces the head hides at every pixel they may touch are neither shaded nor drawn: hair
 // wholly behind the head leaves the picture as the head alone makes it, and the hair on the
 // sphere's far side is counted as hidden while the near side is drawn.
