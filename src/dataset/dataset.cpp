@@ -357,10 +357,20 @@ bool write_sample(const DatasetSpec& spec, uint64_t k, const fs::path& folder,
     const Hair& hair = result.hair;
     lap("generate");
 
+    // The files it reads from the dataset's inputs as paths relative to the sample, so that
+    // the style goes on working where the dataset is moved.
+    Style written = draw.style;
+    const fs::path home = fs::absolute(folder).lexically_normal();
+    const fs::path dataset = home.parent_path().parent_path();
+    for_each_style_file(written, [&](fs::path& p) {
+        const fs::path a = fs::absolute(p).lexically_normal();
+        const fs::path in_dataset = a.lexically_relative(dataset);
+        if (!in_dataset.empty() && *in_dataset.begin() != "..") p = a.lexically_relative(home);
+    });
     write_file_atomic(tmp / "style.toml", "# wisp dataset sample " + std::to_string(k) +
                                               ": `wisp generate style.toml`"
                                               " makes this sample's hair\n" +
-                                              style_to_toml(draw.style, folder));
+                                              style_to_toml(written));
     HairWriteOptions hair_options;
     hair_options.resample_points = spec.output.resample;
     for (const std::string& ext : spec.output.hair)
@@ -510,6 +520,52 @@ void check_heads(const DatasetSpec& spec) {
         }
 }
 
+// The deepest folder holding both (absolute, lexically normal paths).
+fs::path common_folder(const fs::path& a, const fs::path& b) {
+    fs::path out;
+    for (auto i = a.begin(), j = b.begin(); i != a.end() && j != b.end() && *i == *j; ++i, ++j)
+        out /= *i;
+    return out;
+}
+
+// Copies every file the samples read (base style files, and the head meshes, images and field
+// files of every drawn style) into `dir`/inputs, each under its path relative to the deepest
+// folder holding them all and the spec's folder, so that the spec's relative paths resolve
+// against inputs/<the spec's folder> as they did against the spec's folder: the dataset
+// moves, or goes to another machine, whole. Returns that folder, relative to `dir`. A path
+// the spec gives as absolute resolves as it was and is still read from where it is.
+fs::path pack_inputs(const DatasetSpec& spec, const std::vector<fs::path>& needed,
+                     const fs::path& dir) {
+    const fs::path spec_dir = fs::absolute(spec.base_dir).lexically_normal();
+    std::vector<fs::path> files;
+    fs::path root = spec_dir;
+    for (const fs::path& f : needed) {
+        fs::path a = fs::absolute(f).lexically_normal();
+        if (std::find(files.begin(), files.end(), a) != files.end()) continue;
+        std::error_code ec;
+        if (!fs::is_regular_file(a, ec))
+            fail(spec.source, ": ", f.string(), ", which a sample reads, is not a file");
+        root = common_folder(root, a.parent_path());
+        files.push_back(std::move(a));
+    }
+    const fs::path inputs = dir / "inputs";
+    for (const fs::path& f : files) {
+        const fs::path to = inputs / f.lexically_relative(root);
+        fs::create_directories(to.parent_path());
+        std::ifstream in(f, std::ios::binary);
+        if (!in) fail(spec.source, ": cannot read ", f.string());
+        AtomicFile out(to);
+        out.stream() << in.rdbuf();
+        if (in.bad()) fail(spec.source, ": cannot read ", f.string());
+        out.commit();
+    }
+    // The spec's folder itself, even with nothing in it: the OS resolves "../x" from it only
+    // if it is there.
+    const fs::path spec_inputs = fs::path("inputs") / spec_dir.lexically_relative(root);
+    fs::create_directories(dir / spec_inputs);
+    return spec_inputs;
+}
+
 }  // namespace
 
 uint64_t plan_dataset(const fs::path& spec_path, const fs::path& dir) {
@@ -527,16 +583,29 @@ uint64_t plan_dataset(const fs::path& spec_path, const fs::path& dir) {
                  spec_path.string(), "); plan into a new folder");
     }
     fs::create_directories(dir / "samples");
+    // What the samples read, besides the spec: the base style files and every file of every
+    // drawn style (a head a rule draws, a map image).
+    std::vector<fs::path> needed;
+    auto need = [&](const fs::path& f) {
+        if (std::find(needed.begin(), needed.end(), f) == needed.end()) needed.push_back(f);
+    };
+    for (const BaseStyle& base : spec.bases)
+        if (!base.name.starts_with("preset:")) need(spec.base_dir / base.name);
     // Streamed: a large dataset's manifest need not fit in memory.
     AtomicFile manifest(dir / "manifest.jsonl");
-    for (uint64_t k = 0; k < spec.samples; ++k)
-        manifest.stream() << manifest_entry(spec, draw_sample(spec, k)).dump() << '\n';
+    for (uint64_t k = 0; k < spec.samples; ++k) {
+        const SampleDraw draw = draw_sample(spec, k);
+        for (const fs::path& f : style_files(draw.style))
+            need(f);
+        manifest.stream() << manifest_entry(spec, draw).dump() << '\n';
+    }
+    const fs::path spec_dir = pack_inputs(spec, needed, dir);
     manifest.commit();
     write_file_atomic(spec_copy(dir), text);
     write_json_file(dir / "dataset.json", {{"samples", spec.samples},
                                            {"seed", spec.seed},
-                                           {"spec", fs::absolute(spec_path).string()},
-                                           {"spec_dir", fs::absolute(spec.base_dir).string()},
+                                           {"spec", spec_path.filename().string()},
+                                           {"spec_dir", spec_dir.generic_string()},
                                            {"version", kDatasetVersion}});
     return spec.samples;
 }
@@ -553,7 +622,10 @@ DatasetSpec load_planned_spec(const fs::path& dir) {
     nlohmann::json j;
     try {
         j = nlohmann::json::parse(read_file(info, limits));
-        return load_dataset_spec(spec_copy(dir), j.at("spec_dir").get<std::string>());
+        // Relative: the dataset's own inputs folder (an absolute one is kept, as datasets
+        // planned before their inputs were packed have it).
+        return load_dataset_spec(spec_copy(dir),
+                                 fs::absolute(dir) / j.at("spec_dir").get<std::string>());
     } catch (const nlohmann::json::exception& e) {
         fail(info.string(), ": ", e.what());
     }

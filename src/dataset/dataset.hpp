@@ -3,6 +3,8 @@
 //
 //   dataset.json      the run's parameters: samples, seed, the spec's folder, tool version
 //   spec.toml         the spec, copied at plan time (the run reads this copy)
+//   inputs/           the files the samples read, copied at plan time (the spec's folder is
+//                     one of its folders): the dataset moves whole
 //   manifest.jsonl    one JSON line per sample: index, seed, base, head, drawn values, hash
 //   samples/NNNNNN/   one finished sample (see write_sample), complete.json last
 //   samples/NNNNNN.failed  why sample N failed (removed when a later run makes it)

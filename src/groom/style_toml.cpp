@@ -1548,6 +1548,48 @@ std::string style_field_toml(const Style& style, const StyleField& field,
     return {};
 }
 
+void for_each_style_file(Style& style, const std::function<void(fs::path&)>& f) {
+    auto visit = [&](fs::path& p) {
+        if (!p.empty()) f(p);
+    };
+    for (const StyleField& field : style_schema()) {
+        const FieldRef ref = field.ref ? field.ref(style) : FieldRef{};
+        switch (field.type) {
+            case FieldType::kPath:
+                // A path its method does not read (a mask kept beside another scalp) is not
+                // a file the style reads.
+                if ((field.path == "head.scalp.mask" &&
+                     style.head.scalp.kind != ScalpSpec::Kind::kMask) ||
+                    (field.path == "body.obj" && style.head.body.kind != BodySpec::Kind::kObj))
+                    break;
+                visit(*std::get<fs::path*>(ref));
+                break;
+            case FieldType::kMap: {
+                ScalarMap& m = *std::get<ScalarMap*>(ref);
+                if (m.kind == ScalarMap::Kind::kImage) visit(m.image);
+                break;
+            }
+            case FieldType::kFieldTerms:
+                for (FieldTerm& t : *std::get<std::vector<FieldTerm>*>(ref))
+                    if (t.kind == FieldTerm::Kind::kFile) visit(t.file);
+                break;
+            default:
+                break;
+        }
+    }
+    for (GroupSpec& g : style.groups)
+        if (g.selection.kind == Selection::Kind::kMask) visit(g.selection.mask);
+}
+
+std::vector<fs::path> style_files(const Style& style) {
+    std::vector<fs::path> files;
+    // Nothing is changed: the visitor only reads.
+    for_each_style_file(const_cast<Style&>(style), [&](fs::path& p) {
+        if (std::find(files.begin(), files.end(), p) == files.end()) files.push_back(p);
+    });
+    return files;
+}
+
 std::string style_to_toml(const Style& style, const fs::path& base_dir) {
     static const Style defaults;
     const auto changed = [&](const StyleField& field) {

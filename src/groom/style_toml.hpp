@@ -2,6 +2,7 @@
 // Reading styles from TOML (docs/style.md is the field-by-field reference) and the
 // presets shipped inside the binary.
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -38,6 +39,12 @@ struct StyleField;
 // field with nothing to write (an empty path, color.preset, the constraint groups).
 std::string style_field_toml(const Style& style, const StyleField& field,
                              const std::filesystem::path& base_dir = {});
+
+// Calls `f` on each path of a file the style reads when hair is grown from it (the head and
+// body meshes, map and mask images, field files), in the schema's order; `f` may change it.
+void for_each_style_file(Style& style, const std::function<void(std::filesystem::path&)>& f);
+// Those files, once each: what a style needs beside it.
+std::vector<std::filesystem::path> style_files(const Style& style);
 
 // The whole style as a TOML file that parse_style (with the same base_dir) reads back to the
 // same Style: every field whose value differs from the default, section by section, then

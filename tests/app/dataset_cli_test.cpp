@@ -323,4 +323,64 @@ TEST(DatasetCli, PlanLoadsEveryHeadItCanDraw) {
     }
 }
 
+// A planned dataset carries what its samples read (the base style file, the head mesh a
+// [[head]] names, the style's map image, by the paths the spec and the style give relative to
+// themselves): moved elsewhere with the originals gone, it runs and makes the bytes it makes
+// where it was planned, and a sample's style names its files relative to itself.
+TEST(DatasetCli, APlannedDatasetMovesWhole) {
+    Dir d;
+    const fs::path project = d.path / "project";
+    for (const char* sub : {"specs", "styles", "heads", "maps"})
+        fs::create_directories(project / sub);
+    fs::copy_file(fs::path(WISP_SOURCE_DIR) /
+                      "../shared/data/heads/makehuman/"
+                      "makehuman_hm08_head_neck_shoulders.obj",
+                  project / "heads" / "mh.obj");
+    // A 4×4 grey TGA (uncompressed, 8 bits): a map image without an image library.
+    std::string tga(18, '\0');
+    tga[2] = 3;
+    tga[12] = tga[14] = 4;
+    tga[16] = 8;
+    for (int i = 0; i < 16; ++i)
+        tga += static_cast<char>(64 + 12 * i);
+    std::ofstream(project / "maps" / "density.tga", std::ios::binary) << tga;
+    std::ofstream(project / "styles" / "mine.toml")
+        << "[roots]\nwisps = 100\nstrands = 800\n[maps]\n"
+           "density = { image = \"../maps/density.tga\" }\n";
+    std::ofstream(project / "specs" / "spec.toml")
+        << "samples = 2\nseed = 5\n[[base]]\nstyle = \"../styles/mine.toml\"\n"
+           "[[head]]\nname = \"mh\"\nobj = \"../heads/mh.obj\"\nscale = 10\n"
+           "scalp = { method = \"hairline\" }\n"
+           "[output]\nhair = [\"hair\"]\nsize = [32, 32]\n";
+    const fs::path planned = d.path / "planned", err = d.path / "err.txt";
+    ASSERT_EQ(run("dataset plan " + (project / "specs" / "spec.toml").string() + " -o " +
+                      planned.string(),
+                  err),
+              0)
+        << slurp(err);
+    EXPECT_TRUE(fs::exists(planned / "inputs" / "heads" / "mh.obj"));
+    EXPECT_TRUE(fs::exists(planned / "inputs" / "maps" / "density.tga"));
+    EXPECT_TRUE(fs::exists(planned / "inputs" / "styles" / "mine.toml"));
+    // Made where it was planned, and moved elsewhere with the project gone.
+    const fs::path here = d.path / "here";
+    fs::copy(planned, here, fs::copy_options::recursive);
+    ASSERT_EQ(run("dataset run " + here.string(), err), 0) << slurp(err);
+    const fs::path moved = d.path / "elsewhere" / "ds";
+    fs::create_directories(moved.parent_path());
+    fs::rename(planned, moved);
+    fs::remove_all(project);
+    ASSERT_EQ(run("dataset run " + moved.string(), err), 0) << slurp(err);
+    EXPECT_EQ(tree(moved / "samples"), tree(here / "samples"));
+    const std::string style = slurp(moved / "samples" / "000000" / "style.toml");
+    EXPECT_NE(style.find("\"../../inputs/heads/mh.obj\""), std::string::npos) << style;
+    EXPECT_EQ(style.find(d.path.string()), std::string::npos) << style;
+    const fs::path again = d.path / "again.hair";
+    ASSERT_EQ(run("generate " + (moved / "samples" / "000000" / "style.toml").string() + " -q -o " +
+                      again.string(),
+                  err),
+              0)
+        << slurp(err);
+    EXPECT_TRUE(slurp(again) == slurp(moved / "samples" / "000000" / "hair.hair"));
+}
+
 }  // namespace

@@ -1118,4 +1118,33 @@ TEST(StyleToml, DynamicsSection) {
 }
 
 }  // namespace
+// The files a style reads, each once, resolved against its folder: the head mesh, map and
+// mask images, field files; a path its method does not read (a scalp mask beside the
+// hairline scalp) is not one.
+TEST(StyleToml, StyleFilesAreTheFilesItReads) {
+    const Style s = parse_style(R"(
+[head]
+obj = "heads/a.obj"
+scalp = { method = "hairline" }
+[maps]
+density = { image = "maps/d.png" }
+length = { image = "maps/d.png", low = 10, high = 30 }
+[[solve.field]]
+kind = "file"
+file = "../fields/f.txt"
+[[group]]
+mask = "masks/tie.png"
+[[group.constraint]]
+kind = "point"
+point = [0, 0, 0]
+)",
+                                "s.toml", "/styles");
+    const std::vector<std::filesystem::path> files = style_files(s);
+    const std::vector<std::filesystem::path> expected = {
+        "/styles/heads/a.obj", "/styles/maps/d.png", "/styles/../fields/f.txt",
+        "/styles/masks/tie.png"};
+    EXPECT_EQ(files, expected);
+    EXPECT_TRUE(style_files(Style{}).empty());
+}
+
 }  // namespace wisp
