@@ -383,27 +383,45 @@ bool write_sample(const DatasetSpec& spec, uint64_t k, const fs::path& folder,
     for (size_t c = 0; c < spec.cameras.size(); ++c) {
         const Camera cam = sample_camera(spec, draw, c, hair, *head.mesh);
         const std::string prefix = cat("cam", c);
-        if (spec.output.picture) {
+        const OutputSpec& out = spec.output;
+        auto file = [&](OutputMap m) {
+            return tmp / (prefix + output_map_table()[static_cast<int>(m)].suffix);
+        };
+        if (out.has(OutputMap::kPicture)) {
             RenderOptions options;
             options.width = cam.width;
             options.height = cam.height;
             options.fov_y_degrees = cam.fov_y_degrees;
             options.look_at = LookAt{cam.eye, cam.eye + cam.forward, cam.up};
-            write_png(tmp / (prefix + ".png"), render(hair, head.mesh.get(), options));
+            write_png(file(OutputMap::kPicture), render(hair, head.mesh.get(), options));
             lap("render");
         }
-        if (spec.output.orientation || spec.output.mask || spec.output.depth) {
-            const TargetMaps maps = draw_targets(hair, head.mesh.get(), cam);
-            if (spec.output.orientation)
-                write_png(tmp / (prefix + "_orientation.png"), orientation_image(maps));
-            if (spec.output.mask)
-                write_file_atomic(tmp / (prefix + "_mask.png"), encode_gray_png(mask_image(maps)));
-            if (spec.output.depth)
-                write_file_atomic(tmp / (prefix + "_depth.npy"),
-                                  encode_npy(npy_array("depth",
-                                                       {static_cast<size_t>(maps.height),
-                                                        static_cast<size_t>(maps.width)},
-                                                       std::span<const float>(maps.depth))));
+        if (out.maps & ~(1u << static_cast<int>(OutputMap::kPicture))) {
+            const TargetMaps maps =
+                draw_targets(hair, head.mesh.get(), cam, out.has(OutputMap::kConfidence));
+            const std::vector<size_t> shape = {static_cast<size_t>(maps.height),
+                                               static_cast<size_t>(maps.width)};
+            auto npy = [&](OutputMap m, const char* name, auto values) {
+                write_file_atomic(file(m), encode_npy(npy_array(name, shape, values)));
+            };
+            if (out.has(OutputMap::kOrientation))
+                write_png(file(OutputMap::kOrientation), orientation_image(maps));
+            if (out.has(OutputMap::kMask))
+                write_file_atomic(file(OutputMap::kMask), encode_gray_png(mask_image(maps)));
+            if (out.has(OutputMap::kDepth))
+                npy(OutputMap::kDepth, "depth", std::span<const float>(maps.depth));
+            if (out.has(OutputMap::kStrand))
+                write_png(file(OutputMap::kStrand), strand_map_image(maps));
+            if (out.has(OutputMap::kConfidence))
+                npy(OutputMap::kConfidence, "confidence", std::span<const float>(maps.confidence));
+            if (out.has(OutputMap::kMatte))
+                write_file_atomic(file(OutputMap::kMatte), encode_gray_png(matte_image(maps)));
+            if (out.has(OutputMap::kStrandId))
+                npy(OutputMap::kStrandId, "strand_id", std::span<const int32_t>(maps.strand));
+            if (out.has(OutputMap::kDepthHairstep)) {
+                const std::vector<float> d = hairstep_depth(maps);
+                npy(OutputMap::kDepthHairstep, "depth_hairstep", std::span<const float>(d));
+            }
             lap("maps");
         }
         // OpenCV's convention: x right, y down, z forward; x_pixel = K (R p + t).

@@ -64,7 +64,8 @@ std::string sample_name(uint64_t samples, uint64_t k);
 //   cameras.json          every camera's intrinsics and extrinsics
 //   cameras.npz           the same as arrays: K #C×3×3, world_to_camera #C×4×4 (float64),
 //                         image_size #C×2 (int32 width, height), fov_y_degrees #C
-//   cam<c>.png, cam<c>_orientation.png, cam<c>_mask.png, cam<c>_depth.npy   per camera
+//   cam<c>.png, cam<c>_orientation.png, …  per camera, the maps of spec.output.maps
+//                         (output_map_table() names them; dataset/targets.hpp says what each holds)
 // `times`, if given, receives the stages' wall times in ms (for the run's log). Returns
 // false, having made nothing, when another live run on this host holds the sample's claim
 // (`.NNNNNN.claim-HOST`, created exclusively while a run makes the sample) or has finished

@@ -346,18 +346,19 @@ void SpecParser::read_output(const toml::table& root, DatasetSpec& spec) const {
         o.height = static_cast<int>(integer(wh[1], "output.size", 8, 8192));
     }
     if (const toml::node* m = t->get("maps")) {
-        o.picture = o.orientation = o.mask = o.depth = false;
-        for (const toml::node& e : array(*m, "output.maps", 0, 4)) {
+        const auto& table = output_map_table();
+        o.maps = 0;
+        for (const toml::node& e : array(*m, "output.maps", 0, table.size())) {
             const std::string name = string(e, "output.maps");
-            bool* flag = name == "picture"       ? &o.picture
-                         : name == "orientation" ? &o.orientation
-                         : name == "mask"        ? &o.mask
-                         : name == "depth"       ? &o.depth
-                                                 : nullptr;
-            if (!flag)
-                error(&e, "output.maps",
-                      "unknown map '" + excerpt(name) + "' (picture, orientation, mask, depth)");
-            *flag = true;
+            const auto it = std::find_if(table.begin(), table.end(),
+                                         [&](const OutputMapInfo& i) { return name == i.name; });
+            if (it == table.end()) {
+                std::string names;
+                for (const OutputMapInfo& i : table)
+                    names += cat(names.empty() ? "" : ", ", i.name);
+                error(&e, "output.maps", "unknown map '" + excerpt(name) + "' (" + names + ")");
+            }
+            o.maps |= 1u << static_cast<int>(it->map);
         }
     }
 }
@@ -445,6 +446,22 @@ void apply_draw(Style& style, const std::string& path, const std::string& toml_v
 DatasetSpec parse_dataset_spec(std::string_view toml_text, const std::string& source,
                                const std::filesystem::path& base_dir) {
     return SpecParser(source, base_dir).parse(toml_text);
+}
+
+const std::vector<OutputMapInfo>& output_map_table() {
+    using M = OutputMap;
+    static const std::vector<OutputMapInfo> table{
+        {M::kPicture, "picture", ".png", true},
+        {M::kOrientation, "orientation", "_orientation.png", true},
+        {M::kMask, "mask", "_mask.png", true},
+        {M::kDepth, "depth", "_depth.npy", true},
+        {M::kStrand, "strand", "_strand.png", false},
+        {M::kConfidence, "confidence", "_confidence.npy", false},
+        {M::kMatte, "matte", "_matte.png", false},
+        {M::kStrandId, "strand_id", "_strand_id.npy", false},
+        {M::kDepthHairstep, "depth_hairstep", "_depth_hairstep.npy", false},
+    };
+    return table;
 }
 
 DatasetSpec load_dataset_spec(const std::filesystem::path& path,

@@ -52,12 +52,40 @@ struct CameraSpec {
     double fov_y_degrees = 30;
 };
 
+// The pictures and maps a sample can write per camera (dataset/targets.hpp says what each
+// holds), by their names in `output.maps`.
+enum class OutputMap {
+    kPicture,
+    kOrientation,
+    kMask,
+    kDepth,
+    kStrand,
+    kConfidence,
+    kMatte,
+    kStrandId,
+    kDepthHairstep
+};
+struct OutputMapInfo {
+    OutputMap map;
+    const char* name;    // in output.maps
+    const char* suffix;  // the file: cam<c><suffix>
+    bool by_default;     // written when output.maps is not given
+};
+const std::vector<OutputMapInfo>& output_map_table();
+
 // `[output]`: what each sample writes.
 struct OutputSpec {
     std::vector<std::string> hair = {"hair"};  // extensions: hair, usda, npz, obj, ply
     int resample = 32;                         // .npz points per strand
     int width = 256, height = 256;             // pictures and maps, pixels
-    bool picture = true, orientation = true, mask = true, depth = true;
+    uint32_t maps = default_maps();            // bit i: output_map_table()[i]
+    bool has(OutputMap m) const { return maps >> static_cast<int>(m) & 1u; }
+    static uint32_t default_maps() {
+        uint32_t bits = 0;
+        for (const OutputMapInfo& m : output_map_table())
+            if (m.by_default) bits |= 1u << static_cast<int>(m.map);
+        return bits;
+    }
 };
 
 struct DatasetSpec {

@@ -14,7 +14,7 @@ constexpr float kNear = 1e-3f;  // cm: what lies closer to the eye plane is not 
 
 }  // namespace
 
-TargetMaps draw_targets(const Hair& hair, const Mesh* head, const Camera& camera) {
+TargetMaps draw_targets(const Hair& hair, const Mesh* head, const Camera& camera, bool confidence) {
     TargetMaps m;
     m.width = camera.width;
     m.height = camera.height;
@@ -22,7 +22,12 @@ TargetMaps draw_targets(const Hair& hair, const Mesh* head, const Camera& camera
     const float far = std::numeric_limits<float>::infinity();
     m.depth.assign(n, far);
     m.orientation.assign(n, 0.f);
+    m.direction.assign(n, 0.f);
     m.hair.assign(n, 0);
+    m.surface.assign(n, 0);
+    m.coverage.assign(n, 0.f);
+    m.confidence.assign(n, 0.f);
+    m.strand.assign(n, -1);
 
     if (head) {
         // Barycentric rasterization at pixel centres; 1/z interpolates linearly on screen.
@@ -64,7 +69,24 @@ TargetMaps draw_targets(const Hair& hair, const Mesh* head, const Camera& camera
     // pixel's hair coverage is 1 − Π(1 − c) over the steps in it, so a lone strand far thinner
     // than a pixel covers little of it and a clump of them covers it, as in the picture.
     const std::vector<float> head_depth = m.depth;
+    for (size_t i = 0; i < n; ++i)
+        m.surface[i] = head_depth[i] < far;
     std::vector<float> clear(n, 1.f);  // the share of the pixel no hair covers
+    // The k-buffer: per pixel, the nearest kTargetLayers strand samples (depth, coverage,
+    // orientation), nearest first; depth ∞ where a layer is empty.
+    const size_t layers = confidence ? n * kTargetLayers : 0;
+    std::vector<float> layer_z(layers, far), layer_c(layers, 0.f), layer_theta(layers, 0.f);
+    // Behind them, the rest as one layer (as multi-layer alpha blending merges what does not
+    // fit): what it lets through (Π(1 − c)), and Σ c·e^{2iθ} and Σ c for its mean orientation.
+    const size_t tails = confidence ? n : 0;
+    std::vector<float> tail_clear(tails, 1.f), tail_x(tails, 0.f), tail_y(tails, 0.f),
+        tail_w(tails, 0.f);
+    auto to_tail = [&](size_t at, float c, float theta) {
+        tail_clear[at] *= 1.f - c;
+        tail_x[at] += c * std::cos(2.f * theta);
+        tail_y[at] += c * std::sin(2.f * theta);
+        tail_w[at] += c;
+    };
     const bool widths = !hair.widths.empty();
     for (size_t s = 0; s + 1 < hair.offsets.size(); ++s)
         for (uint32_t i = hair.offsets[s]; i + 1 < hair.offsets[s + 1]; ++i) {
@@ -73,7 +95,8 @@ TargetMaps draw_targets(const Hair& hair, const Mesh* head, const Camera& camera
             if (p.z() < kNear || q.z() < kNear) continue;
             const float dx = q.x() - p.x(), dy = q.y() - p.y();
             // Image rows grow downwards: the angle is measured with y up.
-            float theta = std::atan2(-dy, dx);
+            const float directed = std::atan2(-dy, dx);
+            float theta = directed;
             if (theta < 0) theta += static_cast<float>(M_PI);
             if (theta >= static_cast<float>(M_PI)) theta -= static_cast<float>(M_PI);
             const float major = std::max(std::abs(dx), std::abs(dy));
@@ -95,18 +118,62 @@ TargetMaps draw_targets(const Hair& hair, const Mesh* head, const Camera& camera
                 const size_t at = static_cast<size_t>(y) * m.width + x;
                 if (z >= head_depth[at]) continue;
                 const float w = ((1.f - t) * w0 + t * w1) * camera.focal_pixels / z;
-                clear[at] *= 1.f - std::min(1.f, w * along);
+                const float c = std::min(1.f, w * along);
+                clear[at] *= 1.f - c;
                 if (z < m.depth[at]) {
                     m.depth[at] = z;
                     m.orientation[at] = theta;
+                    m.direction[at] = directed;
+                    m.strand[at] = static_cast<int32_t>(s);
                 }
+                if (!confidence) continue;
+                // Into the k-buffer, if nearer than its farthest layer (which goes to the tail),
+                // else into the tail.
+                float* lz = &layer_z[at * kTargetLayers];
+                int j = kTargetLayers - 1;
+                if (!(z < lz[j])) {
+                    to_tail(at, c, theta);
+                    continue;
+                }
+                float* lc = &layer_c[at * kTargetLayers];
+                float* lt = &layer_theta[at * kTargetLayers];
+                if (lz[j] < far) to_tail(at, lc[j], lt[j]);
+                for (; j > 0 && z < lz[j - 1]; --j) {
+                    lz[j] = lz[j - 1];
+                    lc[j] = lc[j - 1];
+                    lt[j] = lt[j - 1];
+                }
+                lz[j] = z;
+                lc[j] = c;
+                lt[j] = theta;
             }
         }
     // Hair where it covers at least half the pixel. The depth stays the nearest surface any
     // strand or the head puts there: a depth map of the geometry, to be read with the mask.
     for (size_t i = 0; i < n; ++i) {
         m.hair[i] = clear[i] <= 0.5f;
-        if (!m.hair[i]) m.orientation[i] = 0.f;
+        m.coverage[i] = 1.f - clear[i];
+        if (!m.hair[i]) {
+            m.orientation[i] = 0.f;
+        } else if (confidence) {
+            // Front to back: each layer shows what those in front let through.
+            float through = 1.f, sx = 0.f, sy = 0.f, sw = 0.f;
+            for (int j = 0; j < kTargetLayers && layer_z[i * kTargetLayers + j] < far; ++j) {
+                const float wgt = through * layer_c[i * kTargetLayers + j];
+                const float a = 2.f * layer_theta[i * kTargetLayers + j];
+                sx += wgt * std::cos(a);
+                sy += wgt * std::sin(a);
+                sw += wgt;
+                through *= 1.f - layer_c[i * kTargetLayers + j];
+            }
+            if (tail_w[i] > 0.f) {
+                const float wgt = through * (1.f - tail_clear[i]);
+                sx += wgt * tail_x[i] / tail_w[i];
+                sy += wgt * tail_y[i] / tail_w[i];
+                sw += wgt;
+            }
+            m.confidence[i] = sw > 0.f ? std::min(1.f, std::hypot(sx, sy) / sw) : 0.f;
+        }
         if (m.depth[i] == far) m.depth[i] = 0.f;
     }
     return m;
@@ -131,6 +198,40 @@ GrayImage mask_image(const TargetMaps& maps) {
     for (size_t i = 0; i < maps.hair.size(); ++i)
         if (maps.hair[i]) image.values[i] = 1.f;
     return image;
+}
+
+RgbImage strand_map_image(const TargetMaps& maps) {
+    RgbImage image{maps.width, maps.height, {}};
+    image.rgb.assign(static_cast<size_t>(maps.width) * maps.height * 3, 0);
+    for (size_t i = 0; i < maps.hair.size(); ++i) {
+        uint8_t* px = &image.rgb[3 * i];
+        if (!maps.hair[i]) {
+            px[0] = maps.surface[i] ? 128 : 0;
+            continue;
+        }
+        px[0] = 255;
+        px[1] = static_cast<uint8_t>(std::lround(127.5f * (1.f + std::cos(maps.direction[i]))));
+        px[2] = static_cast<uint8_t>(std::lround(127.5f * (1.f + std::sin(maps.direction[i]))));
+    }
+    return image;
+}
+
+GrayImage matte_image(const TargetMaps& maps) {
+    return GrayImage{maps.width, maps.height, maps.coverage};
+}
+
+std::vector<float> hairstep_depth(const TargetMaps& maps) {
+    float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+    for (size_t i = 0; i < maps.hair.size(); ++i)
+        if (maps.hair[i]) {
+            lo = std::min(lo, maps.depth[i]);
+            hi = std::max(hi, maps.depth[i]);
+        }
+    std::vector<float> out(maps.hair.size(), 0.f);
+    if (!(hi > lo)) return out;  // no hair, or all at one depth: 0, as off the mask
+    for (size_t i = 0; i < out.size(); ++i)
+        if (maps.hair[i]) out[i] = (maps.depth[i] - lo) / (hi - lo);
+    return out;
 }
 
 }  // namespace wisp

@@ -12,6 +12,27 @@
 //   depth        #H×W  float32 distance in cm along the camera's forward axis to the nearest
 //                surface, the head or any strand drawn over the pixel (however little of it
 //                the strand covers); 0 where there is neither (a .npy array)
+//   strand       #H×W  the directed 2D direction of the nearest strand (root to tip), as
+//                HairStep's strand map (Zheng et al. 2023): R = 255 on hair, 128 on the
+//                head or body where no hair is, 0 elsewhere; G = (1 + dx)/2, B = (1 + dy)/2
+//                for the unit direction (dx, dy), x right and y up; G = B = 0 off the hair
+//   confidence   #H×W  float32 in [0, 1]: how well one orientation describes the hair seen in
+//                the pixel, the length of the mean of e^{2iθ} over the strands there, each
+//                weighted by the share of the pixel it shows (its coverage times what the
+//                strands in front let through), as the confidence NeuralHaircut (Sklyarov
+//                et al. 2023) weights its orientation loss with; 1 where they all agree, near
+//                0 where strands cross; 0 off the hair
+//   matte        #H×W  the share of the pixel that hair in front of the head covers,
+//                1 − Π(1 − c) over the strands there (an alpha matte; 8-bit gray PNG)
+//   strand_id    #H×W  int32 index of the nearest strand (the one depth and orientation
+//                take), −1 where none is
+//   depth_hairstep #H×W float32: depth as HairStep normalises it, (d − d_min)/(d_max − d_min)
+//                over the hair mask (0 at the nearest hair, 1 at the farthest), 0 off it
+//
+// For the confidence, the strands nearest the eye in each pixel (up to kTargetLayers of them)
+// are kept in depth order, a k-buffer; those behind them are merged into one layer behind
+// (their coverage-weighted mean orientation), as multi-layer alpha blending (Salvi and
+// Vaidyanathan 2014) merges what does not fit, and show through what the kept ones let pass.
 //
 // The head is rasterized as triangles at pixel centres; every strand segment between
 // consecutive control points as a line (DDA, one sample per pixel on its major axis) whose
@@ -30,18 +51,31 @@
 
 namespace wisp {
 
+inline constexpr int kTargetLayers = 8;
+
 struct TargetMaps {
     int width = 0, height = 0;
-    std::vector<float> depth;        // #H·W, row-major, top row first; 0: background
-    std::vector<float> orientation;  // #H·W, θ in [0, π); meaningful where hair is set
-    std::vector<uint8_t> hair;       // #H·W, 1 where hair covers at least half the pixel
+    // Each #H·W, row-major, top row first.
+    std::vector<float> depth;        // 0: background
+    std::vector<float> orientation;  // θ in [0, π); meaningful where hair is set
+    std::vector<float> direction;    // the nearest strand's, root to tip, in (−π, π], y up
+    std::vector<uint8_t> hair;       // 1 where hair covers at least half the pixel
+    std::vector<uint8_t> surface;    // 1 where the head (or body) mesh covers the pixel centre
+    std::vector<float> coverage;     // the share of the pixel hair covers, in [0, 1]
+    std::vector<float> confidence;   // in [0, 1]; 0 off the hair
+    std::vector<int32_t> strand;     // the nearest strand's index; −1: none
 };
 
-// Draws the maps of hair (and head, if not null) seen by `camera`.
-TargetMaps draw_targets(const Hair& hair, const Mesh* head, const Camera& camera);
+// Draws the maps of hair (and head, if not null) seen by `camera`; the confidence (which
+// keeps the k-buffer) only if asked for, else it is left 0.
+TargetMaps draw_targets(const Hair& hair, const Mesh* head, const Camera& camera,
+                        bool confidence = false);
 
 // The encodings above.
 RgbImage orientation_image(const TargetMaps& maps);
 GrayImage mask_image(const TargetMaps& maps);
+RgbImage strand_map_image(const TargetMaps& maps);
+GrayImage matte_image(const TargetMaps& maps);
+std::vector<float> hairstep_depth(const TargetMaps& maps);
 
 }  // namespace wisp

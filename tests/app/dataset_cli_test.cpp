@@ -383,4 +383,46 @@ TEST(DatasetCli, APlannedDatasetMovesWhole) {
     EXPECT_TRUE(slurp(again) == slurp(moved / "samples" / "000000" / "hair.hair"));
 }
 
+// Every map the spec can ask for is written per camera, one file each, and an unknown name
+// is refused with the names there are.
+TEST(DatasetCli, EveryMapIsAnOption) {
+    Dir d;
+    const fs::path spec = d.path / "spec.toml", dir = d.path / "ds", err = d.path / "err.txt";
+    const char* maps =
+        "\"picture\", \"orientation\", \"mask\", \"depth\", \"strand\", "
+        "\"confidence\", \"matte\", \"strand_id\", \"depth_hairstep\"";
+    std::ofstream(spec) << "samples = 1\n[[base]]\npreset = \"short\"\n[vary]\n"
+                           "\"roots.strands\" = { choice = [1500] }\n"
+                           "\"roots.wisps\" = { choice = [150] }\n"
+                           "[output]\nsize = [48, 40]\nmaps = ["
+                        << maps << "]\n";
+    ASSERT_EQ(run("dataset plan " + spec.string() + " -o " + dir.string(), err), 0) << slurp(err);
+    ASSERT_EQ(run("dataset run " + dir.string(), err), 0) << slurp(err);
+    const fs::path s = dir / "samples" / "000000";
+    for (const char* f :
+         {"cam0.png", "cam0_orientation.png", "cam0_mask.png", "cam0_depth.npy", "cam0_strand.png",
+          "cam0_confidence.npy", "cam0_matte.png", "cam0_strand_id.npy", "cam0_depth_hairstep.npy"})
+        EXPECT_TRUE(fs::exists(s / f)) << f;
+    // The arrays' headers: the picture's shape, as float32 or int32.
+    EXPECT_NE(slurp(s / "cam0_strand_id.npy").find("'descr': '<i4'"), std::string::npos);
+    EXPECT_NE(slurp(s / "cam0_confidence.npy").find("'shape': (40, 48)"), std::string::npos);
+    // Only what was asked for: a spec with one map writes that one.
+    std::ofstream(spec) << "samples = 1\n[[base]]\npreset = \"short\"\n[vary]\n"
+                           "\"roots.strands\" = { choice = [1500] }\n"
+                           "\"roots.wisps\" = { choice = [150] }\n"
+                           "[output]\nsize = [48, 40]\nmaps = [\"strand\"]\n";
+    const fs::path one = d.path / "one";
+    ASSERT_EQ(run("dataset plan " + spec.string() + " -o " + one.string(), err), 0) << slurp(err);
+    ASSERT_EQ(run("dataset run " + one.string(), err), 0) << slurp(err);
+    EXPECT_TRUE(fs::exists(one / "samples" / "000000" / "cam0_strand.png"));
+    EXPECT_FALSE(fs::exists(one / "samples" / "000000" / "cam0.png"));
+    EXPECT_FALSE(fs::exists(one / "samples" / "000000" / "cam0_mask.png"));
+    std::ofstream(spec) << "samples = 1\n[output]\nmaps = [\"normals\"]\n";
+    EXPECT_EQ(run("dataset plan " + spec.string() + " -o " + (d.path / "bad").string(), err), 1);
+    EXPECT_NE(slurp(err).find("unknown map 'normals' (picture, orientation, mask, depth, strand, "
+                              "confidence, matte, strand_id, depth_hairstep)"),
+              std::string::npos)
+        << slurp(err);
+}
+
 }  // namespace

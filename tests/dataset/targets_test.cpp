@@ -151,5 +151,142 @@ TEST(Targets, TheMaskIsWhereHairCoversHalfThePixel) {
     EXPECT_EQ(hair_pixels(draw_targets(clump, nullptr, front())), 0);
 }
 
+// Strands added one after another into one Hair (each keeps its points and the first's width).
+Hair together(std::initializer_list<Hair> parts) {
+    Hair out;
+    for (const Hair& h : parts) {
+        out.points.insert(out.points.end(), h.points.begin(), h.points.end());
+        out.offsets.push_back(static_cast<uint32_t>(out.points.size()));
+    }
+    out.default_width = parts.begin()->default_width;
+    return out;
+}
+
+// HairStep's strand map: the direction from root to tip, not only its line; the head shows at
+// half red where no hair covers it.
+TEST(Targets, StrandMapIsDirectedRootToTip) {
+    Mesh quad;
+    quad.vertices = {{-10, -10, -5}, {10, -10, -5}, {10, 10, -5}, {-10, 10, -5}};
+    quad.faces = {{0, 1, 2}, {0, 2, 3}};
+    struct Case {
+        Vec3f from, to;
+        uint8_t g, b;  // (1 + dx)/2, (1 + dy)/2, y up
+    };
+    const Case cases[] = {
+        {{0, 5, 0}, {0, -5, 0}, 128, 0},    // falling: root above the tip
+        {{0, -5, 0}, {0, 5, 0}, 128, 255},  // rising
+        {{-5, 0, 0}, {5, 0, 0}, 255, 128},  // to the right
+        {{5, 0, 0}, {-5, 0, 0}, 0, 128},    // to the left
+    };
+    for (const Case& c : cases) {
+        const TargetMaps m = draw_targets(straight(c.from, c.to), &quad, front());
+        const RgbImage img = strand_map_image(m);
+        int hair = 0, head = 0;
+        for (size_t i = 0; i < m.hair.size(); ++i) {
+            const uint8_t* px = &img.rgb[3 * i];
+            if (m.hair[i]) {
+                ++hair;
+                EXPECT_EQ(px[0], 255);
+                // 8 bits: 127.5 may round either way.
+                EXPECT_NEAR(px[1], c.g, 1) << c.to.transpose();
+                EXPECT_NEAR(px[2], c.b, 1) << c.to.transpose();
+            } else {
+                head += px[0] == 128;
+                EXPECT_TRUE(px[0] == 128 || px[0] == 0);
+                EXPECT_EQ(px[1], 0);
+                EXPECT_EQ(px[2], 0);
+            }
+        }
+        EXPECT_GT(hair, 10);
+        EXPECT_GT(head, 500);
+    }
+}
+
+// Confidence: one orientation over a pixel's visible strands is 1; strands crossing at right
+// angles where the front ones let half the pixel through to the back ones pull it toward 0,
+// and an opaque front layer hides the back one again.
+TEST(Targets, ConfidenceFallsWhereVisibleStrandsCross) {
+    const float px = 50.f / kFocal;  // cm: a pixel at 50 cm
+    auto sheet = [&](bool vertical, float z, float width) {
+        Hair h;
+        for (int k = -8; k <= 8; ++k) {
+            const float o = 0.5f * px * k;
+            const Hair one = vertical ? straight({o, -3, z}, {o, 3, z}, 16, width)
+                                      : straight({-3, o, z}, {3, o, z}, 16, width);
+            h.points.insert(h.points.end(), one.points.begin(), one.points.end());
+            h.offsets.push_back(static_cast<uint32_t>(h.points.size()));
+        }
+        h.default_width = width;
+        return h;
+    };
+    auto centre_confidence = [&](const Hair& h) {
+        const TargetMaps m = draw_targets(h, nullptr, front(), true);
+        const size_t centre = 32 * 64 + 32;
+        EXPECT_EQ(m.hair[centre], 1);
+        return m.confidence[centre];
+    };
+    const float thin = 0.15f * px, thick = 2.f * px;
+    EXPECT_NEAR(centre_confidence(sheet(false, 0, thin)), 1.f, 1e-5f);
+    // Thin strands crossing: each layer covers about half; the back shows through.
+    Hair crossing = sheet(false, 1, thin);
+    const Hair back = sheet(true, 0, thin);
+    for (size_t i = 1; i < back.offsets.size(); ++i) {
+        crossing.points.insert(crossing.points.end(), back.points.begin() + back.offsets[i - 1],
+                               back.points.begin() + back.offsets[i]);
+        crossing.offsets.push_back(static_cast<uint32_t>(crossing.points.size()));
+    }
+    EXPECT_LT(centre_confidence(crossing), 0.7f);
+    // An opaque front layer: the back layer is hidden.
+    Hair hidden = sheet(false, 1, thick);
+    for (size_t i = 1; i < back.offsets.size(); ++i) {
+        hidden.points.insert(hidden.points.end(), back.points.begin() + back.offsets[i - 1],
+                             back.points.begin() + back.offsets[i]);
+        hidden.offsets.push_back(static_cast<uint32_t>(hidden.points.size()));
+    }
+    EXPECT_GT(centre_confidence(hidden), 0.99f);
+}
+
+// The matte is the hair's coverage (the mask is where it reaches a half), the strand-id map
+// names the nearest strand, and HairStep's depth runs from 0 at the nearest hair to 1 at the
+// farthest over the mask, 0 off it.
+TEST(Targets, MatteStrandIdsAndHairStepDepth) {
+    // Strand 0 at z = 2 on the left, strand 1 at z = 0 across the whole width (behind strand
+    // 0 where they overlap), strand 2 at z = -2 on the right, lower.
+    const Hair h =
+        together({straight({-5, 0.4f, 2}, {-1, 0.4f, 2}), straight({-5, 0.4f, 0}, {5, 0.4f, 0}),
+                  straight({1, -0.6f, -2}, {5, -0.6f, -2})});
+    const TargetMaps m = draw_targets(h, nullptr, front());
+    const GrayImage matte = matte_image(m);
+    const std::vector<float> d = hairstep_depth(m);
+    int seen[3] = {0, 0, 0};
+    float lo = 1, hi = 0;
+    for (size_t i = 0; i < m.hair.size(); ++i) {
+        EXPECT_GE(matte.values[i], 0.f);
+        EXPECT_LE(matte.values[i], 1.f);
+        EXPECT_EQ(m.hair[i], matte.values[i] >= 0.5f) << i;
+        if (m.strand[i] < 0) {
+            EXPECT_EQ(m.depth[i], 0.f);
+            continue;
+        }
+        ASSERT_LT(m.strand[i], 3);
+        ++seen[m.strand[i]];
+        const float expected_z = 50.f - (2.f - 2.f * m.strand[i]);
+        EXPECT_NEAR(m.depth[i], expected_z, 0.05f) << i;
+        if (!m.hair[i]) {
+            EXPECT_EQ(d[i], 0.f);
+            continue;
+        }
+        lo = std::min(lo, d[i]);
+        hi = std::max(hi, d[i]);
+        // Linear in depth: 48 cm → 0, 52 cm → 1.
+        EXPECT_NEAR(d[i], (m.depth[i] - 48.f) / 4.f, 0.02f) << i;
+    }
+    EXPECT_GT(seen[0], 5);
+    EXPECT_GT(seen[1], 5);
+    EXPECT_GT(seen[2], 5);
+    EXPECT_EQ(lo, 0.f);
+    EXPECT_EQ(hi, 1.f);
+}
+
 }  // namespace
 }  // namespace wisp
