@@ -7,6 +7,7 @@
 #include "core/error.hpp"
 #include "core/hair.hpp"
 #include "core/image.hpp"
+#include "dataset/metrics.hpp"
 #include "render/render.hpp"
 
 namespace wisp::python {
@@ -160,6 +161,21 @@ void bind_render(py::module_& m) {
             return py::bytes(encode_png(image));
         },
         py::arg("image"), "PNG bytes of an H×W×3 uint8 image");
+    m.def(
+        "compare",
+        [](const Hair& a, const Hair& b, const HeadPtr& head, const std::vector<std::string>& views,
+           int size, float voxel, const py::object& threads) {
+            CompareOptions o;
+            o.views = views;
+            o.size = size;
+            o.voxel = voxel;
+            const int n = thread_count(threads);
+            const CompareResult r = run_released(
+                n, [&] { return compare_hair(a, b, head ? head->mesh.get() : nullptr, o); });
+            return py::module_::import("json").attr("loads")(to_json(r).dump());
+        },
+        py::arg("a"), py::arg("b"), py::arg("head"), py::arg("views"), py::arg("size"),
+        py::arg("voxel"), py::arg("threads") = py::none());
     m.def("view_names", &view_names);
     m.def("shading_names", &shading_names);
     m.def(

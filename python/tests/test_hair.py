@@ -187,3 +187,22 @@ def test_head_from_style_takes_a_style():
     assert wisp.Head.from_style(style).faces.shape[0] > 1000
     with pytest.raises(TypeError, match="Head.from_style: expected a wisp.Style, got int"):
         wisp.Head.from_style(3)
+
+
+def test_compare_scores_known_cases(small_hair):
+    same = wisp.compare(small_hair, small_hair, size=64)
+    assert [s["f1"] for s in same["strands"]] == [1.0, 1.0, 1.0]
+    assert [s["distance_cm"] for s in same["strands"]] == [0.2, 0.3, 0.4]
+    assert same["position_error_cm"] == 0.0 and same["occupancy_iou"] == 1.0
+    # Shifted 2.5 mm: beyond the 2 mm threshold, within 3 mm and 4 mm.
+    moved = wisp.Hair.from_arrays(small_hair.points + np.float32([0.25, 0, 0]),
+                                  small_hair.offsets)
+    r = wisp.compare(moved, small_hair, head=False, views=["front"], size=64)
+    assert r["position_error_cm"] == pytest.approx(0.25, abs=1e-4)
+    assert r["strands"][0]["f1"] < r["strands"][1]["f1"] <= 1.0
+    with pytest.raises(TypeError, match="compare: a must be a wisp.Hair"):
+        wisp.compare(small_hair.points, small_hair)
+    with pytest.raises(ValueError, match="unknown view 'sideways'"):
+        wisp.compare(small_hair, small_hair, views=["sideways"])
+    with pytest.raises(ValueError, match="voxel"):
+        wisp.compare(small_hair, small_hair, voxel=0)

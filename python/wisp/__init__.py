@@ -25,7 +25,7 @@ from ._wisp import Error, Hair, Head, Masters, Roots, hair_formats, preset_names
 __all__ = [
     "Error", "Style", "Head", "Hair", "Roots", "Masters", "generate", "render", "read",
     "preset_names", "hair_formats", "schema", "stages", "animate", "Animation", "Frame",
-    "shading_names", "melanin_from_color",
+    "shading_names", "melanin_from_color", "compare",
 ]
 
 _SCHEMA = {f["path"]: f for f in _wisp.schema()}
@@ -226,6 +226,41 @@ def render(hair: Hair, head: Head | None | bool = None, view: str = "three-quart
     if not isinstance(alpha, bool):
         raise TypeError(f"alpha: expected True or False, got {alpha!r}")
     return _wisp.render(hair, head, view, width, height, threads, alpha, **options)
+
+
+def compare(a: Hair, b: Hair, head: Head | None | bool = None,
+            views=("front", "left", "back", "right"), size: int = 256, voxel: float = 0.5,
+            threads: int | None = None) -> dict:
+    """How close hair ``a`` (a reconstruction) is to the reference ``b``, as ``wisp compare``:
+    a dict with "strands" (precision, recall and F1 at 2 mm/20°, 3 mm/30° and 4 mm/40°),
+    "chamfer_a_to_b_cm", "chamfer_b_to_a_cm", "position_error_cm" and
+    "curvature_error_per_cm" (when both have as many strands, strand i the same strand),
+    "orientation_error_degrees" and "silhouette_iou" over the views, and "occupancy_iou"
+    (docs/dataset.md, "Comparing hair").
+
+    head: a Head hiding the hair behind it in the views; None: b's head, else the built-in
+    head; False: none. views: names of ``wisp._wisp.view_names()``. size: the views' pixels a
+    side. voxel: the occupancy grid's cell, cm."""
+    for name, h in (("a", a), ("b", b)):
+        if not isinstance(h, Hair):
+            raise TypeError(f"compare: {name} must be a wisp.Hair, got {type(h).__name__}")
+    if head is False:
+        head = None
+    elif head is None:
+        head = _default_head(b)
+    elif not isinstance(head, Head):
+        raise TypeError("compare: head must be a wisp.Head, None or False")
+    if isinstance(views, str) or not all(isinstance(v, str) for v in views):
+        raise TypeError(f"compare: views must be a list of view names, got {views!r}")
+    known = _wisp.view_names()
+    for v in views:
+        if v not in known:
+            raise ValueError(f"compare: unknown view {v!r} (views: {', '.join(known)})")
+    if isinstance(size, bool) or not isinstance(size, int) or not 16 <= size <= 4096:
+        raise ValueError(f"compare: size must be an integer in [16, 4096], got {size!r}")
+    if isinstance(voxel, bool) or not isinstance(voxel, (int, float)) or not 0.01 <= voxel <= 100:
+        raise ValueError(f"compare: voxel must be a number in [0.01, 100] cm, got {voxel!r}")
+    return _wisp.compare(a, b, head, list(views), size, float(voxel), threads)
 
 
 def shading_names() -> list[str]:

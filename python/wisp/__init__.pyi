@@ -166,6 +166,12 @@ def read(path: str | PathLike[str]) -> Hair:
 def generate(style: Style | None = None, head: Head | None = None, seed: int | None = None,
              threads: int | None = None) -> Hair: ...
 
+def compare(a: Hair, b: Hair, head: Head | None | Literal[False] = None,
+            views: Sequence[str] = ("front", "left", "back", "right"), size: int = 256,
+            voxel: float = 0.5, threads: int | None = None) -> dict[str, Any]:
+    """How close a is to the reference b: strand P/R/F1, chamfer, position, curvature,
+    orientation error, silhouette and occupancy IoU (docs/dataset.md)."""
+
 def render(hair: Hair, head: Head | None | Literal[False] = None,
            view: str = "three-quarter", size: int | tuple[int, int] = 1024,
            threads: int | None = None, alpha: bool = False, **options: Any) -> UInt8Array:

@@ -27,6 +27,7 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/parallel.hpp"
+#include "dataset/metrics.hpp"
 #include "dynamics/animate.hpp"
 #include "dynamics/animation_pictures.hpp"
 #include "geometry/builtin_head.hpp"
@@ -789,6 +790,36 @@ int run_cli(int argc, char** argv) {
     info_cmd->add_option("file", info_path, "A .hair, .usda, .obj, .ply or .data file")->required();
     info_cmd->add_flag("--json", info_json, "Print JSON instead of text");
 
+    std::string compare_a, compare_b, compare_head, compare_views = "front,left,back,right";
+    int compare_size = 256, compare_threads = 0;
+    float compare_voxel = 0.5f;
+    bool compare_json = false, compare_no_head = false;
+    CLI::App* compare_cmd = app.add_subcommand(
+        "compare",
+        "How close hair A (a reconstruction) is to a reference B: strand precision, recall and "
+        "F1, chamfer, position, curvature, orientation and silhouette in pictures, occupancy "
+        "(docs/dataset.md)");
+    compare_cmd->add_option("a", compare_a, "The hair to score: .hair .usda .obj .ply .data")
+        ->required();
+    compare_cmd->add_option("b", compare_b, "The reference (ground truth), in any of those")
+        ->required();
+    compare_cmd->add_option("--head", compare_head,
+                            "Head OBJ that hides the hair behind it in the views (default: the "
+                            "built-in head)");
+    compare_cmd->add_option("--head-scale", head_scale, "Scale of --head to centimetres");
+    compare_cmd->add_flag("--no-head", compare_no_head, "Views without a head");
+    compare_cmd->add_option("--views", compare_views, "Views for the orientation and silhouette")
+        ->capture_default_str();
+    compare_cmd->add_option("--size", compare_size, "The views' pictures, pixels a side")
+        ->check(CLI::Range(16, 4096))
+        ->capture_default_str();
+    compare_cmd->add_option("--voxel", compare_voxel, "Occupancy grid cell, cm")
+        ->check(CLI::Range(0.01, 100.0))
+        ->capture_default_str();
+    compare_cmd->add_option("--threads", compare_threads, "Worker threads (0 = all cores)")
+        ->check(CLI::Range(0, 1024));
+    compare_cmd->add_flag("--json", compare_json, "Print JSON instead of text");
+
     std::string convert_in, convert_out;
     bool convert_segments = false;
     std::string convert_up = "y";
@@ -973,6 +1004,42 @@ int run_cli(int argc, char** argv) {
                                           {"problem", p.problem}});
             // Prim names and paths may hold bytes that are not UTF-8: replaced, not fatal.
             std::cout << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
+            return 0;
+        }
+        if (*compare_cmd) {
+            const ThreadLimit limit(compare_threads);
+            CompareOptions options;
+            options.views = png_args(compare_views, "16x16", LookArgs{}, "--views").views;
+            options.size = compare_size;
+            options.voxel = compare_voxel;
+            const Hair a = read_hair(compare_a), b = read_hair(compare_b);
+            HeadSpec spec;
+            spec.obj = compare_head;
+            spec.scale = head_scale;
+            const Head head = compare_no_head ? Head{} : load_head_mesh(spec);
+            const CompareResult r = compare_hair(a, b, head.mesh.get(), options);
+            if (compare_json) {
+                std::cout << to_json(r).dump(2) << '\n';
+                return 0;
+            }
+            std::printf("A %s: %zu strands, %zu points\nB %s: %zu strands, %zu points\n",
+                        compare_a.c_str(), r.strands_a, r.points_a, compare_b.c_str(), r.strands_b,
+                        r.points_b);
+            std::printf("strands (precision / recall / F1):\n");
+            for (const StrandScore& k : r.strands)
+                std::printf("  %g mm, %g°: %.3f / %.3f / %.3f\n", 10 * k.distance, k.angle,
+                            k.precision, k.recall, k.f1);
+            std::printf("chamfer: A to B %.4f cm, B to A %.4f cm\n", r.chamfer_a_to_b,
+                        r.chamfer_b_to_a);
+            if (r.corresponding)
+                std::printf("corresponding strands: position %.4f cm, curvature %.4f /cm\n",
+                            r.position_error, r.curvature_error);
+            else
+                std::printf("corresponding strands: none (%zu strands against %zu)\n", r.strands_a,
+                            r.strands_b);
+            std::printf("views (%s): orientation error %.2f°, silhouette IoU %.4f\n",
+                        compare_views.c_str(), r.orientation_error, r.silhouette_iou);
+            std::printf("occupancy IoU (%g cm voxels): %.4f\n", compare_voxel, r.occupancy_iou);
             return 0;
         }
         if (*convert_cmd) {

@@ -425,4 +425,25 @@ TEST(DatasetCli, EveryMapIsAnOption) {
         << slurp(err);
 }
 
+// `wisp compare` as a user runs it: identical files score 1, a file against another seed of the
+// style less, --json has the same numbers, and a missing file is an error that names it.
+TEST(DatasetCli, CompareTwoHairFiles) {
+    Dir d;
+    const fs::path a = d.path / "a.hair", b = d.path / "b.hair", out = d.path / "out.txt";
+    ASSERT_EQ(run("generate --preset short --strands 2000 --wisps 200 -q -o " + a.string()), 0);
+    ASSERT_EQ(
+        run("generate --preset short --strands 2000 --wisps 200 --seed 9 -q -o " + b.string()), 0);
+    ASSERT_EQ(run("compare " + a.string() + " " + a.string() + " --size 64", out), 0);
+    EXPECT_NE(slurp(out).find("2 mm, 20°: 1.000 / 1.000 / 1.000"), std::string::npos) << slurp(out);
+    EXPECT_NE(slurp(out).find("silhouette IoU 1.0000"), std::string::npos) << slurp(out);
+    ASSERT_EQ(run("compare " + a.string() + " " + b.string() + " --size 64 --json", out), 0);
+    const std::string json = slurp(out);
+    EXPECT_NE(json.find("\"occupancy_iou\""), std::string::npos) << json;
+    EXPECT_EQ(json.find("\"f1\": 1.0"), std::string::npos) << json;
+    EXPECT_EQ(run("compare " + a.string() + " " + (d.path / "none.hair").string(), out), 1);
+    EXPECT_NE(slurp(out).find("none.hair"), std::string::npos) << slurp(out);
+    EXPECT_EQ(run("compare " + a.string() + " " + b.string() + " --views sideways", out), 2);
+    EXPECT_NE(slurp(out).find("unknown view 'sideways'"), std::string::npos) << slurp(out);
+}
+
 }  // namespace
