@@ -8,6 +8,8 @@
 #include "core/hair.hpp"
 #include "core/image.hpp"
 #include "dataset/metrics.hpp"
+#include "dataset/spec.hpp"
+#include "dataset/targets.hpp"
 #include "render/render.hpp"
 
 namespace wisp::python {
@@ -119,6 +121,59 @@ py::array image_array(std::vector<uint8_t> pixels, int width, int height, int ch
                                 owned->data(), owner);
 }
 
+// An array of `shape` owning `values` (no copy).
+template <class T>
+py::array owned_array(std::vector<T> values, std::vector<py::ssize_t> shape) {
+    auto* owned = new std::vector<T>(std::move(values));
+    py::capsule owner(owned, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+    return py::array_t<T>(shape, owned->data(), owner);
+}
+
+// The maps of dataset/targets.hpp that `names` asks for (output_map_table()'s names, the
+// picture aside), seen by the camera render() takes for `o`, with that camera as OpenCV has it.
+py::dict target_maps(const Hair& hair, const Mesh* head, const RenderOptions& o,
+                     const std::vector<std::string>& names, int threads) {
+    const auto& table = output_map_table();
+    uint32_t wanted = 0;
+    for (const std::string& name : names) {
+        const auto it = std::find_if(table.begin(), table.end(),
+                                     [&](const OutputMapInfo& i) { return name == i.name; });
+        if (it == table.end() || it->map == OutputMap::kPicture) {
+            std::string list;
+            for (const OutputMapInfo& i : table)
+                if (i.map != OutputMap::kPicture) list += cat(list.empty() ? "" : ", ", i.name);
+            throw py::value_error(cat("targets: unknown map '", name, "' (", list, ")"));
+        }
+        wanted |= 1u << static_cast<int>(it->map);
+    }
+    auto has = [&](OutputMap m) { return wanted >> static_cast<int>(m) & 1u; };
+    const Camera cam = render_camera(hair, head, o);
+    TargetMaps maps = run_released(
+        threads, [&] { return draw_targets(hair, head, cam, has(OutputMap::kConfidence)); });
+    const std::vector<py::ssize_t> hw = {maps.height, maps.width};
+    py::dict out;
+    if (has(OutputMap::kOrientation)) out["orientation"] = owned_array(maps.orientation, hw);
+    if (has(OutputMap::kMask)) {
+        std::vector<uint8_t> mask(maps.hair);
+        out["mask"] = owned_array(std::move(mask), hw).attr("astype")("bool");
+    }
+    if (has(OutputMap::kDepth)) out["depth"] = owned_array(maps.depth, hw);
+    if (has(OutputMap::kStrand)) {
+        RgbImage img = strand_map_image(maps);
+        out["strand"] = image_array(std::move(img.rgb), img.width, img.height, 3);
+    }
+    if (has(OutputMap::kConfidence)) out["confidence"] = owned_array(maps.confidence, hw);
+    if (has(OutputMap::kMatte)) out["matte"] = owned_array(maps.coverage, hw);
+    if (has(OutputMap::kStrandId)) out["strand_id"] = owned_array(maps.strand, hw);
+    if (has(OutputMap::kDepthHairstep))
+        out["depth_hairstep"] = owned_array(hairstep_depth(maps), hw);
+    const CameraMatrices mats = opencv_matrices(cam);
+    out["K"] = owned_array(std::vector<double>(mats.K.begin(), mats.K.end()), {3, 3});
+    out["world_to_camera"] = owned_array(
+        std::vector<double>(mats.world_to_camera.begin(), mats.world_to_camera.end()), {4, 4});
+    return out;
+}
+
 }  // namespace
 
 void bind_render(py::module_& m) {
@@ -176,6 +231,17 @@ void bind_render(py::module_& m) {
         },
         py::arg("a"), py::arg("b"), py::arg("head"), py::arg("views"), py::arg("size"),
         py::arg("voxel"), py::arg("threads") = py::none());
+    m.def(
+        "targets",
+        [](const Hair& hair, const HeadPtr& head, const std::string& view, int width, int height,
+           const std::vector<std::string>& names, const py::object& threads, const py::kwargs& kw) {
+            hair.validate("Hair");
+            const RenderOptions o = render_options(view, width, height, kw);
+            return target_maps(hair, head ? head->mesh.get() : nullptr, o, names,
+                               thread_count(threads));
+        },
+        py::arg("hair"), py::arg("head"), py::arg("view"), py::arg("width"), py::arg("height"),
+        py::arg("names"), py::arg("threads") = py::none());
     m.def("view_names", &view_names);
     m.def("shading_names", &shading_names);
     m.def(

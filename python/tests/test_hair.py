@@ -206,3 +206,41 @@ def test_compare_scores_known_cases(small_hair):
         wisp.compare(small_hair, small_hair, views=["sideways"])
     with pytest.raises(ValueError, match="voxel"):
         wisp.compare(small_hair, small_hair, voxel=0)
+
+
+def test_render_targets_follow_the_pictures_camera(small_hair):
+    r = wisp.render(small_hair, size=96, view="front",
+                    targets=["mask", "depth", "strand_id", "matte", "confidence"])
+    assert r["image"].shape == (96, 96, 3)
+    assert set(r) >= {"mask", "depth", "strand_id", "matte", "confidence", "K",
+                      "world_to_camera"}
+    assert np.array_equal(r["mask"], r["matte"] >= 0.5)
+    assert (r["confidence"][~r["mask"]] == 0).all()
+    # The nearest strand at a hair pixel passes through it, at the depth the map gives, when
+    # its points are projected with K and world_to_camera.
+    K, w2c = r["K"], r["world_to_camera"]
+    ys, xs = np.nonzero(r["mask"])
+    assert len(ys) > 50
+    offsets = small_hair.offsets
+    for y, x in list(zip(ys, xs))[:: max(1, len(ys) // 25)]:
+        s = r["strand_id"][y, x]
+        assert s >= 0
+        p = small_hair.points[offsets[s]:offsets[s + 1]].astype(np.float64)
+        cam = p @ w2c[:3, :3].T + w2c[:3, 3]
+        pix = cam @ K.T
+        uv = pix[:, :2] / pix[:, 2:3]
+        # The pixel lies on the polyline through the projected points (within a pixel).
+        a, b = uv[:-1], uv[1:]
+        ab = b - a
+        t = np.clip(((np.array([x + 0.5, y + 0.5]) - a) * ab).sum(1) /
+                    np.maximum((ab * ab).sum(1), 1e-12), 0, 1)
+        near = a + t[:, None] * ab
+        d = np.hypot(*(near - [x + 0.5, y + 0.5]).T)
+        k = np.argmin(d)
+        assert d[k] < 1.0, (x, y, s, d[k])
+        z = cam[k, 2] + t[k] * (cam[k + 1, 2] - cam[k, 2])
+        assert abs(z - r["depth"][y, x]) < 0.5
+    with pytest.raises(ValueError, match="unknown map 'picture'"):
+        wisp.render(small_hair, size=32, targets=["picture"])
+    with pytest.raises(TypeError, match="targets: expected a list"):
+        wisp.render(small_hair, size=32, targets="mask")

@@ -194,7 +194,8 @@ def _default_head(hair):
 
 
 def render(hair: Hair, head: Head | None | bool = None, view: str = "three-quarter",
-           size=1024, threads: int | None = None, alpha: bool = False, **options):
+           size=1024, threads: int | None = None, alpha: bool = False, targets=None,
+           **options):
     """Renders hair (and a head) as ``wisp render`` does: an H×W×3 uint8 sRGB array, or with
     ``alpha=True`` H×W×4 whose fourth channel is the coverage (0 to 255: the share of the
     pixel that hair and head cover, antialiased) and whose colours are straight (not
@@ -205,7 +206,15 @@ def render(hair: Hair, head: Head | None | bool = None, view: str = "three-quart
     N (square) or (width, height) in pixels. options, as the CLI's: eye=(x,y,z) and
     target=(x,y,z) in cm, fov (degrees), background=(r,g,b) linear, shading (one of
     ``wisp.shading_names()``: "hair", "fiber", "kajiya-kay"), specular, specular_exponent, rim
-    (0 turns the rim light off), shadows (bool), width_scale."""
+    (0 turns the rim light off), shadows (bool), width_scale.
+
+    targets: a list of the training targets that ``wisp dataset`` writes (docs/dataset.md),
+    drawn by the picture's camera: "orientation" (θ float32 in [0, π), radians from +x
+    towards up), "mask" (bool), "depth" (float32, cm), "strand" (H×W×3 uint8, HairStep's strand
+    map), "confidence" (float32), "matte" (float32 coverage), "strand_id" (int32, -1: none),
+    "depth_hairstep" (float32). Then the result is a dict: "image" (the picture), each target,
+    and the camera as OpenCV has it, "K" (3×3) and "world_to_camera" (4×4, cm), so that
+    pixel = K (R p + t)."""
     if not isinstance(hair, Hair):
         raise TypeError("render: hair must be a wisp.Hair, got " + type(hair).__name__)
     if head is False:
@@ -225,7 +234,14 @@ def render(hair: Hair, head: Head | None | bool = None, view: str = "three-quart
             raise TypeError(f"size: {name} must be an integer, got {v!r}")
     if not isinstance(alpha, bool):
         raise TypeError(f"alpha: expected True or False, got {alpha!r}")
-    return _wisp.render(hair, head, view, width, height, threads, alpha, **options)
+    image = _wisp.render(hair, head, view, width, height, threads, alpha, **options)
+    if targets is None:
+        return image
+    if isinstance(targets, str) or not all(isinstance(t, str) for t in targets):
+        raise TypeError(f"targets: expected a list of map names, got {targets!r}")
+    out = {"image": image}
+    out.update(_wisp.targets(hair, head, view, width, height, list(targets), threads, **options))
+    return out
 
 
 def compare(a: Hair, b: Hair, head: Head | None | bool = None,

@@ -174,8 +174,10 @@ def compare(a: Hair, b: Hair, head: Head | None | Literal[False] = None,
 
 def render(hair: Hair, head: Head | None | Literal[False] = None,
            view: str = "three-quarter", size: int | tuple[int, int] = 1024,
-           threads: int | None = None, alpha: bool = False, **options: Any) -> UInt8Array:
-    """H×W×3 uint8 sRGB; with alpha, H×W×4: straight colours and coverage as alpha."""
+           threads: int | None = None, alpha: bool = False,
+           targets: Sequence[str] | None = None, **options: Any) -> Any:
+    """H×W×3 uint8 sRGB; with alpha, H×W×4: straight colours and coverage as alpha. With
+    targets, a dict: "image", each target's array, "K" and "world_to_camera"."""
 
 def shading_names() -> list[str]: ...
 

@@ -425,22 +425,15 @@ bool write_sample(const DatasetSpec& spec, uint64_t k, const fs::path& folder,
             lap("maps");
         }
         // OpenCV's convention: x right, y down, z forward; x_pixel = K (R p + t).
-        Eigen::Matrix3f r;
-        r.row(0) = cam.right;
-        r.row(1) = -cam.up;
-        r.row(2) = cam.forward;
-        const Vec3f t = -(r * cam.eye);
+        const CameraMatrices mats = opencv_matrices(cam);
         nlohmann::json w2c = nlohmann::json::array();
         for (int i = 0; i < 3; ++i)
-            w2c.push_back({r(i, 0), r(i, 1), r(i, 2), t[i]});
+            w2c.push_back({mats.world_to_camera[4 * i], mats.world_to_camera[4 * i + 1],
+                           mats.world_to_camera[4 * i + 2], mats.world_to_camera[4 * i + 3]});
         w2c.push_back({0, 0, 0, 1});
         // cameras.npz: the same numbers, row-major, as float64 (each holds the float above).
-        const double intrinsics[9] = {
-            cam.focal_pixels, 0, 0.5 * cam.width, 0, cam.focal_pixels, 0.5 * cam.height, 0, 0, 1};
-        npz_k.insert(npz_k.end(), intrinsics, intrinsics + 9);
-        for (int i = 0; i < 4; ++i)
-            for (int j = 0; j < 4; ++j)
-                npz_w2c.push_back(i == 3 ? (j == 3 ? 1.0 : 0.0) : j == 3 ? t[i] : r(i, j));
+        npz_k.insert(npz_k.end(), mats.K.begin(), mats.K.end());
+        npz_w2c.insert(npz_w2c.end(), mats.world_to_camera.begin(), mats.world_to_camera.end());
         npz_size.push_back(cam.width);
         npz_size.push_back(cam.height);
         npz_fov.push_back(cam.fov_y_degrees);

@@ -200,6 +200,23 @@ GrayImage mask_image(const TargetMaps& maps) {
     return image;
 }
 
+CameraMatrices opencv_matrices(const Camera& cam) {
+    CameraMatrices m;
+    Eigen::Matrix3f r;
+    r.row(0) = cam.right;
+    r.row(1) = -cam.up;
+    r.row(2) = cam.forward;
+    const Vec3f t = -(r * cam.eye);
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j)
+            m.world_to_camera[4 * i + j] = r(i, j);
+        m.world_to_camera[4 * i + 3] = t[i];
+    }
+    m.world_to_camera[15] = 1;
+    m.K = {cam.focal_pixels, 0, 0.5 * cam.width, 0, cam.focal_pixels, 0.5 * cam.height, 0, 0, 1};
+    return m;
+}
+
 RgbImage strand_map_image(const TargetMaps& maps) {
     RgbImage image{maps.width, maps.height, {}};
     image.rgb.assign(static_cast<size_t>(maps.width) * maps.height * 3, 0);

@@ -40,6 +40,7 @@
 // projected width gives; a pixel is hair where they cover at least half of it, with the
 // nearest strand's orientation there. Strands are drawn in order on one thread, so
 // the maps are the same at any thread count.
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <vector>
@@ -70,6 +71,15 @@ struct TargetMaps {
 // keeps the k-buffer) only if asked for, else it is left 0.
 TargetMaps draw_targets(const Hair& hair, const Mesh* head, const Camera& camera,
                         bool confidence = false);
+
+// A camera as OpenCV has it (x right, y down, z forward): pixel = K (R p + t), pixel (i, j)
+// covering [i, i+1) × [j, j+1); both row-major, K 3×3 and world_to_camera 4×4 (head space,
+// cm, to camera space).
+struct CameraMatrices {
+    std::array<double, 9> K{};
+    std::array<double, 16> world_to_camera{};
+};
+CameraMatrices opencv_matrices(const Camera& camera);
 
 // The encodings above.
 RgbImage orientation_image(const TargetMaps& maps);
