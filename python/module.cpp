@@ -33,6 +33,7 @@ int thread_count(const py::object& threads) {
 PYBIND11_MODULE(_wisp, m) {
     using namespace wisp::python;
     m.doc() = "wisp's C++ library (the `wisp` package wraps it; docs/python.md)";
+    m.attr("__version__") = WISP_VERSION;
     py::register_exception<wisp::Error>(m, "Error", PyExc_ValueError);
     bind_style(m);
     bind_hair(m);

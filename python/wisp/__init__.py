@@ -22,6 +22,8 @@ import queue as _queue
 from . import _wisp
 from ._wisp import Error, Hair, Head, Masters, Roots, hair_formats, preset_names, read
 
+__version__ = _wisp.__version__
+
 __all__ = [
     "Error", "Style", "Head", "Hair", "Roots", "Masters", "generate", "render", "read",
     "preset_names", "hair_formats", "schema", "stages", "animate", "Animation", "Frame",

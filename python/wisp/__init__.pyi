@@ -6,6 +6,8 @@ from typing import Any, Iterator, Literal, Sequence
 import numpy as np
 import numpy.typing as npt
 
+__version__: str
+
 Float32Array = npt.NDArray[np.float32]
 UInt32Array = npt.NDArray[np.uint32]
 Int32Array = npt.NDArray[np.int32]
