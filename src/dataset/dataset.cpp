@@ -31,6 +31,7 @@
 #include "io/npz.hpp"
 #include "render/render.hpp"
 #include "solve/pipeline.hpp"
+#include "solve/styling_field.hpp"
 
 namespace wisp {
 
@@ -376,6 +377,23 @@ bool write_sample(const DatasetSpec& spec, uint64_t k, const fs::path& folder,
     for (const std::string& ext : spec.output.hair)
         write_hair(tmp / ("hair." + ext), hair, hair_options);
     lap("write hair");
+
+    if (spec.output.volume.x() > 0) {
+        const HeadFrame frame = head_frame(head);
+        const HairVolume v = hair_volume(hair, frame.to_space(spec.output.volume_lo),
+                                         frame.to_space(spec.output.volume_hi), spec.output.volume);
+        const std::vector<size_t> shape = {static_cast<size_t>(v.dims.z()),
+                                           static_cast<size_t>(v.dims.y()),
+                                           static_cast<size_t>(v.dims.x())};
+        const float box[6] = {v.lo.x(), v.lo.y(), v.lo.z(), v.hi.x(), v.hi.y(), v.hi.z()};
+        const NpyArray arrays[] = {
+            npy_array("occupancy", shape, std::span<const uint8_t>(v.occupancy)),
+            npy_array("orientation", {shape[0], shape[1], shape[2], 3},
+                      std::span<const float>(v.orientation)),
+            npy_array("box", {2, 3}, std::span<const float>(box))};
+        write_npz(tmp / "volume.npz", arrays);
+        lap("volume");
+    }
 
     nlohmann::json cameras = nlohmann::json::array();
     std::vector<double> npz_k, npz_w2c, npz_fov;

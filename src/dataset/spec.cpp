@@ -1,5 +1,7 @@
 #include "dataset/spec.hpp"
 
+#include "dataset/targets.hpp"
+
 #include <toml++/toml.h>
 #include <algorithm>
 #include <charconv>
@@ -323,7 +325,7 @@ void SpecParser::read_output(const toml::table& root, DatasetSpec& spec) const {
     if (!node) return;
     const toml::table* t = node->as_table();
     if (!t) error(node, "output", "expects a table ([output])");
-    check_keys(*t, "output", {"hair", "resample", "size", "maps"});
+    check_keys(*t, "output", {"hair", "resample", "size", "maps", "volume", "volume_box"});
     OutputSpec& o = spec.output;
     if (const toml::node* h = t->get("hair")) {
         o.hair.clear();
@@ -344,6 +346,33 @@ void SpecParser::read_output(const toml::table& root, DatasetSpec& spec) const {
         const toml::array& wh = array(*s, "output.size", 2, 2);
         o.width = static_cast<int>(integer(wh[0], "output.size", 8, 8192));
         o.height = static_cast<int>(integer(wh[1], "output.size", 8, 8192));
+    }
+    if (const toml::node* v = t->get("volume")) {
+        const toml::array& xyz = array(*v, "output.volume", 3, 3);
+        for (int i = 0; i < 3; ++i)
+            o.volume[i] = static_cast<int>(integer(xyz[i], "output.volume", 1, 1024));
+        const size_t voxels = static_cast<size_t>(o.volume.x()) * o.volume.y() * o.volume.z();
+        if (voxels > kMaxVolumeVoxels)
+            error(v, "output.volume",
+                  cat(voxels, " voxels: at most ", kMaxVolumeVoxels, " (256 x 256 x 256)"));
+    }
+    if (const toml::node* b = t->get("volume_box")) {
+        const toml::array& corners = array(*b, "output.volume_box", 2, 2);
+        Vec3f c[2];
+        for (int k = 0; k < 2; ++k) {
+            const toml::array& xyz = array(corners[k], "output.volume_box", 3, 3);
+            for (int i = 0; i < 3; ++i) {
+                const double x = number(xyz[i], "output.volume_box");
+                if (!(std::abs(x) <= 100))
+                    error(&xyz[i], "output.volume_box", "a corner in head units, within ±100");
+                c[k][i] = static_cast<float>(x);
+            }
+        }
+        if (!(c[0].array() < c[1].array()).all())
+            error(b, "output.volume_box",
+                  "[low corner, high corner]: the first below the second on every axis");
+        o.volume_lo = c[0];
+        o.volume_hi = c[1];
     }
     if (const toml::node* m = t->get("maps")) {
         const auto& table = output_map_table();

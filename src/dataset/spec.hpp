@@ -79,6 +79,10 @@ struct OutputSpec {
     int resample = 32;                         // .npz points per strand
     int width = 256, height = 256;             // pictures and maps, pixels
     uint32_t maps = default_maps();            // bit i: output_map_table()[i]
+    // volume.npz (dataset/targets.hpp hair_volume): voxels along x, y, z (0: none), over the
+    // box [volume_lo, volume_hi] in head units (p ↦ c + R·p of the scalp's sphere).
+    Vec3i volume = Vec3i::Zero();
+    Vec3f volume_lo{-2.5f, -5.f, -2.5f}, volume_hi{2.5f, 2.f, 2.5f};
     bool has(OutputMap m) const { return maps >> static_cast<int>(m) & 1u; }
     static uint32_t default_maps() {
         uint32_t bits = 0;

@@ -200,6 +200,56 @@ GrayImage mask_image(const TargetMaps& maps) {
     return image;
 }
 
+HairVolume hair_volume(const Hair& hair, const Vec3f& lo, const Vec3f& hi, const Vec3i& dims) {
+    if (!(lo.array() < hi.array()).all() || !lo.allFinite() || !hi.allFinite())
+        fail("volume: the box's low corner must lie below its high one on every axis");
+    if ((dims.array() < 1).any() || (dims.array() > 1024).any() ||
+        static_cast<size_t>(dims.x()) * dims.y() * dims.z() > kMaxVolumeVoxels)
+        fail("volume: ", dims.x(), "x", dims.y(), "x", dims.z(), " voxels; each side 1 to 1024, ",
+             kMaxVolumeVoxels, " voxels at most");
+    HairVolume v;
+    v.dims = dims;
+    v.lo = lo;
+    v.hi = hi;
+    const size_t n = static_cast<size_t>(dims.x()) * dims.y() * dims.z();
+    v.occupancy.assign(n, 0);
+    v.orientation.assign(3 * n, 0.f);
+    const Vec3f cell = (hi - lo).cwiseQuotient(dims.cast<float>());
+    const float step = 0.5f * cell.minCoeff();
+    for (size_t s = 0; s < hair.strand_count(); ++s) {
+        const std::span<const Vec3f> p = hair.strand(s);
+        for (size_t i = 0; i + 1 < p.size(); ++i) {
+            const Vec3f d = p[i + 1] - p[i];
+            const float len = d.norm();
+            if (!(len > 0.f)) continue;
+            const Vec3f dir = d / len;
+            const float steps_f = std::ceil(len / step);
+            if (!(steps_f < 1e7f)) continue;  // a segment across the world: not hair
+            const int steps = std::max(1, static_cast<int>(steps_f));
+            for (int k = 0; k < steps; ++k) {
+                const Vec3f q = (p[i] + d * ((k + 0.5f) / steps) - lo).cwiseQuotient(cell);
+                if ((q.array() < 0.f).any() || !(q.array() < dims.cast<float>().array()).all())
+                    continue;
+                const size_t at =
+                    (static_cast<size_t>(q.z()) * dims.y() + static_cast<size_t>(q.y())) *
+                        dims.x() +
+                    static_cast<size_t>(q.x());
+                v.occupancy[at] = 1;
+                for (int c = 0; c < 3; ++c)
+                    v.orientation[3 * at + c] += dir[c];
+            }
+        }
+    }
+    for (size_t i = 0; i < n; ++i) {
+        float* o = &v.orientation[3 * i];
+        const float norm = std::sqrt(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
+        const float inv = norm > 1e-6f ? 1.f / norm : 0.f;
+        for (int c = 0; c < 3; ++c)
+            o[c] *= inv;
+    }
+    return v;
+}
+
 CameraMatrices opencv_matrices(const Camera& cam) {
     CameraMatrices m;
     Eigen::Matrix3f r;

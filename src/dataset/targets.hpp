@@ -72,6 +72,22 @@ struct TargetMaps {
 TargetMaps draw_targets(const Hair& hair, const Mesh* head, const Camera& camera,
                         bool confidence = false);
 
+// The hair as volumes on a grid over the box [lo, hi] (cm, head space) of dims (x, y, z)
+// voxels, as HairNet (Zhou et al. 2018) and NeuralHDHair (Wu et al. 2022) train on: which
+// voxels strands pass through, and the strands' mean direction (root to tip, unit; 0 where
+// none pass or where directions cancel) in each. Every segment is sampled at half the
+// smallest voxel side; what lies outside the box is left out. Arrays are z-major: voxel
+// (x, y, z) at (z·dims.y + y)·dims.x + x, so numpy reads them with shape (z, y, x).
+struct HairVolume {
+    Vec3i dims = Vec3i::Zero();
+    Vec3f lo = Vec3f::Zero(), hi = Vec3f::Zero();
+    std::vector<uint8_t> occupancy;  // #voxels, 1 where a strand passes
+    std::vector<float> orientation;  // #voxels·3
+};
+inline constexpr size_t kMaxVolumeVoxels = size_t{1} << 24;
+// Throws wisp::Error for an empty box or dims outside [1, 1024] or past kMaxVolumeVoxels.
+HairVolume hair_volume(const Hair& hair, const Vec3f& lo, const Vec3f& hi, const Vec3i& dims);
+
 // A camera as OpenCV has it (x right, y down, z forward): pixel = K (R p + t), pixel (i, j)
 // covering [i, i+1) × [j, j+1); both row-major, K 3×3 and world_to_camera 4×4 (head space,
 // cm, to camera space).

@@ -394,7 +394,7 @@ TEST(DatasetCli, EveryMapIsAnOption) {
     std::ofstream(spec) << "samples = 1\n[[base]]\npreset = \"short\"\n[vary]\n"
                            "\"roots.strands\" = { choice = [1500] }\n"
                            "\"roots.wisps\" = { choice = [150] }\n"
-                           "[output]\nsize = [48, 40]\nmaps = ["
+                           "[output]\nsize = [48, 40]\nvolume = [16, 24, 16]\nmaps = ["
                         << maps << "]\n";
     ASSERT_EQ(run("dataset plan " + spec.string() + " -o " + dir.string(), err), 0) << slurp(err);
     ASSERT_EQ(run("dataset run " + dir.string(), err), 0) << slurp(err);
@@ -403,6 +403,11 @@ TEST(DatasetCli, EveryMapIsAnOption) {
          {"cam0.png", "cam0_orientation.png", "cam0_mask.png", "cam0_depth.npy", "cam0_strand.png",
           "cam0_confidence.npy", "cam0_matte.png", "cam0_strand_id.npy", "cam0_depth_hairstep.npy"})
         EXPECT_TRUE(fs::exists(s / f)) << f;
+    // The volume: occupancy and orientation, z-major, and its box.
+    const std::string volume = slurp(s / "volume.npz");
+    for (const char* part : {"occupancy.npy", "orientation.npy", "box.npy",
+                             "'shape': (16, 24, 16, 3)", "'shape': (16, 24, 16)"})
+        EXPECT_NE(volume.find(part), std::string::npos) << part;
     // The arrays' headers: the picture's shape, as float32 or int32.
     EXPECT_NE(slurp(s / "cam0_strand_id.npy").find("'descr': '<i4'"), std::string::npos);
     EXPECT_NE(slurp(s / "cam0_confidence.npy").find("'shape': (40, 48)"), std::string::npos);
@@ -417,6 +422,10 @@ TEST(DatasetCli, EveryMapIsAnOption) {
     EXPECT_TRUE(fs::exists(one / "samples" / "000000" / "cam0_strand.png"));
     EXPECT_FALSE(fs::exists(one / "samples" / "000000" / "cam0.png"));
     EXPECT_FALSE(fs::exists(one / "samples" / "000000" / "cam0_mask.png"));
+    std::ofstream(spec) << "samples = 1\n[output]\nvolume = [512, 512, 512]\n";
+    EXPECT_EQ(run("dataset plan " + spec.string() + " -o " + (d.path / "big").string(), err), 1);
+    EXPECT_NE(slurp(err).find("134217728 voxels: at most 16777216"), std::string::npos)
+        << slurp(err);
     std::ofstream(spec) << "samples = 1\n[output]\nmaps = [\"normals\"]\n";
     EXPECT_EQ(run("dataset plan " + spec.string() + " -o " + (d.path / "bad").string(), err), 1);
     EXPECT_NE(slurp(err).find("unknown map 'normals' (picture, orientation, mask, depth, strand, "

@@ -5,6 +5,8 @@
 
 #include <cmath>
 
+#include "core/error.hpp"
+
 namespace wisp {
 namespace {
 
@@ -286,6 +288,66 @@ TEST(Targets, MatteStrandIdsAndHairStepDepth) {
     EXPECT_GT(seen[2], 5);
     EXPECT_EQ(lo, 0.f);
     EXPECT_EQ(hi, 1.f);
+}
+
+// The volume of a straight strand along x: the voxels of its row are occupied with direction
+// +x (its root to tip), and no other; reversed, the direction turns.
+TEST(Targets, VolumeOfAStrandAlongX) {
+    const Vec3f lo(-4, -4, -4), hi(4, 4, 4);
+    const Vec3i dims(8, 8, 8);  // 1 cm voxels
+    const HairVolume v =
+        hair_volume(straight({-3.5f, 0.5f, -0.5f}, {3.5f, 0.5f, -0.5f}), lo, hi, dims);
+    int occupied = 0;
+    for (int z = 0; z < 8; ++z)
+        for (int y = 0; y < 8; ++y)
+            for (int x = 0; x < 8; ++x) {
+                const size_t at = (static_cast<size_t>(z) * 8 + y) * 8 + x;
+                const bool row = y == 4 && z == 3 && x >= 0 && x <= 7;
+                EXPECT_EQ(v.occupancy[at], row ? 1 : 0) << x << " " << y << " " << z;
+                occupied += v.occupancy[at];
+                if (row) EXPECT_NEAR(v.orientation[3 * at], 1.f, 1e-6f);
+            }
+    EXPECT_EQ(occupied, 8);
+    const HairVolume back =
+        hair_volume(straight({3.5f, 0.5f, -0.5f}, {-3.5f, 0.5f, -0.5f}), lo, hi, dims);
+    EXPECT_NEAR(back.orientation[3 * ((3 * 8 + 4) * 8 + 2)], -1.f, 1e-6f);
+    EXPECT_THROW(hair_volume(Hair{}, hi, lo, dims), Error);
+    EXPECT_THROW(hair_volume(Hair{}, lo, hi, Vec3i(4096, 4096, 4096)), Error);
+}
+
+// Against the strands it comes from: every point of a curled hair lies in an occupied voxel,
+// and the voxel's direction is within 30° of the strand's there for nearly all of them (a
+// voxel holds the mean of what crosses it).
+TEST(Targets, VolumeAgreesWithItsStrands) {
+    Hair h;
+    for (int s = 0; s < 60; ++s) {
+        const float phase = 0.37f * s, x0 = -3.f + 0.1f * s;
+        for (int i = 0; i < 64; ++i) {
+            const float t = i / 63.f;
+            h.points.emplace_back(x0 + 0.6f * std::cos(6.f * t + phase), 3.f - 6.f * t,
+                                  0.6f * std::sin(6.f * t + phase));
+        }
+        h.offsets.push_back(static_cast<uint32_t>(h.points.size()));
+    }
+    const Vec3f lo(-5, -5, -5), hi(5, 5, 5);
+    const Vec3i dims(40, 40, 40);
+    const HairVolume v = hair_volume(h, lo, hi, dims);
+    int agree = 0, total = 0;
+    for (size_t s = 0; s < h.strand_count(); ++s) {
+        const auto p = h.strand(s);
+        for (size_t i = 0; i + 1 < p.size(); ++i) {
+            const Vec3f mid = 0.5f * (p[i] + p[i + 1]);
+            const Vec3f q = (mid - lo) / 0.25f;
+            const size_t at = (static_cast<size_t>(q.z()) * 40 + static_cast<size_t>(q.y())) * 40 +
+                              static_cast<size_t>(q.x());
+            ASSERT_EQ(v.occupancy[at], 1);
+            const Vec3f o(v.orientation[3 * at], v.orientation[3 * at + 1],
+                          v.orientation[3 * at + 2]);
+            agree += o.dot((p[i + 1] - p[i]).normalized()) > std::cos(30.f * kPi / 180.f);
+            ++total;
+        }
+    }
+    EXPECT_GT(agree, 0.9 * total) << agree << " of " << total;
 }
 
 }  // namespace
