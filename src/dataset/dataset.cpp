@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <mutex>
 #include <set>
 #include <thread>
@@ -267,6 +268,14 @@ SampleDraw draw_sample(const DatasetSpec& spec, uint64_t k) {
             d.values_toml += rule.path + " = " + text + "\n";
             d.values[rule.path] = toml_value_to_json(text);
         }
+        for (const VaryRule& rule : spec.render) {
+            const std::string path = "render." + rule.path;
+            Rng rng(d.seed, Stream::kMisc, fnv1a(path));
+            const std::string text = draw_value(rule, rng);
+            d.render_values.emplace_back(rule.path, text);
+            d.values_toml += path + " = " + text + "\n";
+            d.values[path] = toml_value_to_json(text);
+        }
     } catch (const Error& e) {
         fail("sample ", k, ": ", e.what());
     } catch (const toml::parse_error& e) {
@@ -289,6 +298,84 @@ nlohmann::json manifest_entry(const DatasetSpec& spec, const SampleDraw& draw) {
             {"head", spec.heads[draw.head].name},
             {"values", draw.values},
             {"hash", hex64(draw.hash)}};
+}
+
+namespace {
+
+// Linear sRGB of a black body at `kelvin` (1500 to 15000), luminance 1: Planck's law
+// integrated against the CIE 1931 colour matching functions (their multi-lobe Gaussian fit,
+// Wyman, Sloan and Shirley 2013), XYZ to linear sRGB.
+Vec3f black_body(double kelvin) {
+    double X = 0, Y = 0, Z = 0;
+    auto g = [](double x, double mu, double s1, double s2) {
+        const double t = (x - mu) / (x < mu ? s1 : s2);
+        return std::exp(-0.5 * t * t);
+    };
+    for (double nm = 380; nm <= 780; nm += 5) {
+        const double l = nm * 1e-9;
+        const double planck = 1.0 / (std::pow(l, 5) * (std::exp(1.4387769e-2 / (l * kelvin)) - 1));
+        const double x = 1.056 * g(nm, 599.8, 37.9, 31.0) + 0.362 * g(nm, 442.0, 16.0, 26.7) -
+                         0.065 * g(nm, 501.1, 20.4, 26.2);
+        const double y = 0.821 * g(nm, 568.8, 46.9, 40.5) + 0.286 * g(nm, 530.9, 16.3, 31.1);
+        const double z = 1.217 * g(nm, 437.0, 11.8, 36.0) + 0.681 * g(nm, 459.0, 26.0, 13.8);
+        X += planck * x;
+        Y += planck * y;
+        Z += planck * z;
+    }
+    const Vec3f rgb(static_cast<float>((3.2406 * X - 1.5372 * Y - 0.4986 * Z) / Y),
+                    static_cast<float>((-0.9689 * X + 1.8758 * Y + 0.0415 * Z) / Y),
+                    static_cast<float>((0.0557 * X - 0.2040 * Y + 1.0570 * Z) / Y));
+    const Vec3f clamped = rgb.cwiseMax(0.f);
+    return clamped / (0.2126f * clamped.x() + 0.7152f * clamped.y() + 0.0722f * clamped.z());
+}
+
+// HSV (hue in degrees) to linear RGB, the value linear.
+Vec3f hsv(double h, double s, double v) {
+    h = std::fmod(std::fmod(h, 360.0) + 360.0, 360.0) / 60.0;
+    const int i = static_cast<int>(h) % 6;
+    const double f = h - std::floor(h), p = v * (1 - s), q = v * (1 - s * f),
+                 t = v * (1 - s * (1 - f));
+    const double rgb[6][3] = {{v, t, p}, {q, v, p}, {p, v, t}, {p, q, v}, {t, p, v}, {v, p, q}};
+    return {static_cast<float>(rgb[i][0]), static_cast<float>(rgb[i][1]),
+            static_cast<float>(rgb[i][2])};
+}
+
+}  // namespace
+
+RenderOptions sample_render_options(const SampleDraw& draw) {
+    RenderOptions o;
+    if (draw.render_values.empty()) return o;
+    std::map<std::string, double> v;
+    for (const RenderField& f : render_field_table())
+        v[f.name] = f.fallback;
+    bool background = false;
+    for (const auto& [name, text] : draw.render_values) {
+        const toml::table t = toml::parse("v = " + text);
+        if (name == "shading") {
+            o.shading = parse_shading(t["v"].value_or(std::string("hair")));
+            continue;
+        }
+        v[name] = t["v"].value_or(0.0);
+        background |= name.starts_with("background_");
+    }
+    const double deg = M_PI / 180;
+    const Eigen::Matrix3f turn =
+        (Eigen::AngleAxisf(static_cast<float>(v["key_azimuth"] * deg), Vec3f::UnitY()) *
+         Eigen::AngleAxisf(static_cast<float>(-v["key_elevation"] * deg), Vec3f::UnitX()))
+            .toRotationMatrix();
+    o.key.direction = turn * o.key.direction;
+    const float key_luminance =
+        0.2126f * o.key.color.x() + 0.7152f * o.key.color.y() + 0.0722f * o.key.color.z();
+    for (const auto& [name, text] : draw.render_values)
+        if (name == "key_temperature") o.key.color = key_luminance * black_body(v[name]);
+    o.key.color *= static_cast<float>(v["key_intensity"]);
+    o.fill.color *= static_cast<float>(v["fill_intensity"]);
+    o.rim.color *= static_cast<float>(v["rim_intensity"]);
+    o.ambient *= static_cast<float>(v["ambient_intensity"]);
+    if (background)
+        o.background = hsv(v["background_hue"], v["background_saturation"], v["background_value"]);
+    o.strand_brightness = static_cast<float>(v["strand_brightness"]);
+    return o;
 }
 
 Camera sample_camera(const DatasetSpec& spec, const SampleDraw& draw, size_t c, const Hair& hair,
@@ -406,7 +493,7 @@ bool write_sample(const DatasetSpec& spec, uint64_t k, const fs::path& folder,
             return tmp / (prefix + output_map_table()[static_cast<int>(m)].suffix);
         };
         if (out.has(OutputMap::kPicture)) {
-            RenderOptions options;
+            RenderOptions options = sample_render_options(draw);
             options.width = cam.width;
             options.height = cam.height;
             options.fov_y_degrees = cam.fov_y_degrees;

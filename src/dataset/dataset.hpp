@@ -24,6 +24,7 @@
 #include "geometry/mesh.hpp"
 #include "groom/style.hpp"
 #include "render/camera.hpp"
+#include "render/render.hpp"
 
 namespace wisp {
 
@@ -39,6 +40,9 @@ struct SampleDraw {
     std::string values_toml;           // "path = value" lines: what the hash covers
     uint64_t hash = 0;                 // FNV-1a of values_toml, base and head names
     std::vector<double> camera_draws;  // 3 uniform [-1, 1) draws per camera (az, el, dist)
+    // The [render] rules' draws, (name, inline TOML value), in the spec's order; also in
+    // `values` and `values_toml` as "render.NAME".
+    std::vector<std::pair<std::string, std::string>> render_values;
 };
 
 // Draws sample k. Throws wisp::Error naming the sample and the rule if a drawn value cannot
@@ -47,6 +51,11 @@ SampleDraw draw_sample(const DatasetSpec& spec, uint64_t k);
 
 // The manifest line of a draw.
 nlohmann::json manifest_entry(const DatasetSpec& spec, const SampleDraw& draw);
+
+// The picture's options for a draw: the renderer's defaults with the [render] rules' values
+// applied (lights turned and scaled, the key's colour temperature, the background, the
+// strands' brightness variation, the shading model).
+RenderOptions sample_render_options(const SampleDraw& draw);
 
 // The camera of spec.cameras[c] for a sample whose hair and head are given.
 Camera sample_camera(const DatasetSpec& spec, const SampleDraw& draw, size_t c, const Hair& hair,

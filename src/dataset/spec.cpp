@@ -1,6 +1,7 @@
 #include "dataset/spec.hpp"
 
 #include "dataset/targets.hpp"
+#include "render/render.hpp"
 
 #include <toml++/toml.h>
 #include <algorithm>
@@ -58,7 +59,11 @@ class SpecParser {
 
     void read_bases(const toml::table& root, DatasetSpec& spec) const;
     void read_heads(const toml::table& root, DatasetSpec& spec) const;
+    void read_distribution(const toml::node& value, const std::string& field_name, VaryRule& rule,
+                           bool numeric, const char* kind_name, double lo, double hi,
+                           bool lo_open) const;
     void read_vary(const toml::table& root, DatasetSpec& spec) const;
+    void read_render(const toml::table& root, DatasetSpec& spec) const;
     void read_output(const toml::table& root, DatasetSpec& spec) const;
     void read_cameras(const toml::table& root, DatasetSpec& spec) const;
 
@@ -216,6 +221,72 @@ void SpecParser::read_heads(const toml::table& root, DatasetSpec& spec) const {
     }
 }
 
+// A rule's distribution ({ uniform = [a, b] }, { normal = [mean, sd], min, max },
+// { log_uniform = [a, b] } or { choice = [...] }) into `rule`; a numeric one only when
+// `numeric` (else the field is a `kind_name` field), its normal clamped to [lo, hi]. For a
+// numeric rule, rule.choices holds the ends a draw can reach, for the caller to try.
+void SpecParser::read_distribution(const toml::node& value, const std::string& field_name,
+                                   VaryRule& rule, bool numeric, const char* kind_name, double lo,
+                                   double hi, bool lo_open) const {
+    const toml::table* dist = value.as_table();
+    if (!dist || dist->size() == 0)
+        error(&value, field_name,
+              "expects a distribution: { uniform = [a, b] }, { normal = [mean, sd] }, "
+              "{ log_uniform = [a, b] } or { choice = [...] }");
+    check_keys(*dist, field_name, {"uniform", "normal", "log_uniform", "choice", "min", "max"});
+    int kinds = 0;
+    for (const char* k : {"uniform", "normal", "log_uniform", "choice"})
+        kinds += dist->get(k) != nullptr;
+    if (kinds != 1) error(&value, field_name, "give one of uniform, normal, log_uniform, choice");
+    if (const toml::node* c = dist->get("choice")) {
+        rule.kind = VaryRule::Kind::kChoice;
+        const toml::array& options = array(*c, field_name + ".choice", 1, kMaxEntries);
+        for (const toml::node& option : options)
+            rule.choices.push_back(toml_value_text(option));
+    } else {
+        if (!numeric)
+            error(&value, field_name,
+                  cat("is a ", kind_name, " field: only { choice = [...] } varies it"));
+        const char* name = dist->get("uniform")  ? "uniform"
+                           : dist->get("normal") ? "normal"
+                                                 : "log_uniform";
+        rule.kind = dist->get("uniform")  ? VaryRule::Kind::kUniform
+                    : dist->get("normal") ? VaryRule::Kind::kNormal
+                                          : VaryRule::Kind::kLogUniform;
+        const toml::node& ab = *dist->get(name);
+        const toml::array& pair = array(ab, field_name + "." + name, 2, 2);
+        rule.a = number(pair[0], field_name + "." + name);
+        rule.b = number(pair[1], field_name + "." + name);
+        if (rule.kind == VaryRule::Kind::kNormal) {
+            if (!(rule.b >= 0))
+                error(&ab, field_name + ".normal",
+                      cat("the standard deviation must be ≥ 0, got ", rule.b));
+        } else if (!(rule.a <= rule.b)) {
+            error(&ab, field_name + "." + name,
+                  cat("expects [a, b] with a ≤ b, got [", rule.a, ", ", rule.b, "]"));
+        }
+        if (rule.kind == VaryRule::Kind::kLogUniform && !(rule.a > 0))
+            error(&ab, field_name + ".log_uniform", cat("expects a > 0, got ", rule.a));
+        // A normal's tails are cut at the field's own range unless min or max narrow it.
+        rule.lo = lo;
+        rule.hi = hi;
+        if (lo_open) rule.lo = std::nextafter(rule.lo, INFINITY);
+        for (const char* bound : {"min", "max"})
+            if (const toml::node* m = dist->get(bound)) {
+                if (rule.kind != VaryRule::Kind::kNormal)
+                    error(m, field_name + "." + bound, "only a normal distribution is clamped");
+                (bound[1] == 'i' ? rule.lo : rule.hi) = number(*m, field_name + "." + bound);
+            }
+        if (!(rule.lo <= rule.hi))
+            error(&value, field_name, cat("min (", rule.lo, ") is above max (", rule.hi, ")"));
+        // The ends a draw can reach, tried below like choices.
+        if (rule.kind == VaryRule::Kind::kNormal)
+            rule.choices = {format_draw(std::clamp(rule.a, rule.lo, rule.hi), rule.integer)};
+        else
+            rule.choices = {format_draw(rule.a, rule.integer), format_draw(rule.b, rule.integer)};
+    }
+}
+
 void SpecParser::read_vary(const toml::table& root, DatasetSpec& spec) const {
     const toml::node* node = root.get("vary");
     if (!node) return;
@@ -239,69 +310,13 @@ void SpecParser::read_vary(const toml::table& root, DatasetSpec& spec) const {
         }
         if (field->type == FieldType::kGroups)
             error(&value, field_name, "constraint groups cannot be varied");
-        const toml::table* dist = value.as_table();
-        if (!dist || dist->size() == 0)
-            error(&value, field_name,
-                  "expects a distribution: { uniform = [a, b] }, { normal = [mean, sd] }, "
-                  "{ log_uniform = [a, b] } or { choice = [...] }");
-        check_keys(*dist, field_name, {"uniform", "normal", "log_uniform", "choice", "min", "max"});
-        int kinds = 0;
-        for (const char* k : {"uniform", "normal", "log_uniform", "choice"})
-            kinds += dist->get(k) != nullptr;
-        if (kinds != 1)
-            error(&value, field_name, "give one of uniform, normal, log_uniform, choice");
         const bool numeric = field->type == FieldType::kNumber ||
                              field->type == FieldType::kInteger || field->type == FieldType::kSeed;
         rule.integer = field->type != FieldType::kNumber;
-        if (const toml::node* c = dist->get("choice")) {
-            rule.kind = VaryRule::Kind::kChoice;
-            const toml::array& options = array(*c, field_name + ".choice", 1, kMaxEntries);
-            for (const toml::node& option : options)
-                rule.choices.push_back(toml_value_text(option));
-        } else {
-            if (!numeric)
-                error(&value, field_name,
-                      cat("is a ", field->type == FieldType::kChoice ? "choice" : "non-numeric",
-                          " field: only { choice = [...] } varies it"));
-            const char* name = dist->get("uniform")  ? "uniform"
-                               : dist->get("normal") ? "normal"
-                                                     : "log_uniform";
-            rule.kind = dist->get("uniform")  ? VaryRule::Kind::kUniform
-                        : dist->get("normal") ? VaryRule::Kind::kNormal
-                                              : VaryRule::Kind::kLogUniform;
-            const toml::node& ab = *dist->get(name);
-            const toml::array& pair = array(ab, field_name + "." + name, 2, 2);
-            rule.a = number(pair[0], field_name + "." + name);
-            rule.b = number(pair[1], field_name + "." + name);
-            if (rule.kind == VaryRule::Kind::kNormal) {
-                if (!(rule.b >= 0))
-                    error(&ab, field_name + ".normal",
-                          cat("the standard deviation must be ≥ 0, got ", rule.b));
-            } else if (!(rule.a <= rule.b)) {
-                error(&ab, field_name + "." + name,
-                      cat("expects [a, b] with a ≤ b, got [", rule.a, ", ", rule.b, "]"));
-            }
-            if (rule.kind == VaryRule::Kind::kLogUniform && !(rule.a > 0))
-                error(&ab, field_name + ".log_uniform", cat("expects a > 0, got ", rule.a));
-            // A normal's tails are cut at the field's own range unless min or max narrow it.
-            rule.lo = field->type == FieldType::kSeed ? 0 : field->lo;
-            rule.hi = field->type == FieldType::kSeed ? 9.2e18 : field->hi;
-            if (field->lo_open) rule.lo = std::nextafter(rule.lo, INFINITY);
-            for (const char* bound : {"min", "max"})
-                if (const toml::node* m = dist->get(bound)) {
-                    if (rule.kind != VaryRule::Kind::kNormal)
-                        error(m, field_name + "." + bound, "only a normal distribution is clamped");
-                    (bound[1] == 'i' ? rule.lo : rule.hi) = number(*m, field_name + "." + bound);
-                }
-            if (!(rule.lo <= rule.hi))
-                error(&value, field_name, cat("min (", rule.lo, ") is above max (", rule.hi, ")"));
-            // The ends a draw can reach, tried below like choices.
-            if (rule.kind == VaryRule::Kind::kNormal)
-                rule.choices = {format_draw(std::clamp(rule.a, rule.lo, rule.hi), rule.integer)};
-            else
-                rule.choices = {format_draw(rule.a, rule.integer),
-                                format_draw(rule.b, rule.integer)};
-        }
+        read_distribution(value, field_name, rule, numeric,
+                          field->type == FieldType::kChoice ? "choice" : "non-numeric",
+                          field->type == FieldType::kSeed ? 0 : field->lo,
+                          field->type == FieldType::kSeed ? 9.2e18 : field->hi, field->lo_open);
         // Every option (or end) must be a value the field takes on every base style.
         for (const BaseStyle& base : spec.bases)
             for (const std::string& option : rule.choices) {
@@ -317,6 +332,50 @@ void SpecParser::read_vary(const toml::table& root, DatasetSpec& spec) const {
     }
     // toml++ iterates a table in key order; the file's order reads better in the manifest.
     std::stable_sort(spec.vary.begin(), spec.vary.end(),
+                     [](const VaryRule& x, const VaryRule& y) { return x.line < y.line; });
+}
+
+void SpecParser::read_render(const toml::table& root, DatasetSpec& spec) const {
+    const toml::node* node = root.get("render");
+    if (!node) return;
+    const toml::table* table = node->as_table();
+    if (!table) error(node, "render", "expects a table ([render])");
+    const auto& fields = render_field_table();
+    for (const auto& [key, value] : *table) {
+        VaryRule rule;
+        rule.path = std::string(key.str());
+        rule.line = static_cast<int>(value.source().begin.line);
+        const std::string field_name = "render." + rule.path;
+        const auto it = std::find_if(fields.begin(), fields.end(),
+                                     [&](const RenderField& f) { return rule.path == f.name; });
+        if (it == fields.end()) {
+            std::string names;
+            for (const RenderField& f : fields)
+                names += cat(names.empty() ? "" : ", ", f.name);
+            error(&value, field_name, "is no picture parameter (" + names + ")");
+        }
+        const bool shading = rule.path == "shading";
+        read_distribution(value, field_name, rule, !shading, "choice", it->lo, it->hi, false);
+        for (const std::string& option : rule.choices) {
+            const toml::table parsed = toml::parse("v = " + option);
+            if (shading) {
+                const auto name = parsed["v"].value<std::string>();
+                const auto& names = shading_names();
+                if (!name || std::find(names.begin(), names.end(), *name) == names.end())
+                    error(&value, field_name,
+                          cat("a choice of \"hair\", \"fiber\", \"kajiya-kay\", got ",
+                              excerpt(option)));
+                continue;
+            }
+            const auto x = parsed["v"].value<double>();
+            if (!x || !(*x >= it->lo && *x <= it->hi))
+                error(&value, field_name,
+                      cat("takes numbers in [", it->lo, ", ", it->hi, "], got ", excerpt(option)));
+        }
+        if (rule.kind != VaryRule::Kind::kChoice) rule.choices.clear();
+        spec.render.push_back(std::move(rule));
+    }
+    std::stable_sort(spec.render.begin(), spec.render.end(),
                      [](const VaryRule& x, const VaryRule& y) { return x.line < y.line; });
 }
 
@@ -435,7 +494,7 @@ void SpecParser::read_cameras(const toml::table& root, DatasetSpec& spec) const 
 
 DatasetSpec SpecParser::parse(std::string_view text) {
     const toml::table root = parse_toml(text, source_);
-    check_keys(root, "", {"samples", "seed", "base", "head", "vary", "output", "camera"});
+    check_keys(root, "", {"samples", "seed", "base", "head", "vary", "render", "output", "camera"});
     DatasetSpec spec;
     spec.source = source_;
     spec.base_dir = base_dir_;
@@ -447,6 +506,7 @@ DatasetSpec SpecParser::parse(std::string_view text) {
     read_bases(root, spec);
     read_heads(root, spec);
     read_vary(root, spec);
+    read_render(root, spec);
     read_output(root, spec);
     read_cameras(root, spec);
     return spec;
@@ -475,6 +535,29 @@ void apply_draw(Style& style, const std::string& path, const std::string& toml_v
 DatasetSpec parse_dataset_spec(std::string_view toml_text, const std::string& source,
                                const std::filesystem::path& base_dir) {
     return SpecParser(source, base_dir).parse(toml_text);
+}
+
+const std::vector<RenderField>& render_field_table() {
+    static const std::vector<RenderField> table{
+        {"key_azimuth", -180, 180, 0, "degrees",
+         "the key light turned about the camera's up axis (positive: toward the right)"},
+        {"key_elevation", -80, 80, 0, "degrees",
+         "the key light turned about the camera's right axis (positive: from higher up)"},
+        {"key_intensity", 0, 10, 1, "factor", "the key light's strength"},
+        {"key_temperature", 1500, 15000, 6500, "kelvin",
+         "the key light's colour: a black body's at this temperature (6500: daylight white, "
+         "2700: a warm lamp), at the key's own luminance"},
+        {"fill_intensity", 0, 10, 1, "factor", "the fill light's strength"},
+        {"rim_intensity", 0, 10, 1, "factor", "the rim (back) light's strength; 0 turns it off"},
+        {"ambient_intensity", 0, 10, 1, "factor", "the ambient light's strength"},
+        {"background_value", 0, 1, 0.31, "linear", "the background's brightness (HSV value)"},
+        {"background_saturation", 0, 1, 0.032, "", "the background's saturation (HSV)"},
+        {"background_hue", 0, 360, 240, "degrees", "the background's hue (HSV)"},
+        {"strand_brightness", 0, 1, 0.3, "",
+         "how much each strand's brightness varies from the next (± this, uniform)"},
+        {"shading", 0, 0, 0, "choice", "the shading model: \"hair\", \"fiber\" or \"kajiya-kay\""},
+    };
+    return table;
 }
 
 const std::vector<OutputMapInfo>& output_map_table() {

@@ -27,6 +27,17 @@ struct VaryRule {
     int line = 0;                      // in the spec file, for messages
 };
 
+// A picture parameter a `[render]` rule draws per sample (domain randomisation): its name,
+// range and meaning. `shading` takes a choice of the renderer's models; the rest are numbers.
+struct RenderField {
+    const char* name;
+    double lo, hi;     // the range a draw is clamped to (a normal's tails) and checked against
+    double fallback;   // its value when no rule draws it (the renderer's own)
+    const char* unit;  // for the docs
+    const char* doc;
+};
+const std::vector<RenderField>& render_field_table();
+
 // One `[[base]]`: a shipped preset or a style file, picked with probability weight / Σ.
 struct BaseStyle {
     std::string name;  // "preset:short" or the style file's path as the spec gives it
@@ -100,6 +111,7 @@ struct DatasetSpec {
     std::vector<BaseStyle> bases;   // at least one (default: the preset "default")
     std::vector<HeadChoice> heads;  // at least one (default: the base style's head)
     std::vector<VaryRule> vary;     // in the order of the file
+    std::vector<VaryRule> render;   // [render]: path = a render_field_table() name
     std::vector<CameraSpec> cameras;
     OutputSpec output;
 };

@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+
+#include <fstream>
 #include <map>
 
 #include "core/error.hpp"
@@ -156,6 +159,85 @@ TEST(DatasetSpec, IndexRangesAndSampleNames) {
     EXPECT_EQ(index_ranges({}), "");
     EXPECT_EQ(sample_name(10, 3), "000003");
     EXPECT_EQ(sample_name(20'000'000, 3), "00000003");
+}
+
+// Domain randomisation: [render] rules draw the pictures' lights, background and shading per
+// sample, in their ranges, recorded with the style's values; mistakes name the rule.
+TEST(DatasetSpec, RenderRulesDrawThePicturesLook) {
+    const DatasetSpec spec = parse_dataset_spec(R"(samples = 40
+[render]
+key_azimuth = { uniform = [-60, 60] }
+key_temperature = { choice = [2700, 6500] }
+rim_intensity = { uniform = [0, 2] }
+background_value = { uniform = [0.05, 0.9] }
+shading = { choice = ["hair", "fiber"] }
+)",
+                                                "spec.toml", ".");
+    ASSERT_EQ(spec.render.size(), 5u);
+    const RenderOptions plain;
+    std::set<std::string> shadings;
+    for (uint64_t k = 0; k < spec.samples; ++k) {
+        const SampleDraw d = draw_sample(spec, k);
+        ASSERT_EQ(d.render_values.size(), 5u);
+        const double az = d.values.at("render.key_azimuth").get<double>();
+        EXPECT_GE(az, -60);
+        EXPECT_LE(az, 60);
+        const RenderOptions o = sample_render_options(d);
+        // Turned about the camera's up axis: the key keeps its height, turns by az.
+        EXPECT_NEAR(o.key.direction.y(), plain.key.direction.y(), 1e-5f);
+        const Vec3f a = plain.key.direction, b = o.key.direction;
+        const float turned =
+            std::atan2(a.z() * b.x() - a.x() * b.z(), a.x() * b.x() + a.z() * b.z());
+        EXPECT_NEAR(turned * 180 / kPi, az, 1e-3) << k;
+        // A warm lamp is redder than daylight, at the key's luminance.
+        auto lum = [](const Vec3f& c) {
+            return 0.2126f * c.x() + 0.7152f * c.y() + 0.0722f * c.z();
+        };
+        EXPECT_NEAR(lum(o.key.color), lum(plain.key.color), 1e-3f);
+        const double t = d.values.at("render.key_temperature").get<double>();
+        if (t == 2700) {
+            EXPECT_GT(o.key.color.x(), o.key.color.y());
+            EXPECT_GT(o.key.color.y(), 1.5f * o.key.color.z());
+        } else {
+            EXPECT_NEAR(o.key.color.x() / o.key.color.z(), 1.0f, 0.1f);  // about white
+        }
+        const float g = static_cast<float>(d.values.at("render.background_value").get<double>());
+        EXPECT_NEAR(o.background.maxCoeff(), g, 1e-5f);
+        shadings.insert(d.values.at("render.shading").get<std::string>());
+    }
+    EXPECT_EQ(shadings.size(), 2u);
+    // No [render]: the renderer's own options.
+    const DatasetSpec none = parse_dataset_spec("samples = 1\n", "spec.toml", ".");
+    const RenderOptions o = sample_render_options(draw_sample(none, 0));
+    EXPECT_EQ(o.key.color, RenderOptions{}.key.color);
+    EXPECT_EQ(o.background, RenderOptions{}.background);
+    for (const auto& [text, says] : std::vector<std::pair<std::string, std::string>>{
+             {"[render]\nsun = { uniform = [0, 1] }",
+              "field 'render.sun': is no picture parameter (key_azimuth, key_elevation"},
+             {"[render]\nkey_intensity = { uniform = [0, 20] }",
+              "field 'render.key_intensity': takes numbers in [0, 10], got 20"},
+             {"[render]\nshading = { choice = [\"toon\"] }",
+              "a choice of \"hair\", \"fiber\", \"kajiya-kay\", got \"toon\""},
+             {"[render]\nshading = { uniform = [0, 1] }", "is a choice field"}}) {
+        try {
+            parse_dataset_spec("samples = 1\n" + text + "\n", "spec.toml", ".");
+            ADD_FAILURE() << text;
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("spec.toml:3"), std::string::npos) << e.what();
+        }
+    }
+}
+
+// docs/dataset.md lists every picture parameter and every map the spec takes.
+TEST(DatasetSpec, TheDocsListEveryRenderParameterAndMap) {
+    std::ifstream in(std::string(WISP_SOURCE_DIR) + "/docs/dataset.md");
+    const std::string docs((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_FALSE(docs.empty());
+    for (const RenderField& f : render_field_table())
+        EXPECT_NE(docs.find(std::string("`") + f.name + "`"), std::string::npos) << f.name;
+    for (const OutputMapInfo& m : output_map_table())
+        EXPECT_NE(docs.find(std::string("\"") + m.name + "\""), std::string::npos) << m.name;
 }
 
 }  // namespace
