@@ -252,8 +252,26 @@ SampleDraw draw_sample(const DatasetSpec& spec, uint64_t k) {
     SampleDraw d;
     d.index = k;
     d.seed = Rng(spec.seed, Stream::kMisc, k).next();
-    d.base = pick(spec.bases, Rng(d.seed, Stream::kMisc, kBaseStream).uniform_double());
-    d.head = pick(spec.heads, Rng(d.seed, Stream::kMisc, kHeadStream).uniform_double());
+    switch (spec.sampling) {
+        case DatasetSpec::Sampling::kWeighted:
+            d.base = pick(spec.bases, Rng(d.seed, Stream::kMisc, kBaseStream).uniform_double());
+            d.head = pick(spec.heads, Rng(d.seed, Stream::kMisc, kHeadStream).uniform_double());
+            break;
+        case DatasetSpec::Sampling::kStratified: {
+            // R2: the plastic number g, steps 1/g and 1/g² (mod 1) from ½.
+            constexpr double g = 1.32471795724474602596;
+            const double kd = static_cast<double>(k);
+            d.base = pick(spec.bases, std::fmod(0.5 + kd / g, 1.0));
+            d.head = pick(spec.heads, std::fmod(0.5 + kd / (g * g), 1.0));
+            break;
+        }
+        case DatasetSpec::Sampling::kGrid: {
+            const uint64_t pair = k % (spec.bases.size() * spec.heads.size());
+            d.base = pair % spec.bases.size();
+            d.head = pair / spec.bases.size();
+            break;
+        }
+    }
     d.style = spec.bases[d.base].style;
     const HeadChoice& head = spec.heads[d.head];
     try {

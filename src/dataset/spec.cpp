@@ -494,13 +494,28 @@ void SpecParser::read_cameras(const toml::table& root, DatasetSpec& spec) const 
 
 DatasetSpec SpecParser::parse(std::string_view text) {
     const toml::table root = parse_toml(text, source_);
-    check_keys(root, "", {"samples", "seed", "base", "head", "vary", "render", "output", "camera"});
+    check_keys(
+        root, "",
+        {"samples", "seed", "sampling", "base", "head", "vary", "render", "output", "camera"});
     DatasetSpec spec;
     spec.source = source_;
     spec.base_dir = base_dir_;
     const toml::node* samples = root.get("samples");
     if (!samples) fail(source_, ": field 'samples': required (how many samples to make)");
     spec.samples = static_cast<uint64_t>(integer(*samples, "samples", 1, kMaxSamples));
+    if (const toml::node* sampling = root.get("sampling")) {
+        const std::string how = string(*sampling, "sampling");
+        using S = DatasetSpec::Sampling;
+        if (how == "weighted")
+            spec.sampling = S::kWeighted;
+        else if (how == "stratified")
+            spec.sampling = S::kStratified;
+        else if (how == "grid")
+            spec.sampling = S::kGrid;
+        else
+            error(sampling, "sampling",
+                  "one of \"weighted\", \"stratified\", \"grid\", got \"" + excerpt(how) + "\"");
+    }
     if (const toml::node* seed = root.get("seed"))
         spec.seed = static_cast<uint64_t>(integer(*seed, "seed", 0, INT64_MAX));
     read_bases(root, spec);

@@ -108,6 +108,14 @@ struct DatasetSpec {
     std::filesystem::path base_dir;  // relative paths in the spec resolve against it
     uint64_t samples = 1;
     uint64_t seed = 0;
+    // How samples pick their base and head: kWeighted, each independently at random by the
+    // weights; kStratified, by the weights but evenly over every run of samples (sample k at
+    // the k-th point of the R2 low-discrepancy sequence, Roberts 2018: base and head each
+    // within a few samples of their share in any first n samples, where independent draws
+    // stray by about √n, and the pairs spread evenly);
+    // kGrid, every (base, head) pair in turn, weights aside.
+    enum class Sampling { kWeighted, kStratified, kGrid };
+    Sampling sampling = Sampling::kWeighted;
     std::vector<BaseStyle> bases;   // at least one (default: the preset "default")
     std::vector<HeadChoice> heads;  // at least one (default: the base style's head)
     std::vector<VaryRule> vary;     // in the order of the file

@@ -240,5 +240,67 @@ TEST(DatasetSpec, TheDocsListEveryRenderParameterAndMap) {
         EXPECT_NE(docs.find(std::string("\"") + m.name + "\""), std::string::npos) << m.name;
 }
 
+// Balanced sampling: stratified keeps every base's and head's count within a few samples of
+// its weighted share in any first n samples (independent draws stray by about √n); grid
+// takes every pair in turn.
+TEST(DatasetSpec, StratifiedAndGridSamplingAreBalanced) {
+    const std::string bases = R"(
+[[base]]
+preset = "short"
+weight = 3
+[[base]]
+preset = "curly"
+[[base]]
+preset = "afro"
+[[head]]
+builtin = true
+[[head]]
+builtin = true
+weight = 2
+)";
+    const DatasetSpec stratified =
+        parse_dataset_spec("samples = 500\nsampling = \"stratified\"\n" + bases, "s.toml", ".");
+    std::vector<int> base_count(3, 0), head_count(2, 0);
+    std::map<std::pair<size_t, size_t>, int> pairs;
+    double stratified_worst = 0;
+    for (uint64_t k = 0; k < stratified.samples; ++k) {
+        const SampleDraw d = draw_sample(stratified, k);
+        ++base_count[d.base];
+        ++head_count[d.head];
+        ++pairs[{d.base, d.head}];
+        const double n = static_cast<double>(k + 1);
+        for (const double off : {base_count[0] - n * 0.6, base_count[1] - n * 0.2,
+                                 base_count[2] - n * 0.2, head_count[1] - n * 2 / 3})
+            stratified_worst = std::max(stratified_worst, std::abs(off));
+    }
+    EXPECT_LE(stratified_worst, 6.0);
+    EXPECT_EQ(pairs.size(), 6u);  // every pair is drawn
+    // Weighted, independent draws stray further from their shares (18 samples here).
+    const DatasetSpec weighted = parse_dataset_spec("samples = 500\n" + bases, "s.toml", ".");
+    double worst = 0;
+    std::vector<int> w(3, 0);
+    for (uint64_t k = 0; k < weighted.samples; ++k) {
+        ++w[draw_sample(weighted, k).base];
+        worst = std::max(worst, std::abs(w[0] - (k + 1) * 0.6));
+    }
+    EXPECT_GT(worst, 2 * stratified_worst);
+    const DatasetSpec grid =
+        parse_dataset_spec("samples = 13\nsampling = \"grid\"\n" + bases, "s.toml", ".");
+    std::map<std::pair<size_t, size_t>, int> cells;
+    for (uint64_t k = 0; k < grid.samples; ++k) {
+        const SampleDraw d = draw_sample(grid, k);
+        ++cells[{d.base, d.head}];
+        EXPECT_EQ(d.base, k % 3);
+        EXPECT_EQ(d.head, (k % 6) / 3);
+    }
+    for (const auto& [cell, n] : cells)
+        EXPECT_TRUE(n == 2 || n == 3) << n;
+    const std::string bad = error_of("samples = 1\nsampling = \"balanced\"\n");
+    EXPECT_NE(bad.find("spec.toml:2: field 'sampling': one of \"weighted\", \"stratified\", "
+                       "\"grid\""),
+              std::string::npos)
+        << bad;
+}
+
 }  // namespace
 }  // namespace wisp
