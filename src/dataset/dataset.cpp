@@ -500,6 +500,20 @@ bool write_sample(const DatasetSpec& spec, uint64_t k, const fs::path& folder,
         lap("volume");
     }
 
+    if (spec.output.scalp_texture > 0) {
+        const ScalpTexture st =
+            scalp_texture(hair, spec.output.scalp_texture, spec.output.scalp_points);
+        const size_t r = static_cast<size_t>(st.size), pts = static_cast<size_t>(st.points);
+        const NpyArray arrays[] = {
+            npy_array("mask", {r, r}, std::span<const uint8_t>(st.mask)),
+            npy_array("strand", {r, r}, std::span<const int32_t>(st.strand)),
+            npy_array("offsets", {r, r, pts, 3}, std::span<const float>(st.offsets)),
+            npy_array("roots", {r, r, 3}, std::span<const float>(st.roots)),
+            npy_array("normals", {r, r, 3}, std::span<const float>(st.normals))};
+        write_npz(tmp / "scalp.npz", arrays);
+        lap("scalp texture");
+    }
+
     nlohmann::json cameras = nlohmann::json::array();
     std::vector<double> npz_k, npz_w2c, npz_fov;
     std::vector<int32_t> npz_size;

@@ -384,7 +384,8 @@ void SpecParser::read_output(const toml::table& root, DatasetSpec& spec) const {
     if (!node) return;
     const toml::table* t = node->as_table();
     if (!t) error(node, "output", "expects a table ([output])");
-    check_keys(*t, "output", {"hair", "resample", "size", "maps", "volume", "volume_box"});
+    check_keys(*t, "output",
+               {"hair", "resample", "size", "maps", "volume", "volume_box", "scalp_texture"});
     OutputSpec& o = spec.output;
     if (const toml::node* h = t->get("hair")) {
         o.hair.clear();
@@ -405,6 +406,16 @@ void SpecParser::read_output(const toml::table& root, DatasetSpec& spec) const {
         const toml::array& wh = array(*s, "output.size", 2, 2);
         o.width = static_cast<int>(integer(wh[0], "output.size", 8, 8192));
         o.height = static_cast<int>(integer(wh[1], "output.size", 8, 8192));
+    }
+    if (const toml::node* st = t->get("scalp_texture")) {
+        const toml::array& sp = array(*st, "output.scalp_texture", 2, 2);
+        o.scalp_texture = static_cast<int>(integer(sp[0], "output.scalp_texture", 4, 1024));
+        o.scalp_points = static_cast<int>(integer(sp[1], "output.scalp_texture", 2, 1024));
+        if (static_cast<size_t>(o.scalp_texture) * o.scalp_texture * o.scalp_points >
+            (size_t{1} << 26))
+            error(st, "output.scalp_texture",
+                  cat(o.scalp_texture, "² texels of ", o.scalp_points,
+                      " points: 2^26 points at most (256² of 1024, 1024² of 64)"));
     }
     if (const toml::node* v = t->get("volume")) {
         const toml::array& xyz = array(*v, "output.volume", 3, 3);

@@ -94,6 +94,8 @@ struct OutputSpec {
     // box [volume_lo, volume_hi] in head units (p ↦ c + R·p of the scalp's sphere).
     Vec3i volume = Vec3i::Zero();
     Vec3f volume_lo{-2.5f, -5.f, -2.5f}, volume_hi{2.5f, 2.f, 2.5f};
+    // scalp.npz (dataset/targets.hpp scalp_texture): texels a side (0: none), points per strand.
+    int scalp_texture = 0, scalp_points = 32;
     bool has(OutputMap m) const { return maps >> static_cast<int>(m) & 1u; }
     static uint32_t default_maps() {
         uint32_t bits = 0;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/catmull_rom.hpp"
 #include "core/error.hpp"
 
 namespace wisp {
@@ -248,6 +249,56 @@ HairVolume hair_volume(const Hair& hair, const Vec3f& lo, const Vec3f& hi, const
             o[c] *= inv;
     }
     return v;
+}
+
+ScalpTexture scalp_texture(const Hair& hair, int size, int points) {
+    if (hair.root_uv.size() != hair.strand_count())
+        fail("scalp texture: the hair has no root UVs (hair grown by wisp has them)");
+    if (size < 4 || size > 1024 || points < 2 || points > 1024 ||
+        static_cast<size_t>(size) * size * points > (size_t{1} << 26))
+        fail("scalp texture: ", size, "² texels of ", points,
+             " points; size 4 to 1024, points 2 to 1024, 2^26 points in all at most");
+    ScalpTexture t;
+    t.size = size;
+    t.points = points;
+    const size_t n = static_cast<size_t>(size) * size;
+    t.mask.assign(n, 0);
+    t.strand.assign(n, -1);
+    t.offsets.assign(n * points * 3, 0.f);
+    t.roots.assign(n * 3, 0.f);
+    t.normals.assign(n * 3, 0.f);
+    // The strand nearest each texel's centre among those rooted in it (ties: the lower index).
+    std::vector<float> best(n, std::numeric_limits<float>::infinity());
+    for (size_t s = 0; s < hair.strand_count(); ++s) {
+        const Vec2f uv = hair.root_uv[s];
+        if (!(uv.x() >= 0.f && uv.x() < 1.f && uv.y() > 0.f && uv.y() <= 1.f)) continue;
+        const int j = std::min(size - 1, static_cast<int>(uv.x() * size));
+        const int i = std::min(size - 1, static_cast<int>((1.f - uv.y()) * size));
+        const Vec2f centre((j + 0.5f) / size, 1.f - (i + 0.5f) / size);
+        const float d = (uv - centre).squaredNorm();
+        const size_t at = static_cast<size_t>(i) * size + j;
+        if (d < best[at]) {
+            best[at] = d;
+            t.strand[at] = static_cast<int32_t>(s);
+        }
+    }
+    std::vector<Vec3f> p(points);
+    std::vector<float> w(points);
+    for (size_t at = 0; at < n; ++at) {
+        const int32_t s = t.strand[at];
+        if (s < 0 || hair.strand_size(s) == 0) continue;
+        t.mask[at] = 1;
+        const std::span<const Vec3f> strand = hair.strand(s);
+        catmull_rom_resample(strand, {}, 0.f, p, w);
+        for (int k = 0; k < points; ++k)
+            for (int c = 0; c < 3; ++c)
+                t.offsets[(at * points + k) * 3 + c] = p[k][c] - strand[0][c];
+        for (int c = 0; c < 3; ++c) {
+            t.roots[at * 3 + c] = strand[0][c];
+            if (!hair.root_normal.empty()) t.normals[at * 3 + c] = hair.root_normal[s][c];
+        }
+    }
+    return t;
 }
 
 CameraMatrices opencv_matrices(const Camera& cam) {

@@ -88,6 +88,24 @@ inline constexpr size_t kMaxVolumeVoxels = size_t{1} << 24;
 // Throws wisp::Error for an empty box or dims outside [1, 1024] or past kMaxVolumeVoxels.
 HairVolume hair_volume(const Hair& hair, const Vec3f& lo, const Vec3f& hi, const Vec3i& dims);
 
+// The strands as a texture over the scalp's UV square (geometry/scalp.hpp), as DiffLocks
+// (Rosu et al. 2025) and HAAR (Sklyarov et al. 2024) learn hair: texel (i, j) (row i from
+// v = 1 at the top, column j from u = 0) holds the strand whose root lies nearest its centre
+// among those rooted in it, resampled to `points` points evenly in arc length, as offsets
+// from its root (cm, head space), with the root and the scalp's normal there; texels no root
+// falls in are empty (mask 0, zeros). Needs the hair's root UVs.
+struct ScalpTexture {
+    int size = 0, points = 0;
+    std::vector<uint8_t> mask;    // #size²
+    std::vector<int32_t> strand;  // #size²: the strand's index, −1 where empty
+    std::vector<float> offsets;   // #size²·points·3
+    std::vector<float> roots;     // #size²·3
+    std::vector<float> normals;   // #size²·3 (zeros where the hair has no root normals)
+};
+// Throws wisp::Error for hair without root UVs, or size outside [4, 1024], points outside
+// [2, 1024] or size²·points past 2^26.
+ScalpTexture scalp_texture(const Hair& hair, int size, int points);
+
 // A camera as OpenCV has it (x right, y down, z forward): pixel = K (R p + t), pixel (i, j)
 // covering [i, i+1) × [j, j+1); both row-major, K 3×3 and world_to_camera 4×4 (head space,
 // cm, to camera space).

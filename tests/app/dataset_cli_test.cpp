@@ -394,7 +394,8 @@ TEST(DatasetCli, EveryMapIsAnOption) {
     std::ofstream(spec) << "samples = 1\n[[base]]\npreset = \"short\"\n[vary]\n"
                            "\"roots.strands\" = { choice = [1500] }\n"
                            "\"roots.wisps\" = { choice = [150] }\n"
-                           "[output]\nsize = [48, 40]\nvolume = [16, 24, 16]\nmaps = ["
+                           "[output]\nsize = [48, 40]\nvolume = [16, 24, 16]\n"
+                           "scalp_texture = [32, 8]\nmaps = ["
                         << maps << "]\n";
     ASSERT_EQ(run("dataset plan " + spec.string() + " -o " + dir.string(), err), 0) << slurp(err);
     ASSERT_EQ(run("dataset run " + dir.string(), err), 0) << slurp(err);
@@ -408,6 +409,10 @@ TEST(DatasetCli, EveryMapIsAnOption) {
     for (const char* part : {"occupancy.npy", "orientation.npy", "box.npy",
                              "'shape': (16, 24, 16, 3)", "'shape': (16, 24, 16)"})
         EXPECT_NE(volume.find(part), std::string::npos) << part;
+    const std::string scalp = slurp(s / "scalp.npz");
+    for (const char* part : {"mask.npy", "strand.npy", "offsets.npy", "roots.npy", "normals.npy",
+                             "'shape': (32, 32, 8, 3)"})
+        EXPECT_NE(scalp.find(part), std::string::npos) << part;
     // The arrays' headers: the picture's shape, as float32 or int32.
     EXPECT_NE(slurp(s / "cam0_strand_id.npy").find("'descr': '<i4'"), std::string::npos);
     EXPECT_NE(slurp(s / "cam0_confidence.npy").find("'shape': (40, 48)"), std::string::npos);

@@ -350,5 +350,41 @@ TEST(Targets, VolumeAgreesWithItsStrands) {
     EXPECT_GT(agree, 0.9 * total) << agree << " of " << total;
 }
 
+// The scalp texture: each texel holds the strand rooted nearest its centre among those rooted
+// in it, as offsets from its root, resampled evenly; texels without a root are empty.
+TEST(Targets, ScalpTextureHoldsTheStrandRootedInEachTexel) {
+    Hair h;
+    // Three vertical strands 10 cm long: two in texel (row 1, column 2) of a 4² texture (u in
+    // [0.5, 0.75), v in [0.5, 0.75)), the second nearer its centre (0.625, 0.625); one in
+    // texel (3, 0).
+    const Vec2f uvs[] = {{0.51f, 0.74f}, {0.62f, 0.63f}, {0.1f, 0.1f}};
+    for (int s = 0; s < 3; ++s) {
+        for (int i = 0; i < 11; ++i)
+            h.points.emplace_back(float(s), -float(i), 0.f);
+        h.offsets.push_back(static_cast<uint32_t>(h.points.size()));
+        h.root_uv.push_back(uvs[s]);
+        h.root_normal.push_back(Vec3f::UnitY());
+    }
+    const ScalpTexture t = scalp_texture(h, 4, 6);
+    int filled = 0;
+    for (uint8_t m : t.mask)
+        filled += m;
+    EXPECT_EQ(filled, 2);
+    const size_t a = 1 * 4 + 2, b = 3 * 4 + 0;
+    EXPECT_EQ(t.strand[a], 1);
+    EXPECT_EQ(t.strand[b], 2);
+    EXPECT_EQ(t.roots[a * 3], 1.f);
+    EXPECT_EQ(t.normals[a * 3 + 1], 1.f);
+    for (int k = 0; k < 6; ++k) {  // 0, −2, −4, … −10 cm below the root
+        EXPECT_NEAR(t.offsets[(a * 6 + k) * 3 + 0], 0.f, 1e-4f);
+        EXPECT_NEAR(t.offsets[(a * 6 + k) * 3 + 1], -2.f * k, 1e-3f) << k;
+    }
+    EXPECT_EQ(t.strand[0], -1);
+    Hair no_uv = h;
+    no_uv.root_uv.clear();
+    EXPECT_THROW(scalp_texture(no_uv, 4, 6), Error);
+    EXPECT_THROW(scalp_texture(h, 4096, 64), Error);
+}
+
 }  // namespace
 }  // namespace wisp
