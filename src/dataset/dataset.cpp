@@ -404,8 +404,17 @@ Camera sample_camera(const DatasetSpec& spec, const SampleDraw& draw, size_t c, 
     options.height = spec.output.height;
     options.view = cs.view;
     options.fov_y_degrees = static_cast<float>(cs.fov_y_degrees);
-    const Camera framed = render_camera(hair, &head, options);
-    const Box3 box = framing_bounds(hair, &head);
+    Box3 box;
+    if (cs.hair_only) {
+        for (const Vec3f& p : hair.points)
+            box.extend(p);
+    } else {
+        box = framing_bounds(hair, &head);
+    }
+    const Camera framed =
+        cs.hair_only && !box.empty()
+            ? frame_view(cs.view, box, options.width, options.height, options.fov_y_degrees)
+            : render_camera(hair, &head, options);
     const Vec3f target = box.empty() ? framed.eye + framed.forward : box.center();
     const double* u = &draw.camera_draws[3 * c];
     const float azimuth = static_cast<float>(cs.azimuth * u[0] * M_PI / 180);

@@ -473,8 +473,16 @@ void SpecParser::read_cameras(const toml::table& root, DatasetSpec& spec) const 
         const std::string path = cat("camera[", i, "]");
         const toml::table* t = list[i].as_table();
         if (!t) error(&list[i], path, "expects a table ([[camera]])");
-        check_keys(*t, path, {"view", "azimuth", "elevation", "distance", "fov"});
+        check_keys(*t, path, {"view", "frame", "azimuth", "elevation", "distance", "fov"});
         CameraSpec c;
+        if (const toml::node* f = t->get("frame")) {
+            const std::string frame = string(*f, path + ".frame");
+            if (frame != "head" && frame != "hair")
+                error(f, path + ".frame",
+                      "\"head\" (hair and head) or \"hair\" (the hair alone), got \"" +
+                          excerpt(frame) + "\"");
+            c.hair_only = frame == "hair";
+        }
         if (const toml::node* v = t->get("view")) {
             c.view = string(*v, path + ".view");
             if (c.view == "three_quarter") c.view = "three-quarter";

@@ -59,6 +59,10 @@ struct HeadChoice {
 // Y axis) and ±elevation degrees, and moved by a factor in 1 ± distance.
 struct CameraSpec {
     std::string view = "front";
+    // What the view frames: "head", the hair and the head down to below the hair (as `wisp
+    // render --view`), or "hair", the hair alone, centred and filling the picture (a
+    // hair-centred crop, as HairStep's and NeuralHaircut's inputs are cut).
+    bool hair_only = false;
     double azimuth = 0, elevation = 0, distance = 0;
     double fov_y_degrees = 30;
 };

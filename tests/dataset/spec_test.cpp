@@ -11,6 +11,7 @@
 
 #include "core/error.hpp"
 #include "dataset/dataset.hpp"
+#include "geometry/builtin_head.hpp"
 
 namespace wisp {
 namespace {
@@ -300,6 +301,46 @@ weight = 2
                        "\"grid\""),
               std::string::npos)
         << bad;
+}
+
+// frame = "hair": the view centres on the hair alone and fills the picture with it (a
+// hair-centred crop); the default frames the head with it, the hair smaller and off-centre.
+TEST(DatasetSpec, HairFramedCamerasCentreAndFillWithTheHair) {
+    const DatasetSpec spec = parse_dataset_spec(R"(samples = 1
+[output]
+size = [128, 128]
+[[camera]]
+view = "front"
+frame = "hair"
+[[camera]]
+view = "front"
+)",
+                                                "spec.toml", ".");
+    // A tuft on the top of the built-in head.
+    Hair hair;
+    for (int s = 0; s < 20; ++s) {
+        for (int i = 0; i < 8; ++i)
+            hair.points.emplace_back(-2.f + 0.2f * s, 12.f + 0.5f * i, 2.f);
+        hair.offsets.push_back(static_cast<uint32_t>(hair.points.size()));
+    }
+    const Mesh& head = builtin_head_mesh();
+    const SampleDraw d = draw_sample(spec, 0);
+    auto extent = [&](const Camera& cam) {
+        Box3 b;
+        for (const Vec3f& p : hair.points)
+            b.extend(cam.project(p));
+        return b;
+    };
+    const Box3 cropped = extent(sample_camera(spec, d, 0, hair, head));
+    const Box3 whole = extent(sample_camera(spec, d, 1, hair, head));
+    EXPECT_NEAR(0.5f * (cropped.lo.x() + cropped.hi.x()), 64.f, 2.f);
+    EXPECT_NEAR(0.5f * (cropped.lo.y() + cropped.hi.y()), 64.f, 2.f);
+    EXPECT_GT(std::max(cropped.size().x(), cropped.size().y()), 0.8f * 128);
+    EXPECT_LE(std::max(cropped.size().x(), cropped.size().y()), 128.f);
+    EXPECT_LT(std::max(whole.size().x(), whole.size().y()), 0.5f * 128);
+    EXPECT_NE(error_of("samples = 1\n[[camera]]\nframe = \"face\"\n")
+                  .find("field 'camera[0].frame': \"head\" (hair and head) or \"hair\""),
+              std::string::npos);
 }
 
 }  // namespace
