@@ -101,3 +101,28 @@ def test_bad_group_is_value_error():
 
 def test_preset_names():
     assert "default" in wisp.preset_names()
+
+
+def test_the_stubs_type_every_style_field_as_the_schema_does():
+    """python/wisp/__init__.pyi's style fields are what python/style_stubs.py makes from the
+    schema (one source of truth), and a field's stub type is the type its value has."""
+    import ast
+    import os
+    import pathlib
+    import subprocess
+    import sys
+
+    source = pathlib.Path(os.environ.get("WISP_SOURCE_DIR", pathlib.Path(__file__).parents[2]))
+    check = subprocess.run([sys.executable, str(source / "python" / "style_stubs.py"), "--check"],
+                           capture_output=True, text=True)
+    assert check.returncode == 0, check.stderr
+    stubs = ast.parse((source / "python" / "wisp" / "__init__.pyi").read_text())
+    classes = {n.name: n for n in stubs.body if isinstance(n, ast.ClassDef)}
+    roots = {a.target.id: ast.unparse(a.annotation) for a in classes["_RootsSection"].body
+             if isinstance(a, ast.AnnAssign)}
+    assert roots["strands"] == "int"
+    s = wisp.Style.preset("short")
+    assert isinstance(s.roots.strands, int)
+    growth = {a.target.id: ast.unparse(a.annotation) for a in classes["_GrowthSection"].body
+              if isinstance(a, ast.AnnAssign)}
+    assert growth["part"].startswith("Literal[") and repr(s.growth.part) in growth["part"]
