@@ -424,9 +424,32 @@ Camera sample_camera(const DatasetSpec& spec, const SampleDraw& draw, size_t c, 
     const Eigen::Matrix3f turn =
         (Eigen::AngleAxisf(azimuth, Vec3f::UnitY()) * Eigen::AngleAxisf(-elevation, framed.right))
             .toRotationMatrix();
-    const Vec3f eye = target + distance * (turn * (framed.eye - target));
+    Vec3f eye = target + distance * (turn * (framed.eye - target));
     const Vec3f up = turn * framed.up;
-    return look_at(eye, target, up, options.fov_y_degrees, options.width, options.height);
+    Camera cam = look_at(eye, target, up, options.fov_y_degrees, options.width, options.height);
+    if (!cs.hair_only || box.empty()) return cam;
+    // A hair-centred crop: aimed at the middle of the hair's picture and brought as near as
+    // fills 95% of the picture's tighter side with it (twice, as perspective shifts both).
+    Vec3f aim = target;
+    for (int pass = 0; pass < 2; ++pass) {
+        Box3 seen;
+        for (const Vec3f& p : hair.points) {
+            const Vec3f q = cam.project(p);
+            if (q.z() > 1e-3f) seen.extend(q);
+        }
+        if (seen.empty()) break;
+        const float depth = (aim - cam.eye).dot(cam.forward);
+        const Vec3f mid = seen.center();
+        aim = cam.eye +
+              depth / cam.focal_pixels *
+                  (cam.forward * cam.focal_pixels + cam.right * (mid.x() - 0.5f * cam.width) -
+                   cam.up * (mid.y() - 0.5f * cam.height));
+        const float fill = std::max(seen.size().x() / cam.width, seen.size().y() / cam.height);
+        if (!(fill > 0.f)) break;
+        eye = aim + (cam.eye - aim) * (fill / 0.95f);
+        cam = look_at(eye, aim, up, options.fov_y_degrees, options.width, options.height);
+    }
+    return cam;
 }
 
 std::string sample_name(uint64_t samples, uint64_t k) {

@@ -60,8 +60,9 @@ struct HeadChoice {
 struct CameraSpec {
     std::string view = "front";
     // What the view frames: "head", the hair and the head down to below the hair (as `wisp
-    // render --view`), or "hair", the hair alone, centred and filling the picture (a
-    // hair-centred crop, as HairStep's and NeuralHaircut's inputs are cut).
+    // render --view`), or "hair", the hair alone, centred and filling 95% of the picture's
+    // tighter side after the turn's jitter (a hair-centred crop, as HairStep's and
+    // NeuralHaircut's inputs are cut; the distance's jitter does not apply).
     bool hair_only = false;
     double azimuth = 0, elevation = 0, distance = 0;
     double fov_y_degrees = 30;
