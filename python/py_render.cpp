@@ -133,18 +133,13 @@ py::array owned_array(std::vector<T> values, std::vector<py::ssize_t> shape) {
 // picture aside), seen by the camera render() takes for `o`, with that camera as OpenCV has it.
 py::dict target_maps(const Hair& hair, const Mesh* head, const RenderOptions& o,
                      const std::vector<std::string>& names, int threads) {
-    const auto& table = output_map_table();
     uint32_t wanted = 0;
     for (const std::string& name : names) {
-        const auto it = std::find_if(table.begin(), table.end(),
-                                     [&](const OutputMapInfo& i) { return name == i.name; });
-        if (it == table.end() || it->map == OutputMap::kPicture) {
-            std::string list;
-            for (const OutputMapInfo& i : table)
-                if (i.map != OutputMap::kPicture) list += cat(list.empty() ? "" : ", ", i.name);
-            throw py::value_error(cat("targets: unknown map '", name, "' (", list, ")"));
-        }
-        wanted |= 1u << static_cast<int>(it->map);
+        const OutputMapInfo* map = find_output_map(name, true);
+        if (!map)
+            throw py::value_error(
+                cat("targets: unknown map '", name, "' (", output_map_names(true), ")"));
+        wanted |= 1u << static_cast<int>(map->map);
     }
     auto has = [&](OutputMap m) { return wanted >> static_cast<int>(m) & 1u; };
     const Camera cam = render_camera(hair, head, o);

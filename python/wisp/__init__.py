@@ -195,6 +195,18 @@ def _default_head(hair):
     return _builtin_head
 
 
+def _head_for(where: str, head, hair: Hair):
+    """A head argument as the functions take it: a Head; None, the head `hair` was generated
+    on, else the built-in head; False, none (None to the extension)."""
+    if head is False:
+        return None
+    if head is None:
+        return _default_head(hair)
+    if not isinstance(head, Head):
+        raise TypeError(f"{where}: head must be a wisp.Head, None or False")
+    return head
+
+
 def render(hair: Hair, head: Head | None | bool = None, view: str = "three-quarter",
            size=1024, threads: int | None = None, alpha: bool = False, targets=None,
            **options):
@@ -219,12 +231,7 @@ def render(hair: Hair, head: Head | None | bool = None, view: str = "three-quart
     pixel = K (R p + t)."""
     if not isinstance(hair, Hair):
         raise TypeError("render: hair must be a wisp.Hair, got " + type(hair).__name__)
-    if head is False:
-        head = None
-    elif head is None:
-        head = _default_head(hair)
-    elif not isinstance(head, Head):
-        raise TypeError("render: head must be a wisp.Head, None or False")
+    head = _head_for("render", head, hair)
     if isinstance(size, (tuple, list)):
         if len(size) != 2:
             raise ValueError(f"size: expected N or (width, height), got {size!r}")
@@ -262,12 +269,7 @@ def compare(a: Hair, b: Hair, head: Head | None | bool = None,
     for name, h in (("a", a), ("b", b)):
         if not isinstance(h, Hair):
             raise TypeError(f"compare: {name} must be a wisp.Hair, got {type(h).__name__}")
-    if head is False:
-        head = None
-    elif head is None:
-        head = _default_head(b)
-    elif not isinstance(head, Head):
-        raise TypeError("compare: head must be a wisp.Head, None or False")
+    head = _head_for("compare", head, b)
     if isinstance(views, str) or not all(isinstance(v, str) for v in views):
         raise TypeError(f"compare: views must be a list of view names, got {views!r}")
     known = _wisp.view_names()

@@ -366,7 +366,7 @@ RenderOptions sample_render_options(const SampleDraw& draw) {
     std::map<std::string, double> v;
     for (const RenderField& f : render_field_table())
         v[f.name] = f.fallback;
-    bool background = false;
+    bool background = false, temperature = false;
     for (const auto& [name, text] : draw.render_values) {
         const toml::table t = toml::parse("v = " + text);
         if (name == "shading") {
@@ -375,6 +375,7 @@ RenderOptions sample_render_options(const SampleDraw& draw) {
         }
         v[name] = t["v"].value_or(0.0);
         background |= name.starts_with("background_");
+        temperature |= name == "key_temperature";
     }
     const double deg = M_PI / 180;
     const Eigen::Matrix3f turn =
@@ -384,8 +385,7 @@ RenderOptions sample_render_options(const SampleDraw& draw) {
     o.key.direction = turn * o.key.direction;
     const float key_luminance =
         0.2126f * o.key.color.x() + 0.7152f * o.key.color.y() + 0.0722f * o.key.color.z();
-    for (const auto& [name, text] : draw.render_values)
-        if (name == "key_temperature") o.key.color = key_luminance * black_body(v[name]);
+    if (temperature) o.key.color = key_luminance * black_body(v["key_temperature"]);
     o.key.color *= static_cast<float>(v["key_intensity"]);
     o.fill.color *= static_cast<float>(v["fill_intensity"]);
     o.rim.color *= static_cast<float>(v["rim_intensity"]);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
 
 #include "core/catmull_rom.hpp"
 #include "core/error.hpp"
@@ -18,7 +19,8 @@ namespace {
 // A hair's control points with their strands' unit directions (the chord through the
 // neighbours; one-sided at the ends), as nanoflann's dataset.
 struct Cloud {
-    std::vector<Vec3f> points, directions;
+    std::span<const Vec3f> points;  // the hair's own
+    std::vector<Vec3f> directions;
     size_t kdtree_get_point_count() const { return points.size(); }
     float kdtree_get_pt(size_t i, size_t dim) const { return points[i][static_cast<int>(dim)]; }
     template <class Box>
@@ -29,7 +31,7 @@ struct Cloud {
 
 Cloud cloud_of(const Hair& hair) {
     Cloud c;
-    c.points = hair.points;
+    c.points = hair.points;  // a view: the hair outlives the comparison
     c.directions.resize(hair.points.size(), Vec3f::Zero());
     for (size_t s = 0; s < hair.strand_count(); ++s) {
         const std::span<const Vec3f> p = hair.strand(s);

@@ -449,15 +449,11 @@ void SpecParser::read_output(const toml::table& root, DatasetSpec& spec) const {
         o.maps = 0;
         for (const toml::node& e : array(*m, "output.maps", 0, table.size())) {
             const std::string name = string(e, "output.maps");
-            const auto it = std::find_if(table.begin(), table.end(),
-                                         [&](const OutputMapInfo& i) { return name == i.name; });
-            if (it == table.end()) {
-                std::string names;
-                for (const OutputMapInfo& i : table)
-                    names += cat(names.empty() ? "" : ", ", i.name);
-                error(&e, "output.maps", "unknown map '" + excerpt(name) + "' (" + names + ")");
-            }
-            o.maps |= 1u << static_cast<int>(it->map);
+            const OutputMapInfo* map = find_output_map(name);
+            if (!map)
+                error(&e, "output.maps",
+                      "unknown map '" + excerpt(name) + "' (" + output_map_names() + ")");
+            o.maps |= 1u << static_cast<int>(map->map);
         }
     }
 }
@@ -608,6 +604,20 @@ const std::vector<OutputMapInfo>& output_map_table() {
         {M::kDepthHairstep, "depth_hairstep", "_depth_hairstep.npy", false},
     };
     return table;
+}
+
+const OutputMapInfo* find_output_map(const std::string& name, bool maps_only) {
+    for (const OutputMapInfo& m : output_map_table())
+        if (name == m.name && !(maps_only && m.map == OutputMap::kPicture)) return &m;
+    return nullptr;
+}
+
+std::string output_map_names(bool maps_only) {
+    std::string names;
+    for (const OutputMapInfo& m : output_map_table())
+        if (!(maps_only && m.map == OutputMap::kPicture))
+            names += cat(names.empty() ? "" : ", ", m.name);
+    return names;
 }
 
 DatasetSpec load_dataset_spec(const std::filesystem::path& path,

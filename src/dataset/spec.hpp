@@ -88,6 +88,10 @@ struct OutputMapInfo {
     bool by_default;     // written when output.maps is not given
 };
 const std::vector<OutputMapInfo>& output_map_table();
+// The map of that name, or null; with maps_only, the picture is not one.
+const OutputMapInfo* find_output_map(const std::string& name, bool maps_only = false);
+// Their names, comma-separated, for messages (the picture's too unless maps_only).
+std::string output_map_names(bool maps_only = false);
 
 // `[output]`: what each sample writes.
 struct OutputSpec {
